@@ -1,0 +1,321 @@
+"""The control net: a frozen, validated record of a surface's control polyhedron.
+
+Everything that reads a file produces :class:`ControlNet` objects and everything
+that analyses one consumes them; this module imports numpy only.
+
+Index space (SPEC §4): control point ``(i, j)`` sits at integer index ``(i, j)``;
+for a B-spline face the parameter of point ``i`` is its Greville abscissa
+``(t[i+1] + ... + t[i+p]) / p`` and parameter <-> index is the piecewise-linear
+map through the Greville abscissae.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InvalidNetError, check_option
+
+__all__ = [
+    "ControlNet",
+    "NetOrigin",
+    "NET_KINDS",
+    "clamped_uniform_knots",
+    "greville",
+    "knots_are_uniform",
+]
+
+#: What a net was made from.
+NET_KINDS = ("bspline", "bezier", "converted", "quad-chart", "array")
+
+#: Relative tolerance on knot spans for a knot vector to count as uniform.
+UNIFORM_RTOL = 1e-6
+
+
+@dataclass(frozen=True)
+class NetOrigin:
+    """Where a net came from.
+
+    Attributes
+    ----------
+    file : str or None
+        The file it was read from (None for nets built in memory).
+    face : int or None
+        0-based face index within the file (for OBJ: chart index).
+    name : str or None
+        The face's name where the file has one.
+    kind : str
+        One of :data:`NET_KINDS`.
+    """
+
+    file: str | None = None
+    face: int | None = None
+    name: str | None = None
+    kind: str = "array"
+
+    def __post_init__(self):
+        check_option("origin.kind", self.kind, NET_KINDS)
+
+    def label(self) -> str:
+        """A short human label such as ``part.step#3 (fillet)``."""
+        base = self.file or "<memory>"
+        if self.face is not None:
+            base += f"#{self.face}"
+        if self.name:
+            base += f" ({self.name})"
+        return base
+
+
+def clamped_uniform_knots(n: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
+    """Full clamped knot vector with uniform interior spacing.
+
+    Parameters
+    ----------
+    n : int
+        Number of control points (``n >= degree + 1``).
+    degree : int
+        Polynomial degree ``p >= 1``.
+    start, end : float
+        Parameter range.
+
+    Returns
+    -------
+    knots : (n + degree + 1,) float
+        ``p+1`` copies of ``start``, ``n-p-1`` equally spaced interior knots, ``p+1`` copies of ``end``.
+    """
+    if degree < 1 or n < degree + 1:
+        raise InvalidNetError(f"clamped knots need n >= degree + 1 >= 2, received n={n}, degree={degree}")
+    interior = np.linspace(start, end, n - degree + 1)
+    return np.concatenate([np.full(degree, start), interior, np.full(degree, end)])
+
+
+def greville(knots: np.ndarray, degree: int, n: int | None = None) -> np.ndarray:
+    """Greville abscissae ``xi_i = (t_{i+1} + ... + t_{i+p}) / p``.
+
+    Parameters
+    ----------
+    knots : (m,) float
+        Full knot vector.
+    degree : int
+        Degree ``p``.
+    n : int, optional
+        Number of abscissae wanted (default ``m - p - 1``, the number of control points
+        of a non-periodic spline).
+
+    Returns
+    -------
+    xi : (n,) float
+    """
+    knots = np.asarray(knots, dtype=float)
+    if n is None:
+        n = len(knots) - degree - 1
+    if degree == 0:
+        return knots[:n].copy()
+    c = np.concatenate([[0.0], np.cumsum(knots)])
+    idx = np.arange(n)
+    return (c[idx + degree + 1] - c[idx + 1]) / degree
+
+
+def knots_are_uniform(knots: np.ndarray, degree: int, periodic: bool = False, rtol: float = UNIFORM_RTOL) -> bool:
+    """Whether a knot vector is uniform: simple interior knots, equal spacing within ``rtol``.
+
+    The clamped end knots (multiplicity ``p+1``) of a non-periodic spline are allowed;
+    a periodic knot vector must be equally spaced throughout.
+    """
+    t = np.asarray(knots, dtype=float)
+    span = t[-1] - t[0]
+    if span <= 0:
+        return False
+    inner = t if periodic else t[degree:len(t) - degree]
+    d = np.diff(inner)
+    if len(d) == 0:
+        return True
+    return bool(np.all(np.abs(d - d.mean()) <= rtol * span) and np.all(d > rtol * span))
+
+
+def _frozen_array(a, dtype=float) -> np.ndarray:
+    arr = np.array(a, dtype=dtype, copy=True)
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class ControlNet:
+    """A quad control net with the spline data needed to analyse it.
+
+    Attributes
+    ----------
+    points : (nu, nv, 3) float
+        Control points in model units.
+    weights : (nu, nv) float or None
+        NURBS weights (None: polynomial).
+    degrees : (int, int) or None
+        ``(p, q)`` for a B-spline face; None for a subdivision cage (quad chart).
+    knots : ((mu,) float, (mv,) float) or None
+        Full (flat, multiplicities expanded) knot vectors, as OCCT's ``UKnotSequence``.
+    periodic : (bool, bool)
+        Periodic flags in u and v.
+    uv_bounds : (u0, u1, v0, v1) or None
+        Parameter bounds of the trimmed face (the net itself is untrimmed).
+    unit : str
+        Model unit of ``points`` (``"mm"`` for STEP as OCCT gives it).
+    origin : NetOrigin
+        File, face index, name and kind.
+
+    Notes
+    -----
+    Arrays are copied and made read-only at construction; validation happens
+    once, here, so every consumer can rely on finite points and consistent
+    knot lengths.
+    """
+
+    points: np.ndarray
+    weights: np.ndarray | None = None
+    degrees: tuple[int, int] | None = None
+    knots: tuple[np.ndarray, np.ndarray] | None = None
+    periodic: tuple[bool, bool] = (False, False)
+    uv_bounds: tuple[float, float, float, float] | None = None
+    unit: str = "mm"
+    origin: NetOrigin = field(default_factory=NetOrigin)
+
+    def __post_init__(self):
+        where = self.origin.label()
+        pts = np.asarray(self.points)
+        if pts.ndim != 3 or pts.shape[2] != 3:
+            raise InvalidNetError(f"{where}: points must have shape (nu, nv, 3), received {pts.shape}")
+        if pts.shape[0] < 2 or pts.shape[1] < 2:
+            raise InvalidNetError(f"{where}: a net needs at least 2x2 control points, received {pts.shape[0]}x{pts.shape[1]}")
+        if not np.issubdtype(pts.dtype, np.number):
+            raise InvalidNetError(f"{where}: points must be numbers, received dtype {pts.dtype}")
+        pts = _frozen_array(pts)
+        if not np.all(np.isfinite(pts)):
+            bad = np.argwhere(~np.isfinite(pts))[0]
+            raise InvalidNetError(f"{where}: control point ({bad[0]}, {bad[1]}) has a NaN or infinite coordinate")
+        extent = np.ptp(pts.reshape(-1, 3), axis=0).max()
+        if extent == 0.0:
+            raise InvalidNetError(f"{where}: degenerate net, all control points coincide")
+        object.__setattr__(self, "points", pts)
+
+        if self.weights is not None:
+            w = _frozen_array(self.weights)
+            if w.shape != pts.shape[:2]:
+                raise InvalidNetError(f"{where}: weights must have shape {pts.shape[:2]}, received {w.shape}")
+            if not np.all(np.isfinite(w)) or np.any(w <= 0):
+                raise InvalidNetError(f"{where}: weights must be finite and positive")
+            object.__setattr__(self, "weights", w)
+
+        if self.degrees is not None:
+            p, q = (int(d) for d in self.degrees)
+            if p < 1 or q < 1:
+                raise InvalidNetError(f"{where}: degrees must be >= 1, received {self.degrees}")
+            object.__setattr__(self, "degrees", (p, q))
+
+        per = tuple(bool(x) for x in self.periodic)
+        if len(per) != 2:
+            raise InvalidNetError(f"{where}: periodic must be two flags, received {self.periodic}")
+        object.__setattr__(self, "periodic", per)
+
+        if self.knots is not None:
+            if self.degrees is None:
+                raise InvalidNetError(f"{where}: knots given without degrees")
+            ku, kv = (_frozen_array(k) for k in self.knots)
+            for name, k, n, d, pr in (("u", ku, pts.shape[0], self.degrees[0], per[0]),
+                                      ("v", kv, pts.shape[1], self.degrees[1], per[1])):
+                if k.ndim != 1 or not np.all(np.isfinite(k)):
+                    raise InvalidNetError(f"{where}: {name} knots must be a finite 1-D array")
+                if np.any(np.diff(k) < 0):
+                    raise InvalidNetError(f"{where}: {name} knots must be non-decreasing")
+                # OCCT's flat sequence: n+p+1 knots when open, n+2p+1 when periodic
+                expected = n + 2 * d + 1 if pr else n + d + 1
+                if len(k) != expected:
+                    raise InvalidNetError(
+                        f"{where}: {name} knot vector has {len(k)} knots, expected {expected} for "
+                        f"{n} poles of degree {d}{' (periodic)' if pr else ''}")
+            object.__setattr__(self, "knots", (ku, kv))
+
+        if self.uv_bounds is not None:
+            b = tuple(float(x) for x in self.uv_bounds)
+            if len(b) != 4 or not all(np.isfinite(b)):
+                raise InvalidNetError(f"{where}: uv_bounds must be four finite numbers, received {self.uv_bounds}")
+            object.__setattr__(self, "uv_bounds", b)
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_points(cls, points, degrees: tuple[int, int] | None = (3, 3), *, weights=None,
+                    periodic=(False, False), unit: str = "mm", origin: NetOrigin | None = None) -> "ControlNet":
+        """A B-spline net with clamped uniform knots on [0, 1] (or a cage when ``degrees`` is None).
+
+        Parameters
+        ----------
+        points : (nu, nv, 3) array_like
+            Control points; a (nu, nv) array is taken as heights z over the grid x=i, y=j.
+        degrees : (int, int) or None
+            Degrees; clipped to ``n - 1`` per direction so small nets stay valid.
+        """
+        pts = np.asarray(points, dtype=float)
+        if pts.ndim == 2:
+            i, j = np.meshgrid(np.arange(pts.shape[0]), np.arange(pts.shape[1]), indexing="ij")
+            pts = np.stack([i, j, pts], axis=-1).astype(float)
+        if pts.ndim != 3:
+            raise InvalidNetError(f"points must have shape (nu, nv, 3) or (nu, nv), received {pts.shape}")
+        knots = None
+        if degrees is not None:
+            degrees = tuple(min(int(d), n - 1) for d, n in zip(degrees, pts.shape[:2]))
+            if not any(periodic):
+                knots = tuple(clamped_uniform_knots(n, d) for n, d in zip(pts.shape[:2], degrees))
+        return cls(points=pts, weights=weights, degrees=degrees, knots=knots, periodic=periodic,
+                   unit=unit, origin=origin or NetOrigin(kind="array"))
+
+    def replace(self, **changes) -> "ControlNet":
+        """A copy with some fields replaced (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    # ------------------------------------------------------------------ derived
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(nu, nv)``."""
+        return self.points.shape[0], self.points.shape[1]
+
+    @property
+    def size(self) -> int:
+        """Number of control points."""
+        return self.shape[0] * self.shape[1]
+
+    @property
+    def rational(self) -> bool:
+        """Whether the net carries weights."""
+        return self.weights is not None
+
+    @property
+    def weights_vary(self) -> bool:
+        """Whether the weights differ (relative 1e-12): a rational face outside the uniform theory."""
+        if self.weights is None:
+            return False
+        w = self.weights
+        return bool(np.ptp(w) > 1e-12 * np.abs(w).max())
+
+    @property
+    def knots_uniform(self) -> tuple[bool, bool]:
+        """Per direction, whether the knots are uniform (True for cages, which have none)."""
+        if self.knots is None:
+            return (True, True)
+        return tuple(knots_are_uniform(k, d, pr) for k, d, pr in zip(self.knots, self.degrees, self.periodic))
+
+    @property
+    def uniform(self) -> bool:
+        """Whether the uniform spectral theory applies: uniform knots both ways and no varying weights."""
+        return all(self.knots_uniform) and not self.weights_vary
+
+    def greville(self) -> tuple[np.ndarray, np.ndarray]:
+        """Greville abscissae ``(xi_u (nu,), xi_v (nv,))``; integer indices for a cage."""
+        nu, nv = self.shape
+        if self.knots is None:
+            return np.arange(nu, dtype=float), np.arange(nv, dtype=float)
+        return (greville(self.knots[0], self.degrees[0], nu), greville(self.knots[1], self.degrees[1], nv))
+
+    def __repr__(self) -> str:
+        nu, nv = self.shape
+        deg = f"degree {self.degrees}" if self.degrees else "cage"
+        return f"<ControlNet {nu}x{nv} {deg} {self.origin.kind} from {self.origin.label()}>"
