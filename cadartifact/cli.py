@@ -100,18 +100,25 @@ def schemes_cmd(
 @cli_errors
 def maps_cmd(
     scheme: List[str] = typer.Option(["bicubic"], "--scheme", "-s", help="Scheme name; repeat to compare."),
-    stage: Stage = typer.Option(Stage.limit, "--stage", help="Which response to map."),
+    stage: str = typer.Option("limit", "--stage", help="Which response to map: one-step, limit or continuous."),
     out: Path = typer.Option(Path("maps.png"), "--out", "-o", help="PNG file to write."),
     grid: bool = typer.Option(False, "--grid", help="Draw the paper's Figure 8 array (g axis x d diagonal smoothing pairs)."),
-    resolution: int = typer.Option(401, "--resolution", min=16, max=4096, help="Grid points per axis."),
+    resolution: int = typer.Option(401, "--resolution", help="Grid points per axis (16 to 4096)."),
+    domain: str = typer.Option("quadrant", "--domain", help="quadrant: [0, 1/2]^2 as the paper; square: [-1/2, 1/2]^2."),
 ):
-    """Maps of the responses over the frequency square, like the paper's Figures 10-17."""
+    """Maps of the responses over the frequency square, like the paper's Figures 8 and 10-17."""
+    from .errors import OptionError
     from .viz.maps import plot_grid, plot_maps
 
+    # Validated here (not by a click Choice/range) so that a bad value is one line and exit 2.
+    stages = [s.value for s in Stage]
+    if stage.replace("_", "-") not in stages:
+        raise OptionError("--stage", "one of " + ", ".join(stages), stage)
+    stage = stage.replace("-", "_")
     if grid:
-        path = plot_grid(out, stage=stage.value.replace("-", "_"), resolution=resolution)
+        path = plot_grid(out, stage=stage, resolution=resolution, domain=domain)
     else:
-        path = plot_maps(scheme, out, stage=stage.value.replace("-", "_"), resolution=resolution)
+        path = plot_maps(scheme, out, stage=stage, resolution=resolution, domain=domain)
     _console().print(f"wrote {path}")
 
 
