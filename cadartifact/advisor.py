@@ -1,0 +1,406 @@
+"""Resampling and density advice (SPEC §5).
+
+The intent of a net (trend + band-limited residual, :mod:`cadartifact.fields`) is
+resampled at ``n'u x n'v`` control points; the artifact of the resampled net is
+the part of ``surface(n') - intent`` in the alias bands of the ``n'`` net, which
+also counts the intent lost above the new Nyquist limit. The advice is the
+density with the fewest points whose artifact stays within the tolerance,
+verified on the real surface (OCCT) of the advised net.
+
+>>> import cadartifact as ca
+>>> a = ca.advise(net, tolerance=0.05)                 # doctest: +SKIP
+>>> a.shape, a.meets_tolerance, a.comparison           # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .budget import METRICS, Budget, Stat, _stats, budget, default_scheme
+from .errors import OptionError, check_option
+from .fields import FIELD_NAMES, Axis, Intent, band_split, design_intent, intent_normals, predicted_fields, project
+from .net import ControlNet, clamped_uniform_knots
+from .splines import param_range
+
+__all__ = ["Advice", "advise", "resample", "artifact_at", "NAMED_SCHEMES"]
+
+NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
+
+#: Largest advised density per direction, as a multiple of today's (and an absolute cap).
+GROWTH, MAX_POINTS = 8, 2000
+
+
+def _new_positions(n_old: int, n_new: int, periodic: bool) -> np.ndarray:
+    """Index coordinates (old net) of the new control points spanning the same domain."""
+    if periodic:
+        return np.arange(n_new) * (n_old / n_new)
+    return np.linspace(0.0, n_old - 1.0, n_new)
+
+
+def _scale(n_old: int, n_new: int, periodic: bool) -> float:
+    """Old index units per new control spacing."""
+    return n_old / n_new if periodic else (n_old - 1.0) / max(n_new - 1, 1)
+
+
+def _uniform_knots(n: int, degree: int, lo: float, hi: float, periodic: bool) -> np.ndarray:
+    if periodic:
+        h = (hi - lo) / n
+        return lo + h * (np.arange(n + 2 * degree + 1) - degree)
+    return clamped_uniform_knots(n, degree, lo, hi)
+
+
+def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: Intent | None = None) -> ControlNet:
+    """The net's design intent resampled at a new density, with new uniform knots.
+
+    Parameters
+    ----------
+    net : ControlNet
+    shape : (int, int)
+        New ``(n'u, n'v)``.
+    scheme : str or Scheme, optional
+        Defines the intent's polynomial trend and, for a cage, the degrees of the result
+        (default as :func:`cadartifact.budget`).
+    intent : Intent, optional
+        Reuse an intent already computed for ``net`` and ``scheme``.
+
+    Returns
+    -------
+    ControlNet
+        ``points[i', j'] = intent(x_i', y_j')`` with ``x_i' = i' (nu-1)/(n'u-1)`` (periodic:
+        ``i' nu/n'u``); same degrees (clipped to ``n' - 1``) over the same parameter range, uniform
+        clamped (or periodic) knots, no weights. A cage stays a cage.
+    """
+    from .schemes import Scheme, scheme as get_scheme
+
+    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    try:
+        a, b = (int(s) for s in shape)
+    except (TypeError, ValueError):
+        raise OptionError("shape", "two integers (n'u, n'v)", shape) from None
+    degrees = net.degrees
+    low = [2, 2] if degrees is None else [d + 1 for d in degrees]
+    if a < low[0] or b < low[1]:
+        raise OptionError("shape", f"at least {low[0]}x{low[1]} control points", (a, b))
+    it = intent if intent is not None else design_intent(net, sch, 1)
+    x = _new_positions(net.shape[0], a, net.periodic[0])
+    y = _new_positions(net.shape[1], b, net.periodic[1])
+    pts = it.evaluate(x, y)
+    if degrees is None:
+        return ControlNet(points=pts, periodic=net.periodic, unit=net.unit, origin=net.origin)
+    knots = []
+    for n_new, deg, k, per in zip((a, b), degrees, net.knots, net.periodic):
+        lo, hi = param_range(k, deg)
+        knots.append(_uniform_knots(n_new, deg, lo, hi, per))
+    return ControlNet(points=pts, degrees=degrees, knots=tuple(knots), periodic=net.periodic,
+                      unit=net.unit, origin=net.origin)
+
+
+def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int = 3, component: str = "normal",
+                region: str = "face") -> dict:
+    """Statistics of ``surface(n') - intent`` split in the bands of the ``n'`` net.
+
+    Parameters
+    ----------
+    intent : Intent
+        Today's intent.
+    scheme : Scheme
+    shape : (int, int)
+        Candidate density.
+    levels : int
+        Fine grid of the candidate net.
+
+    Returns
+    -------
+    dict str -> Stat
+        As :attr:`Budget.stats`.
+    """
+    net = intent.net
+    new = resample(net, shape, scheme, intent=intent)
+    it2 = design_intent(new, scheme, levels)
+    fields = predicted_fields(it2, scheme)
+    au, av = it2.axes
+    su = _scale(net.shape[0], shape[0], net.periodic[0])
+    sv = _scale(net.shape[1], shape[1], net.periodic[1])
+    x_old, y_old = fields.x * su, fields.y * sv
+    target = intent.evaluate(x_old, y_old)
+    err = fields.surface - target
+    spec = np.fft.fft2(av.extend(au.extend(err, 0), 1), axes=(0, 1))
+    bands = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
+    normal = None if component == "vector" else intent_normals(target, au.K)
+    scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
+    scalars["deviation"] = project(err, normal, component)
+    keep = np.ones(err.shape[:2], bool)
+    if region == "interior":
+        from .budget import region_mask
+        from .fields import ArtifactFields
+
+        margin = max(new.degrees) if new.degrees else max(scheme.mask.shape) // 2
+        keep = region_mask(new.replace(uv_bounds=None), ArtifactFields(x=fields.x, y=fields.y, surface=err,
+                                                                        intent=target), "interior", margin)
+    return _stats(scalars, keep)
+
+
+@dataclass(frozen=True, eq=False)
+class Advice:
+    """Density advice for one net.
+
+    Attributes
+    ----------
+    net : ControlNet
+        Today's net.
+    scheme : str
+    tolerance : float
+    metric : str
+    include_signal_error : bool
+    current : Budget
+        Today's budget.
+    shape : (int, int)
+        Advised ``(n'u, n'v)`` (fewest points within tolerance).
+    stats : dict str -> Stat
+        The budget at the advice (artifact of the resampled net against today's intent).
+    meets_tolerance : bool
+        Whether the advice's value stays within the tolerance (False when no density up to the
+        search limit does).
+    binding : str or None
+        ``"u"`` or ``"v"``: the direction in which one step coarser breaks the tolerance.
+    verification : dict
+        The advised net built as a real surface and measured: ``{"method", "value", "meets",
+        "coarser": {"shape", "value", "meets"}}``.
+    comparison : dict str -> dict
+        The same advice for the other named schemes: ``{"net": [n'u, n'v], "points", "meets_tolerance"}``.
+    """
+
+    net: ControlNet
+    scheme: str
+    tolerance: float
+    metric: str
+    include_signal_error: bool
+    current: Budget
+    shape: tuple
+    stats: dict
+    meets_tolerance: bool
+    binding: str | None = None
+    verification: dict | None = None
+    comparison: dict = field(default_factory=dict)
+
+    @property
+    def value(self) -> float:
+        return self.stats["deviation" if self.include_signal_error else "total"].get(self.metric)
+
+    @property
+    def points(self) -> int:
+        return int(self.shape[0] * self.shape[1])
+
+    def resampled(self) -> ControlNet:
+        """The advised net (today's intent at the advised density)."""
+        return resample(self.net, self.shape, self.scheme)
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (the ``advice`` object of the advise schema)."""
+        t = self.tolerance
+        d = {
+            "net": list(self.shape),
+            "points": self.points,
+            "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in self.stats.items()},
+            "share": {k: _f(s.get(self.metric) / t) for k, s in self.stats.items()},
+            "meets_tolerance": bool(self.meets_tolerance),
+            "binding": self.binding,
+            "verification": self.verification,
+            "comparison": self.comparison,
+        }
+        return d
+
+
+def _f(x):
+    return None if x is None or not math.isfinite(x) else float(x)
+
+
+class _Search:
+    """Memoised artifact evaluations over candidate densities."""
+
+    def __init__(self, intent, scheme, tolerance, metric, include_signal_error, levels, component, region):
+        self.intent, self.scheme, self.t = intent, scheme, tolerance
+        self.metric, self.key = metric, "deviation" if include_signal_error else "total"
+        self.levels, self.component, self.region = levels, component, region
+        self.cache: dict = {}
+
+    def stats(self, a: int, b: int) -> dict:
+        if (a, b) not in self.cache:
+            self.cache[(a, b)] = artifact_at(self.intent, self.scheme, (a, b), levels=self.levels,
+                                             component=self.component, region=self.region)
+        return self.cache[(a, b)]
+
+    def value(self, a: int, b: int) -> float:
+        return self.stats(a, b)[self.key].get(self.metric)
+
+    def ok(self, a: int, b: int) -> bool:
+        return self.value(a, b) <= self.t
+
+
+def _first_true(lo: int, hi: int, pred) -> int:
+    """Smallest n in [lo, hi] with pred(n) (pred monotone, pred(hi) True)."""
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if pred(mid):
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int]) -> tuple[tuple[int, int], bool]:
+    """Fewest-points feasible density on the monotone frontier; ``(shape, reachable)``."""
+    if not search.ok(*hi):
+        return hi, False
+    a_min = _first_true(lo[0], hi[0], lambda a: search.ok(a, hi[1]))
+    b_min = _first_true(lo[1], hi[1], lambda b: search.ok(hi[0], b))
+    best = None
+    b = hi[1]
+    for a in range(a_min, hi[0] + 1):
+        if best is not None and a * b_min >= best[0] * best[1]:
+            break
+        # b(a) is non-increasing in a: walk down from the previous row's answer
+        b = _first_true(b_min, b, lambda bb: search.ok(a, bb)) if search.ok(a, b) else b
+        if not search.ok(a, b):
+            continue
+        if best is None or a * b < best[0] * best[1] or (a * b == best[0] * best[1] and a + b < sum(best)):
+            best = (a, b)
+    return best, True
+
+
+def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak",
+           include_signal_error: bool = False, levels: int = 3, component: str = "normal",
+           compare: bool = True, verify: bool = True) -> Advice:
+    """Advise the control-point density that keeps the artifact within ``tolerance``.
+
+    Parameters
+    ----------
+    net : ControlNet
+    tolerance : float
+        Model units.
+    scheme : str or Scheme, optional
+        Default: the net's own B-spline degrees; Catmull-Clark for cages.
+    metric : {"peak", "rms"}
+    include_signal_error : bool
+        Make the tolerance cover the whole deviation from intent (attenuation too), not only ripple.
+    levels : int
+        Fine grid ``2**levels`` per control spacing for the final numbers (the search runs at the
+        paper's refined vertices, ``levels=1``, then confirms at ``levels``).
+    component : {"normal", "vector"}
+    compare : bool
+        Also advise the other named schemes (search only, no verification).
+    verify : bool
+        Build the advised net as a real surface (OCCT B-spline; subdivision for other schemes),
+        evaluate and measure it on its interior, and the same one step coarser in the binding
+        direction.
+
+    Returns
+    -------
+    Advice
+
+    Notes
+    -----
+    The search assumes the artifact falls as density rises in each direction (true for the band
+    structure; resonances are caught by verification): it bisects each direction with the other at
+    its maximum, then walks the frontier ``n'v(n'u)`` to the fewest points ``n'u n'v``.
+    """
+    from .schemes import Scheme, scheme as get_scheme
+
+    check_option("metric", metric, METRICS)
+    try:
+        tolerance = float(tolerance)
+    except (TypeError, ValueError):
+        raise OptionError("tolerance", "a positive number of model units", tolerance) from None
+    if not math.isfinite(tolerance) or tolerance <= 0:
+        raise OptionError("tolerance", "a positive number of model units", tolerance)
+    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component)
+
+    shape, reachable, search_fine = _advise_shape(net, sch, tolerance, metric, include_signal_error, levels, component)
+    stats = search_fine.stats(*shape)
+    meets = stats["deviation" if include_signal_error else "total"].get(metric) <= tolerance
+    binding = _binding(search_fine, shape, net)
+
+    verification = None
+    if verify:
+        verification = _verify(net, sch, shape, binding, search_fine, tolerance, metric, include_signal_error,
+                               component)
+    comparison = {}
+    if compare:
+        for name in NAMED_SCHEMES:
+            other = get_scheme(name)
+            if other.name == sch.name:
+                comparison[other.name] = {"net": list(shape), "points": int(shape[0] * shape[1]),
+                                          "meets_tolerance": bool(meets)}
+                continue
+            s2, ok2, _ = _advise_shape(net, other, tolerance, metric, include_signal_error, 1, component,
+                                       confirm=False)
+            comparison[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2)}
+    return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric,
+                  include_signal_error=include_signal_error, current=current, shape=tuple(shape), stats=stats,
+                  meets_tolerance=bool(meets), binding=binding, verification=verification, comparison=comparison)
+
+
+def _limits(net: ControlNet) -> tuple[tuple[int, int], tuple[int, int]]:
+    low = (2, 2) if net.degrees is None else tuple(d + 1 for d in net.degrees)
+    high = tuple(max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, net.shape))
+    return low, high
+
+
+def _advise_shape(net, sch, tolerance, metric, include_signal_error, levels, component, confirm=True):
+    """Search at levels=1, then confirm (and walk) at ``levels``. Returns (shape, reachable, fine search)."""
+    low, high = _limits(net)
+    it1 = design_intent(net, sch, 1)
+    coarse = _Search(it1, sch, tolerance, metric, include_signal_error, 1, component, "face")
+    shape, reachable = _frontier(coarse, low, high)
+    if not confirm or levels == 1:
+        return shape, reachable, coarse
+    it = design_intent(net, sch, levels)
+    fine = _Search(it, sch, tolerance, metric, include_signal_error, levels, component, "face")
+    if not reachable:
+        return shape, fine.ok(*shape), fine
+    a, b = shape
+    # the refined-vertex search can miss peaks between vertices: grow until the fine grid agrees
+    while not fine.ok(a, b) and (a < high[0] or b < high[1]):
+        grow_u = a < high[0] and (b >= high[1] or fine.value(a + 1, b) <= fine.value(a, min(b + 1, high[1])))
+        a, b = (a + 1, b) if grow_u else (a, b + 1)
+    # and it may be pessimistic: shrink while the fine grid still passes
+    changed = True
+    while changed:
+        changed = False
+        for da, db in ((1, 0), (0, 1)):
+            if a - da >= low[0] and b - db >= low[1] and fine.ok(a - da, b - db):
+                a, b, changed = a - da, b - db, True
+    return (a, b), fine.ok(a, b), fine
+
+
+def _binding(search: _Search, shape, net) -> str | None:
+    low, _ = _limits(net)
+    a, b = shape
+    worse = {}
+    if a - 1 >= low[0]:
+        worse["u"] = search.value(a - 1, b)
+    if b - 1 >= low[1]:
+        worse["v"] = search.value(a, b - 1)
+    failing = {k: v for k, v in worse.items() if v > search.t}
+    if not failing:
+        return None
+    return max(failing, key=failing.get)
+
+
+def _verify(net, sch, shape, binding, search, tolerance, metric, include_signal_error, component) -> dict:
+    """Measure the advised net as a real surface on its interior; and one step coarser in the binding direction."""
+    from .verify import measure_resampled
+
+    out = measure_resampled(net, sch, shape, search.intent, metric=metric,
+                            include_signal_error=include_signal_error, component=component)
+    out["meets"] = bool(out["value"] <= tolerance)
+    if binding is not None:
+        coarser = (shape[0] - 1, shape[1]) if binding == "u" else (shape[0], shape[1] - 1)
+        c = measure_resampled(net, sch, coarser, search.intent, metric=metric,
+                              include_signal_error=include_signal_error, component=component)
+        out["coarser"] = {"shape": list(coarser), "value": c["value"], "meets": bool(c["value"] <= tolerance)}
+    return out

@@ -1,0 +1,405 @@
+"""Design intent and artifact fields of a real control net (SPEC §4).
+
+A net is analysed in index space (control point ``(i, j)`` at ``(i, j)``). Its
+*design intent* is the polynomial part the scheme reproduces plus the
+band-limited interpolant of the residual (even reflection at open borders,
+wrap-around in periodic directions). Artifact fields are the surface minus the
+intent on a grid ``K = 2**levels`` times finer than the net, split by frequency
+(cycles per control point) into
+
+* base band ``|fx|, |fy| < 1/2`` -> signal error (attenuation),
+* ``|fx| >= 1/2`` only -> X1 ripple, ``|fy| >= 1/2`` only -> X2 ripple, both -> diagonal ripple,
+* lateral: each ripple component weighted by the lateral factor of the frequency it aliases
+  (SPEC §3: ``sin phi1 = |wy|/|W|`` for X1, ``sin phi2 = |wx|/|W|`` for X2,
+  ``|wx^2 - wy^2| / (2|W|^2)`` for diagonal).
+
+Two independent roads produce the surface: *predicted* (the residual's spectrum
+times the scheme's transfer function, :meth:`Scheme.transfer`) and *measured*
+(the real surface: exact NURBS evaluation of the face, or numerical subdivision
+of the net, see :mod:`cadartifact.measure`). Their agreement is the product's
+self-check.
+
+References
+----------
+P. J. Augsdörfer, N. A. Dodgson, M. A. Sabin, *Artifact analysis on B-splines, box-splines and
+other surfaces defined by quadrilateral polyhedra*, CAGD 2011.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import OptionError, check_option
+from .net import ControlNet
+
+__all__ = ["Axis", "Intent", "ArtifactFields", "FIELD_NAMES", "design_intent", "predicted_fields",
+           "band_split", "legendre_terms", "poly_design"]
+
+#: The fields a budget reports, in report order.
+FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
+
+COMPONENTS = ("normal", "vector")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One direction of the analysis grid.
+
+    Attributes
+    ----------
+    n : int
+        Control points along the axis.
+    periodic : bool
+    levels : int
+        ``K = 2**levels`` fine samples per control spacing.
+    """
+
+    n: int
+    periodic: bool
+    levels: int
+
+    @property
+    def K(self) -> int:
+        return 2 ** self.levels
+
+    @property
+    def period(self) -> int:
+        """Period of the extended data in control spacings: ``n`` (periodic) or ``2(n-1)`` (even reflection)."""
+        return self.n if self.periodic else 2 * (self.n - 1)
+
+    @property
+    def fine_count(self) -> int:
+        """Fine samples over the net's own domain (``[0, n)`` periodic, ``[0, n-1]`` open)."""
+        return self.K * self.n if self.periodic else self.K * (self.n - 1) + 1
+
+    @property
+    def x(self) -> np.ndarray:
+        """Index coordinates of the fine samples, ``(fine_count,)``."""
+        return np.arange(self.fine_count) / self.K
+
+    def extend(self, a: np.ndarray, axis: int) -> np.ndarray:
+        """Extend samples on ``[0, n-1]`` to one period (whole-sample even reflection); identity if periodic."""
+        return a if self.periodic else _reflect(a, axis)
+
+    def freqs(self, fine: bool) -> np.ndarray:
+        """Frequencies in cycles per control point of the FFT bins (fine: ``K*period`` bins)."""
+        m = self.K * self.period if fine else self.period
+        return np.fft.fftfreq(m, d=1.0 / (self.K if fine else 1))
+
+
+def _reflect(a: np.ndarray, axis: int) -> np.ndarray:
+    """Whole-sample symmetric extension ``a0 a1 .. a_{n-1} a_{n-2} .. a1`` along ``axis``."""
+    n = a.shape[axis]
+    if n < 2:
+        return a
+    back = np.flip(np.take(a, np.arange(1, n - 1), axis=axis), axis=axis)
+    return np.concatenate([a, back], axis=axis)
+
+
+# ---------------------------------------------------------------- polynomial trend
+def legendre_terms(degree: int, caps: tuple[int, int]) -> list[tuple[int, int]]:
+    """Exponent pairs ``(a, b)`` with ``a + b <= degree``, ``a <= caps[0]``, ``b <= caps[1]``."""
+    return [(a, b) for a in range(caps[0] + 1) for b in range(caps[1] + 1) if a + b <= degree]
+
+
+def poly_design(x: np.ndarray, y: np.ndarray, spans: tuple[float, float],
+                terms: list[tuple[int, int]]) -> np.ndarray:
+    """Tensor Legendre design matrix on the outer grid ``x x y``.
+
+    Parameters
+    ----------
+    x : (a,) float, y : (b,) float
+        Index coordinates.
+    spans : (float, float)
+        Domain lengths; coordinates are scaled to ``[-1, 1]`` for conditioning.
+    terms : list of (int, int)
+
+    Returns
+    -------
+    A : (a, b, len(terms)) float
+    """
+    from numpy.polynomial import legendre as L
+
+    sx = 2 * np.asarray(x, float) / max(spans[0], 1e-300) - 1
+    sy = 2 * np.asarray(y, float) / max(spans[1], 1e-300) - 1
+    da = max((t[0] for t in terms), default=0)
+    db = max((t[1] for t in terms), default=0)
+    Vx = L.legvander(sx, da)
+    Vy = L.legvander(sy, db)
+    return np.stack([Vx[:, a][:, None] * Vy[:, b][None, :] for a, b in terms], axis=-1)
+
+
+# ---------------------------------------------------------------- intent
+@dataclass(frozen=True, eq=False)
+class Intent:
+    """The design intent of a net under a scheme (SPEC §4).
+
+    Attributes
+    ----------
+    axes : (Axis, Axis)
+    terms : list of (int, int)
+        Legendre exponents of the polynomial trend (total degree <= the scheme's reproduction degree).
+    coef : (len(terms), 3) float
+        Trend coefficients (least squares on the control points).
+    residual : (nu, nv, 3) float
+        Control points minus trend.
+    spectrum : (Pu, Pv, 3) complex
+        FFT of the residual extended to one period (even reflection / wrap).
+    """
+
+    net: ControlNet
+    axes: tuple[Axis, Axis]
+    terms: list
+    coef: np.ndarray
+    residual: np.ndarray
+    spectrum: np.ndarray
+
+    @property
+    def spans(self) -> tuple[float, float]:
+        return tuple(float(max(a.n - 1, 1)) for a in self.axes)
+
+    def trend(self, x: np.ndarray, y: np.ndarray, coef: np.ndarray | None = None) -> np.ndarray:
+        """The polynomial trend on the outer grid ``x x y`` -> ``(a, b, 3)``."""
+        A = poly_design(x, y, self.spans, self.terms)
+        return A @ (self.coef if coef is None else coef)
+
+    def fine_spectrum(self) -> np.ndarray:
+        """The residual spectrum repeated to the fine grid's ``(K Pu, K Pv)`` bins, scaled by ``K^2``."""
+        ku, kv = (a.K for a in self.axes)
+        return np.tile(self.spectrum, (ku, kv, 1)) * (ku * kv)
+
+    def baseband_weight(self) -> np.ndarray:
+        """``(K Pu, K Pv)`` weights of the band-limited interpolant: 1 inside, 1/2 on a Nyquist line, 0 outside."""
+        w = [np.where(np.abs(f) < 0.5, 1.0, np.where(np.isclose(np.abs(f), 0.5), 0.5, 0.0))
+             for f in (a.freqs(fine=True) for a in self.axes)]
+        return w[0][:, None] * w[1][None, :]
+
+    def evaluate(self, x: np.ndarray | None = None, y: np.ndarray | None = None) -> np.ndarray:
+        """The intent surface on the fine grid (default) or at arbitrary index coordinates.
+
+        Returns
+        -------
+        I : (a, b, 3) float
+            Trend plus band-limited interpolant of the residual.
+        """
+        au, av = self.axes
+        if x is None and y is None:
+            spec = self.fine_spectrum() * self.baseband_weight()[:, :, None]
+            bl = np.fft.ifft2(spec, axes=(0, 1)).real[: au.fine_count, : av.fine_count]
+            return self.trend(au.x, av.x) + bl
+        x = au.x if x is None else np.asarray(x, float)
+        y = av.x if y is None else np.asarray(y, float)
+        return self.trend(x, y) + _bandlimited_at(self.spectrum, au, av, x, y)
+
+
+def _bandlimited_at(spectrum: np.ndarray, au: Axis, av: Axis, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Band-limited interpolant of a periodic spectrum at arbitrary outer-grid points (direct DFT sums)."""
+    mats = []
+    for ax, pts in ((au, x), (av, y)):
+        f = ax.freqs(fine=False)
+        w = np.where(np.abs(f) < 0.5, 1.0, np.where(np.isclose(np.abs(f), 0.5), 0.5, 0.0))
+        mats.append(np.exp(2j * np.pi * pts[:, None] * f[None, :]) * w[None, :] / ax.period)
+    return np.einsum("ak,klc,bl->abc", mats[0], spectrum, mats[1], optimize=True).real
+
+
+def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
+    """Split a net into its polynomial trend and the spectrum of the residual.
+
+    Parameters
+    ----------
+    net : ControlNet
+    scheme : Scheme
+        Its ``reproduction_degree`` d sets the trend: total degree <= d in the open directions
+        (capped at ``n - 1``), none in periodic ones.
+    levels : int
+        Fine grid ``K = 2**levels`` samples per control spacing.
+
+    Returns
+    -------
+    Intent
+
+    Notes
+    -----
+    The trend is fitted by least squares in a Legendre basis; the residual is extended by
+    whole-sample even reflection (period ``2(n-1)``) at open borders so that borders add no jumps,
+    and taken as periodic (period ``n``) in periodic directions (SPEC §4).
+    """
+    if levels < 1 or levels > 6:
+        raise OptionError("levels", "an integer from 1 to 6 (K = 2..64)", levels)
+    nu, nv = net.shape
+    axes = (Axis(nu, net.periodic[0], levels), Axis(nv, net.periodic[1], levels))
+    d = int(scheme.reproduction_degree)
+    caps = tuple(0 if a.periodic else min(d, a.n - 1) for a in axes)
+    terms = legendre_terms(d, caps)
+    spans = tuple(float(max(a.n - 1, 1)) for a in axes)
+    A = poly_design(np.arange(nu), np.arange(nv), spans, terms).reshape(nu * nv, len(terms))
+    P = net.points.reshape(nu * nv, 3)
+    coef, *_ = np.linalg.lstsq(A, P, rcond=None)
+    residual = (P - A @ coef).reshape(nu, nv, 3)
+    ext = axes[1].extend(axes[0].extend(residual, 0), 1)
+    spectrum = np.fft.fft2(ext, axes=(0, 1))
+    return Intent(net=net, axes=axes, terms=terms, coef=coef, residual=residual, spectrum=spectrum)
+
+
+# ---------------------------------------------------------------- fields
+@dataclass(frozen=True, eq=False)
+class ArtifactFields:
+    """Surface, intent and band-split deviation fields on the fine grid.
+
+    Attributes
+    ----------
+    x : (a,) float, y : (b,) float
+        Index coordinates of the fine grid.
+    surface, intent : (a, b, 3) float
+        The limit surface and the design intent.
+    bands : dict str -> (a, b, 3) float
+        Vector deviation per band: ``signal_error``, ``x1``, ``x2``, ``diagonal``, ``lateral``, ``total``
+        (``total`` = x1 + x2 + diagonal, the whole ripple).
+    method : str
+        ``"predicted"`` or ``"measured"``.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    surface: np.ndarray
+    intent: np.ndarray
+    bands: dict = field(default_factory=dict)
+    method: str = "predicted"
+    levels: int = 3
+
+
+def _band_masks(fu: np.ndarray, fv: np.ndarray) -> dict:
+    """Boolean masks and lateral weights over a grid of frequencies ``fu (a,)``, ``fv (b,)``."""
+    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None]
+    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :]
+    x1 = hu & ~hv
+    x2 = ~hu & hv
+    dg = hu & hv
+    # the frequency each alias comes from, folded into the base band
+    wu = (fu - np.round(fu))[:, None]
+    wv = (fv - np.round(fv))[None, :]
+    r2 = wu ** 2 + wv ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s1 = np.where(r2 > 0, np.abs(wv) / np.sqrt(r2), 0.0)
+        s2 = np.where(r2 > 0, np.abs(wu) / np.sqrt(r2), 0.0)
+        sd = np.where(r2 > 0, np.abs(wu ** 2 - wv ** 2) / (2 * r2), 0.0)
+    lateral = x1 * s1 + x2 * s2 + dg * sd
+    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": lateral}
+
+
+def band_split(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tuple[int, int]) -> dict:
+    """Split a deviation field, given by its fine-grid spectrum, into bands.
+
+    Parameters
+    ----------
+    spectrum : (A, B, 3) complex
+        FFT of the (extended) deviation on the fine grid.
+    fu : (A,) float, fv : (B,) float
+        Bin frequencies in cycles per control point.
+    shape : (a, b)
+        The domain part of the fine grid to return.
+
+    Returns
+    -------
+    dict str -> (a, b, 3) float
+        ``signal_error, x1, x2, diagonal, lateral, total``.
+    """
+    masks = _band_masks(fu, fv)
+    a, b = shape
+    out = {}
+    for name, m in masks.items():
+        out[name] = np.fft.ifft2(spectrum * m[:, :, None], axes=(0, 1)).real[:a, :b]
+    out["total"] = out["x1"] + out["x2"] + out["diagonal"]
+    return out
+
+
+def predicted_fields(intent: Intent, scheme) -> ArtifactFields:
+    """Artifact fields from the scheme's spectral response (the *predicted* road).
+
+    Fine spectrum of the residual's limit surface: ``S(xi) = K^2 T_L(xi) R(xi mod 1)`` with
+    ``T_L`` the scheme's transfer to the ``K = 2^L`` grid (SPEC §4: L steps of the symbol followed by
+    the limit stencil, exact without alias truncation). The trend's limit is a polynomial of the same
+    degree (sum rules), obtained exactly from the limit stencil at the integers; its difference from
+    the trend is signal error.
+
+    Parameters
+    ----------
+    intent : Intent
+    scheme : Scheme
+
+    Returns
+    -------
+    ArtifactFields
+    """
+    au, av = intent.axes
+    fu, fv = au.freqs(fine=True), av.freqs(fine=True)
+    T = np.asarray(scheme.transfer(fu[:, None], fv[None, :], levels=au.levels))
+    fine = intent.fine_spectrum()
+    surf_spec = fine * T[:, :, None]
+    base_w = intent.baseband_weight()
+    dev_spec = surf_spec - fine * base_w[:, :, None]
+    shape = (au.fine_count, av.fine_count)
+    bands = band_split(dev_spec, fu, fv, shape)
+    trend_limit_coef = _trend_limit_coef(intent, scheme)
+    x, y = au.x, av.x
+    poly_err = intent.trend(x, y, trend_limit_coef - intent.coef)
+    bands["signal_error"] = bands["signal_error"] + poly_err
+    intent_fine = intent.evaluate()
+    surface = intent_fine + bands["signal_error"] + bands["total"]
+    return ArtifactFields(x=x, y=y, surface=surface, intent=intent_fine, bands=bands,
+                          method="predicted", levels=au.levels)
+
+
+def _trend_limit_coef(intent: Intent, scheme) -> np.ndarray:
+    """Coefficients of the limit surface of the polynomial trend (a polynomial of the same degree).
+
+    The limit at the integers is the limit stencil applied to the trend extended as a polynomial
+    beyond the net; a polynomial of degree <= d is determined by those samples.
+    """
+    if not intent.terms or intent.terms == [(0, 0)]:
+        return intent.coef.copy()
+    L = np.asarray(scheme.limit_stencil, float)
+    ru, rv = (L.shape[0] - 1) / 2, (L.shape[1] - 1) / 2
+    nu, nv = intent.net.shape
+    if ru != int(ru) or rv != int(rv):
+        # an even-size stencil (dual scheme) has no vertex at the integers: evaluate through the
+        # transfer function's polynomial behaviour instead (the trend is reproduced up to the
+        # stencil's moments); fall back to the trend itself, i.e. no polynomial signal error.
+        return intent.coef.copy()
+    ru, rv = int(ru), int(rv)
+    xs = np.arange(-ru, nu + ru)
+    ys = np.arange(-rv, nv + rv)
+    padded = intent.trend(xs, ys)
+    lim = np.zeros((nu, nv, 3))
+    # the limit point at J is sum_n L_n P_{J-n}; L is symmetric for the catalogue, kept general here
+    for a in range(L.shape[0]):
+        for b in range(L.shape[1]):
+            if L[a, b] != 0.0:
+                lim += L[a, b] * padded[2 * ru - a: 2 * ru - a + nu, 2 * rv - b: 2 * rv - b + nv]
+    A = poly_design(np.arange(nu), np.arange(nv), intent.spans, intent.terms).reshape(nu * nv, -1)
+    coef, *_ = np.linalg.lstsq(A, lim.reshape(nu * nv, 3), rcond=None)
+    return coef
+
+
+def project(vec: np.ndarray, normal: np.ndarray | None, component: str) -> np.ndarray:
+    """Reduce a vector field ``(a, b, 3)`` to the reported scalar: signed normal part or Euclidean norm."""
+    check_option("component", component, COMPONENTS)
+    norm = np.linalg.norm(vec, axis=-1)
+    if component == "vector" or normal is None:
+        return norm
+    # where the intent has no normal (collapsed edge, pole) the whole displacement counts
+    has_normal = np.any(normal != 0.0, axis=-1)
+    return np.where(has_normal, np.einsum("abk,abk->ab", vec, normal), norm)
+
+
+def intent_normals(intent_fine: np.ndarray, K: int) -> np.ndarray:
+    """Unit normals ``(a, b, 3)`` of the intent surface on the fine grid (zeros where degenerate)."""
+    du = np.gradient(intent_fine, 1.0 / K, axis=0)
+    dv = np.gradient(intent_fine, 1.0 / K, axis=1)
+    n = np.cross(du, dv)
+    norm = np.linalg.norm(n, axis=-1, keepdims=True)
+    scale = np.linalg.norm(du, axis=-1, keepdims=True) * np.linalg.norm(dv, axis=-1, keepdims=True)
+    ok = norm > 1e-9 * np.maximum(scale, 1e-300)
+    return np.where(ok, n / np.where(ok, norm, 1.0), 0.0)
