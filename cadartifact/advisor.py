@@ -21,7 +21,8 @@ import numpy as np
 
 from .budget import METRICS, Budget, Stat, _stats, budget, default_scheme
 from .errors import OptionError, check_option
-from .fields import FIELD_NAMES, Axis, Intent, band_split, design_intent, intent_normals, predicted_fields, project
+from .fields import (FIELD_NAMES, Intent, band_split, design_intent, intent_normals, predicted_surface, project,
+                     ripple_only)
 from .net import ControlNet, clamped_uniform_knots
 from .splines import param_range
 
@@ -99,7 +100,7 @@ def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: In
 
 
 def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int = 3, component: str = "normal",
-                region: str = "face") -> dict:
+                region: str = "face", only: str | None = None) -> dict:
     """Statistics of ``surface(n') - intent`` split in the bands of the ``n'`` net.
 
     Parameters
@@ -112,6 +113,9 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
     levels : int
         Fine grid of the candidate net.
 
+    only : {"total", "deviation"}, optional
+        Compute just that statistic (the search's objective), skipping the other bands.
+
     Returns
     -------
     dict str -> Stat
@@ -120,25 +124,32 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
     net = intent.net
     new = resample(net, shape, scheme, intent=intent)
     it2 = design_intent(new, scheme, levels)
-    fields = predicted_fields(it2, scheme)
     au, av = it2.axes
+    surface = predicted_surface(it2, scheme)
     su = _scale(net.shape[0], shape[0], net.periodic[0])
     sv = _scale(net.shape[1], shape[1], net.periodic[1])
-    x_old, y_old = fields.x * su, fields.y * sv
+    x_old, y_old = au.x * su, av.x * sv
     target = intent.evaluate(x_old, y_old)
-    err = fields.surface - target
-    spec = np.fft.fft2(av.extend(au.extend(err, 0), 1), axes=(0, 1))
-    bands = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
+    err = surface - target
     normal = None if component == "vector" else intent_normals(target, au.K)
-    scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
-    scalars["deviation"] = project(err, normal, component)
+    scalars = {}
+    if only != "deviation":
+        spec = np.fft.fft2(av.extend(au.extend(err, 0), 1), axes=(0, 1))
+        fu, fv, shp = au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count)
+        if only == "total":
+            scalars["total"] = project(ripple_only(spec, fu, fv, shp), normal, component)
+        else:
+            bands = band_split(spec, fu, fv, shp)
+            scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
+    if only in (None, "deviation"):
+        scalars["deviation"] = project(err, normal, component)
     keep = np.ones(err.shape[:2], bool)
     if region == "interior":
         from .budget import region_mask
         from .fields import ArtifactFields
 
         margin = max(new.degrees) if new.degrees else max(scheme.mask.shape) // 2
-        keep = region_mask(new.replace(uv_bounds=None), ArtifactFields(x=fields.x, y=fields.y, surface=err,
+        keep = region_mask(new.replace(uv_bounds=None), ArtifactFields(x=au.x, y=av.x, surface=err,
                                                                         intent=target), "interior", margin)
     return _stats(scalars, keep)
 
@@ -226,15 +237,22 @@ class _Search:
         self.metric, self.key = metric, "deviation" if include_signal_error else "total"
         self.levels, self.component, self.region = levels, component, region
         self.cache: dict = {}
+        self.full: dict = {}
 
     def stats(self, a: int, b: int) -> dict:
-        if (a, b) not in self.cache:
-            self.cache[(a, b)] = artifact_at(self.intent, self.scheme, (a, b), levels=self.levels,
-                                             component=self.component, region=self.region)
-        return self.cache[(a, b)]
+        """All statistics at a density (computed once)."""
+        if (a, b) not in self.full:
+            self.full[(a, b)] = artifact_at(self.intent, self.scheme, (a, b), levels=self.levels,
+                                            component=self.component, region=self.region)
+        return self.full[(a, b)]
 
     def value(self, a: int, b: int) -> float:
-        return self.stats(a, b)[self.key].get(self.metric)
+        """The objective at a density (only what the search compares)."""
+        if (a, b) not in self.cache:
+            st = self.full.get((a, b)) or artifact_at(self.intent, self.scheme, (a, b), levels=self.levels,
+                                                      component=self.component, region=self.region, only=self.key)
+            self.cache[(a, b)] = st[self.key].get(self.metric)
+        return self.cache[(a, b)]
 
     def ok(self, a: int, b: int) -> bool:
         return self.value(a, b) <= self.t
@@ -251,10 +269,19 @@ def _first_true(lo: int, hi: int, pred) -> int:
     return lo
 
 
-def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int]) -> tuple[tuple[int, int], bool]:
-    """Fewest-points feasible density on the monotone frontier; ``(shape, reachable)``."""
-    if not search.ok(*hi):
-        return hi, False
+def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
+              start: tuple[int, int]) -> tuple[tuple[int, int], bool]:
+    """Fewest-points feasible density on the monotone frontier; ``(shape, reachable)``.
+
+    The upper corner grows from ``start`` (today's density) by doubling until it is feasible, so
+    large candidates are only built when needed.
+    """
+    a, b = (max(l, min(h, s)) for l, h, s in zip(lo, hi, start))
+    while not search.ok(a, b):
+        if a >= hi[0] and b >= hi[1]:
+            return (a, b), False
+        a, b = min(hi[0], 2 * a), min(hi[1], 2 * b)
+    hi = (a, b)
     a_min = _first_true(lo[0], hi[0], lambda a: search.ok(a, hi[1]))
     b_min = _first_true(lo[1], hi[1], lambda b: search.ok(hi[0], b))
     best = None
@@ -355,7 +382,7 @@ def _advise_shape(net, sch, tolerance, metric, include_signal_error, levels, com
     low, high = _limits(net)
     it1 = design_intent(net, sch, 1)
     coarse = _Search(it1, sch, tolerance, metric, include_signal_error, 1, component, "face")
-    shape, reachable = _frontier(coarse, low, high)
+    shape, reachable = _frontier(coarse, low, high, net.shape)
     if not confirm or levels == 1:
         return shape, reachable, coarse
     it = design_intent(net, sch, levels)

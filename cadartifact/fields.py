@@ -35,7 +35,8 @@ from .errors import OptionError, check_option
 from .net import ControlNet
 
 __all__ = ["Axis", "Intent", "ArtifactFields", "FIELD_NAMES", "design_intent", "predicted_fields",
-           "band_split", "legendre_terms", "poly_design"]
+           "band_split", "legendre_terms", "poly_design",
+           "predicted_surface", "ripple_only"]
 
 #: The fields a budget reports, in report order.
 FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
@@ -350,6 +351,22 @@ def predicted_fields(intent: Intent, scheme) -> ArtifactFields:
     surface = intent_fine + bands["signal_error"] + bands["total"]
     return ArtifactFields(x=x, y=y, surface=surface, intent=intent_fine, bands=bands,
                           method="predicted", levels=au.levels)
+
+
+def predicted_surface(intent: Intent, scheme) -> np.ndarray:
+    """Only the predicted limit surface on the fine grid, ``(a, b, 3)`` (one inverse FFT)."""
+    au, av = intent.axes
+    fu, fv = au.freqs(fine=True), av.freqs(fine=True)
+    T = np.asarray(scheme.transfer(fu[:, None], fv[None, :], levels=au.levels))
+    res = np.fft.ifft2(intent.fine_spectrum() * T[:, :, None], axes=(0, 1)).real[: au.fine_count, : av.fine_count]
+    return res + intent.trend(au.x, av.x, _trend_limit_coef(intent, scheme))
+
+
+def ripple_only(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """The whole ripple (x1 + x2 + diagonal) of a fine-grid spectrum, one inverse FFT."""
+    base = (np.abs(fu) < 0.5 - 1e-12)[:, None] & (np.abs(fv) < 0.5 - 1e-12)[None, :]
+    a, b = shape
+    return np.fft.ifft2(spectrum * (~base)[:, :, None], axes=(0, 1)).real[:a, :b]
 
 
 def _trend_limit_coef(intent: Intent, scheme) -> np.ndarray:

@@ -1,0 +1,215 @@
+"""Advise over files: the per-face results, the JSON document and the terminal tables.
+
+The document (``cadartifact advise --json``) has this schema (version 1)::
+
+    {
+      "schema": "cadartifact.advise/1",
+      "tolerance": float, "units": "mm", "metric": "peak" | "rms",
+      "include_signal_error": bool,
+      "files": [{
+        "path": str,
+        "faces_total": int, "skipped": {kind: count}, "warnings": [str],
+        "faces": [{
+          "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
+          "net": [nu, nv], "degrees": [p, q] | null, "scheme": str,
+          "method": "predicted" | "measured", "reason": str,
+          "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
+                     {"peak": float, "rms": float}},
+          "share": {same keys: value / tolerance under the metric},
+          "meets_tolerance": bool,
+          "advice": {"net": [n'u, n'v], "points": int, "budget": {...}, "share": {...},
+                     "meets_tolerance": bool, "binding": "u" | "v" | null,
+                     "verification": {"method", "levels", "value", "meets", "coarser": {...}} | null,
+                     "comparison": {scheme: {"net", "points", "meets_tolerance"}}}
+        }]
+      }],
+      "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int}
+    }
+
+``total`` is the whole ripple (x1 + x2 + diagonal); ``deviation`` is everything the surface differs
+from the intent (ripple and signal error); ``lateral`` is the part of the ripple running across
+features (SPEC §3 weighting).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from .budget import METRICS
+from .errors import OptionError, check_option
+
+__all__ = ["advise_files", "face_record", "render", "SCHEMA"]
+
+SCHEMA = "cadartifact.advise/1"
+DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total", "signal_error", "deviation")
+
+
+def _f(x):
+    return None if x is None or not math.isfinite(x) else round(float(x), 9)
+
+
+def face_record(net, advice) -> dict:
+    """One face's entry of the document from its :class:`~cadartifact.advisor.Advice`."""
+    cur = advice.current
+    t = advice.tolerance
+    key = "deviation" if advice.include_signal_error else "total"
+    return {
+        "face": net.origin.face,
+        "name": net.origin.name,
+        "kind": net.origin.kind,
+        "net": list(net.shape),
+        "degrees": list(net.degrees) if net.degrees else None,
+        "rational": net.rational,
+        "scheme": cur.scheme,
+        "method": cur.method,
+        "reason": cur.reason,
+        "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in cur.stats.items()},
+        "share": {k: _f(s.get(advice.metric) / t) for k, s in cur.stats.items()},
+        "meets_tolerance": bool(cur.stats[key].get(advice.metric) <= t),
+        "advice": advice.to_dict(),
+    }
+
+
+def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
+                 faces=None, compare: bool = True, verify: bool = True, progress=None, keep=None) -> dict:
+    """Load every file, advise every analysable face, and build the document.
+
+    Parameters
+    ----------
+    paths : list of path-like
+    tolerance : float
+    scheme, metric, include_signal_error
+        As :func:`cadartifact.advise`.
+    faces : set of int, optional
+        Only these face indices (per file).
+    progress : callable, optional
+        ``progress(kind, total_or_None, label)``: "files" once with the count, "face" per face.
+    keep : list, optional
+        If given, ``(path, net, advice)`` tuples are appended (for writing resampled faces).
+
+    Returns
+    -------
+    dict
+        The document described in this module's docstring.
+
+    Raises
+    ------
+    CadArtifactError
+        For the first file that cannot be read: nothing is returned (fail closed, no partial document).
+    """
+    from .advisor import advise
+    from .exchange import read
+
+    check_option("metric", metric, METRICS)
+    paths = [Path(p) for p in paths]
+    if not paths:
+        raise OptionError("FILE", "at least one file", "none")
+    loaded = [read(p) for p in paths]  # read everything first: a bad file fails before any output
+    total_faces = sum(len([n for n in r.nets if faces is None or n.origin.face in faces]) for r in loaded)
+    if progress:
+        progress("files", total_faces, "")
+    doc_files = []
+    summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+    for path, res in zip(paths, loaded):
+        entries = []
+        for net in res.nets:
+            if faces is not None and net.origin.face not in faces:
+                continue
+            adv = advise(net, tolerance, scheme, metric=metric, include_signal_error=include_signal_error,
+                         compare=compare, verify=verify)
+            rec = face_record(net, adv)
+            entries.append(rec)
+            if keep is not None:
+                keep.append((path, net, adv))
+            summary["faces"] += 1
+            summary["within" if rec["meets_tolerance"] else "exceeding"] += 1
+            summary["unreachable"] += 0 if adv.meets_tolerance else 1
+            if progress:
+                progress("face", None, f"{path.name}#{net.origin.face}")
+        doc_files.append({"path": str(path), "faces_total": res.faces_total, "skipped": dict(res.skipped),
+                          "warnings": list(res.warnings), "faces": entries})
+    units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
+    return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
+            "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
+
+
+def _bar(share: float | None, width: int = 10) -> str:
+    """A small text bar of a share of the tolerance (full at 1, red beyond)."""
+    if share is None:
+        return ""
+    filled = min(width, int(round(min(share, 1.0) * width)))
+    colour = "green" if share <= 0.5 else "yellow" if share <= 1.0 else "red"
+    return f"[{colour}]{'█' * filled}{'·' * (width - filled)}[/] {share * 100:5.1f}%"
+
+
+def render(doc: dict, console) -> None:
+    """Print one rich table per file and a summary line."""
+    from rich.table import Table
+
+    t = doc["tolerance"]
+    units = doc["units"]
+    metric = doc["metric"]
+    for f in doc["files"]:
+        table = Table(title=f"{f['path']}  (tolerance {t:g} {units}, {metric})", header_style="bold",
+                      title_justify="left")
+        for col in ("face", "net", "scheme", "method", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple",
+                    "advised", "verdict"):
+            table.add_column(col, no_wrap=col not in ("face",))
+        for r in f["faces"]:
+            sh = r["share"]
+            adv = r["advice"]
+            label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
+            if r["meets_tolerance"]:
+                verdict = "[green]within[/]"
+                if adv["points"] < r["net"][0] * r["net"][1]:
+                    verdict += " (could be coarser)"
+            elif adv["meets_tolerance"]:
+                verdict = "[red]exceeds[/]: resample"
+            else:
+                verdict = "[red]exceeds[/]: out of reach"
+            advised = "x".join(map(str, adv["net"]))
+            ver = adv.get("verification")
+            if ver is not None and not ver.get("meets", True):
+                advised += " [yellow](unverified)[/]"
+            table.add_row(label, "x".join(map(str, r["net"])), r["scheme"], r["method"],
+                          _bar(sh["x1"]), _bar(sh["x2"]), _bar(sh["diagonal"]), _bar(sh["lateral"]),
+                          _bar(sh["deviation" if doc["include_signal_error"] else "total"]), advised, verdict)
+        console.print(table)
+        skipped = ", ".join(f"{v} {k}" for k, v in sorted(f["skipped"].items()))
+        if skipped:
+            console.print(f"  skipped (not B-spline): {skipped}")
+        for w in f["warnings"]:
+            console.print(f"  [yellow]warning:[/] {w}")
+    s = doc["summary"]
+    console.print(f"[bold]{s['faces']} face(s) in {s['files']} file(s): {s['within']} within tolerance, "
+                  f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
+
+
+@dataclass
+class RichProgress:
+    """A progress-callback for :func:`advise_files` drawing a rich progress bar on stderr."""
+
+    console: object
+    enabled: bool = True
+
+    def __post_init__(self):
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self._p = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                           console=self.console, transient=True, disable=not self.enabled)
+        self._task = None
+
+    def __enter__(self):
+        self._p.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self._p.__exit__(*exc)
+
+    def __call__(self, kind, total, label):
+        if kind == "files":
+            self._task = self._p.add_task("advising faces", total=total)
+        elif self._task is not None:
+            self._p.update(self._task, advance=1, description=f"advising {label}")
