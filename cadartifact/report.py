@@ -135,6 +135,27 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
 
 
+def resampled_nets(kept) -> list:
+    """The advised nets of ``(path, net, advice)`` tuples as B-spline nets ready for :func:`write_step`.
+
+    A cage (OBJ chart) becomes a B-spline net of the scheme's degrees (bicubic for Catmull-Clark)
+    with uniform clamped knots; faces under non-B-spline schemes keep their own degrees.
+    """
+    from .net import ControlNet, clamped_uniform_knots
+    from .schemes import scheme as get_scheme
+
+    out = []
+    for _, net, adv in kept:
+        new = adv.resampled()
+        if new.degrees is None:
+            degs = get_scheme(adv.scheme).degrees or (3, 3)
+            degs = tuple(min(d, n - 1) for d, n in zip(degs, new.shape))
+            knots = tuple(clamped_uniform_knots(n, d) for n, d in zip(new.shape, degs))
+            new = ControlNet(points=new.points, degrees=degs, knots=knots, unit=new.unit, origin=new.origin)
+        out.append(new)
+    return out
+
+
 def _bar(share: float | None, width: int = 10) -> str:
     """A small text bar of a share of the tolerance (full at 1, red beyond)."""
     if share is None:

@@ -1,0 +1,117 @@
+"""Density advice: resampling, search, verification on the real surface."""
+
+import numpy as np
+import pytest
+
+import cadartifact as ca
+from cadartifact.advisor import advise, artifact_at, resample
+from cadartifact.fields import design_intent
+from cadartifact.net import ControlNet
+
+
+def ridge(x, y, amp=2.0, width=9.0, angle=0.0):
+    """A cosine-bump ridge of known shape (the intent)."""
+    c, s = np.cos(angle), np.sin(angle)
+    d = (x - 50.0) * c + (y - 40.0) * s
+    return amp * np.where(np.abs(d) < width, 0.5 * (1 + np.cos(np.pi * d / width)), 0.0) ** 2
+
+
+def ridge_net(nu=14, nv=10, **kw):
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    x, y = 100.0 * i / (nu - 1), 80.0 * j / (nv - 1)
+    return ControlNet.from_points(np.stack([x, y, ridge(x, y, **kw)], axis=-1), degrees=(3, 3))
+
+
+def test_resample_keeps_a_polynomial_net_exactly():
+    i, j = np.meshgrid(np.arange(7.0), np.arange(5.0), indexing="ij")
+    z = 0.1 * i ** 2 - 0.2 * i * j + j ** 3 * 0.01
+    net = ControlNet.from_points(np.stack([2 * i, 3 * j, z], axis=-1), degrees=(3, 3))
+    new = resample(net, (13, 9))
+    ii, jj = np.meshgrid(np.linspace(0, 6, 13), np.linspace(0, 4, 9), indexing="ij")
+    expect = np.stack([2 * ii, 3 * jj, 0.1 * ii ** 2 - 0.2 * ii * jj + jj ** 3 * 0.01], axis=-1)
+    np.testing.assert_allclose(new.points, expect, atol=1e-9)
+    assert new.knots_uniform == (True, True) and new.degrees == (3, 3)
+
+
+def test_resample_at_same_density_returns_the_net():
+    net = ridge_net()
+    np.testing.assert_allclose(resample(net, net.shape).points, net.points, atol=1e-9)
+
+
+def test_artifact_at_today_equals_budget_ripple():
+    """At today's density the advice model's artifact is today's budget (two code paths)."""
+    net = ridge_net()
+    it = design_intent(net, ca.bspline(3, 3), 3)
+    st = artifact_at(it, ca.bspline(3, 3), net.shape, levels=3)
+    b = ca.budget(net)
+    for k in ("x1", "x2", "diagonal", "total"):
+        assert st[k].peak == pytest.approx(b.stats[k].peak, rel=1e-6, abs=1e-12)
+
+
+def test_advice_is_anisotropic_and_verified():
+    """A ridge running along v: v can be coarse, u binds; OCCT verification agrees."""
+    net = ridge_net(nu=16, nv=12)
+    a = advise(net, 0.05)
+    assert a.meets_tolerance
+    assert a.shape[1] < a.shape[0]
+    assert a.binding == "u"
+    v = a.verification
+    assert v["method"] == "occt"
+    assert v["meets"] is True
+    assert v["coarser"]["meets"] is False
+    assert set(a.comparison) == {"bilinear", "bicubic", "4-3", "4-8", "kobbelt"}
+
+
+def test_advised_net_written_and_evaluated_stays_within_known_intent(tmp_path):
+    """Write the advised face to STEP, read it back with OCCT, evaluate: the surface stays within the
+    tolerance of the KNOWN ridge on the interior; one step coarser in the binding direction does not."""
+    from cadartifact.exchange import evaluate_grid, load, write_step
+
+    tol = 0.05
+    net = ridge_net(nu=24, nv=8, angle=0.0)
+    a = advise(net, tol, include_signal_error=True, compare=False)
+    assert a.meets_tolerance and a.binding is not None
+
+    def worst(shape):
+        out = tmp_path / f"r{shape[0]}x{shape[1]}.step"
+        write_step([resample(net, shape)], out)
+        face = load(out)[0]
+        (u0, u1), (v0, v1) = [(k[face.degrees[d]], k[len(k) - face.degrees[d] - 1]) for d, k in enumerate(face.knots)]
+        u = np.linspace(u0, u1, 121)[15:-15]  # the interior
+        v = np.linspace(v0, v1, 61)[10:-10]
+        S = evaluate_grid(face, u, v)
+        return float(np.abs(S[..., 2] - ridge(S[..., 0], S[..., 1])).max())
+
+    assert worst(a.shape) <= tol
+    coarser = (a.shape[0] - 1, a.shape[1]) if a.binding == "u" else (a.shape[0], a.shape[1] - 1)
+    assert worst(coarser) > tol
+
+
+def test_advice_may_be_coarser_than_today():
+    net = ridge_net(nu=30, nv=30, width=30.0)
+    a = advise(net, 0.5, compare=False, verify=False)
+    assert a.points < net.size
+
+
+def test_diagonal_ridge_prefers_four_direction_schemes():
+    """Paper Fig. 1: a ridge diagonal to the grid ripples laterally under bicubic, far less under 4-8."""
+    net = ridge_net(nu=14, nv=14, angle=np.pi / 4, width=14.0)
+    b3 = ca.budget(net, "bicubic")
+    b48 = ca.budget(net, "4-8")
+    assert b3.stats["diagonal"].peak > b48.stats["diagonal"].peak
+    assert b3.stats["lateral"].peak > b48.stats["lateral"].peak
+
+
+def test_cage_advice_uses_catmull_clark():
+    i, j = np.meshgrid(np.arange(9.0), np.arange(9.0), indexing="ij")
+    cage = ControlNet(points=np.stack([i, j, np.sin(i) * 0.3], axis=-1))
+    a = advise(cage, 0.01, compare=False)
+    assert a.scheme == "bicubic"
+    assert a.verification["method"] in ("uniform-bspline", "subdivision")
+
+
+def test_advise_rejects_bad_tolerance():
+    with pytest.raises(ca.errors.OptionError, match="tolerance"):
+        advise(ridge_net(), 0)
+    with pytest.raises(ca.errors.OptionError, match="tolerance"):
+        advise(ridge_net(), float("nan"))

@@ -1,0 +1,137 @@
+"""Artifact fields and budgets: predicted vs measured, and both vs SPEC §3 responses."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import cadartifact as ca
+from cadartifact.budget import budget
+from cadartifact.fields import design_intent, predicted_fields
+from cadartifact.measure import measured_fields
+from cadartifact.net import ControlNet
+
+NAMED = ["bilinear", "bicubic", "4-3", "4-8", "kobbelt"]
+
+
+def sinusoid_cage(n, k, amp=0.3):
+    """A periodic net carrying A cos(2 pi W.J) in z with W = k/n (exactly periodic)."""
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    w = (k[0] / n, k[1] / n)
+    z = amp * np.cos(2 * np.pi * (w[0] * i + w[1] * j))
+    pts = np.stack([0.01 * np.sin(2 * np.pi * i / n), 0.01 * np.cos(2 * np.pi * j / n), z], axis=-1)
+    return ControlNet(points=pts, periodic=(True, True)), w
+
+
+def rms(f):
+    return float(np.sqrt(np.mean(f ** 2)))
+
+
+@pytest.mark.parametrize("name", NAMED + ["bspline(2,3)", "box(2,2,1,1)"])
+@pytest.mark.parametrize("k", [(2, 3), (5, 1), (7, 6)])
+def test_sinusoid_predicted_equals_measured_and_spec(name, k):
+    s = ca.scheme(name)
+    net, w = sinusoid_cage(16, k)
+    it = design_intent(net, s, levels=1)
+    pred, meas = predicted_fields(it, s), measured_fields(it, s)
+    for band in ("signal_error", "x1", "x2", "diagonal", "lateral", "total"):
+        np.testing.assert_allclose(pred.bands[band], meas.bands[band], atol=1e-9 * 0.3)
+    # refined vertices (levels=1) carry exactly the paper's alpha, beta, gamma, delta
+    r = s.response(w[0], w[1], stage="limit")
+    amp = 0.3
+    z = lambda band: pred.bands[band][..., 2]
+    assert rms(z("x1")) * np.sqrt(2) == pytest.approx(amp * abs(float(r.x1)), abs=1e-12)
+    assert rms(z("x2")) * np.sqrt(2) == pytest.approx(amp * abs(float(r.x2)), abs=1e-12)
+    assert rms(z("diagonal")) * np.sqrt(2) == pytest.approx(amp * abs(float(r.diagonal)), abs=1e-12)
+    assert rms(z("signal_error")) * np.sqrt(2) == pytest.approx(amp * abs(float(r.signal) - 1), abs=1e-12)
+    # lateral field: ripple components weighted by SPEC's factors; its RMS is sqrt(3) x Response.lateral
+    assert rms(z("lateral")) * np.sqrt(2) == pytest.approx(amp * np.sqrt(3) * float(r.lateral), abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["bicubic", "4-8", "bspline(2,2)"])
+def test_sinusoid_continuous_stage_at_fine_levels(name):
+    """On a K = 32 grid the ripple RMS approaches the continuous surface's alias sums (SPEC §3)."""
+    s = ca.scheme(name)
+    net, w = sinusoid_cage(8, (1, 2))
+    b = budget(net, s, method="both", levels=5, component="vector", keep_fields=True)
+    r = s.response(w[0], w[1], stage="continuous")
+    z = lambda band: b.fields.bands[band][..., 2]
+    assert rms(z("x1")) * np.sqrt(2) == pytest.approx(0.3 * float(r.x1), rel=2e-3)
+    assert rms(z("x2")) * np.sqrt(2) == pytest.approx(0.3 * float(r.x2), rel=2e-3)
+    assert b.check["max_abs_diff"] < 1e-9
+
+
+@pytest.mark.parametrize("name", NAMED + ["bspline(2,2)", "bspline(3,3)"])
+def test_polynomial_cage_reports_zero_artifact(name):
+    s = ca.scheme(name)
+    d = s.reproduction_degree
+    i, j = np.meshgrid(np.arange(11.0), np.arange(9.0), indexing="ij")
+    z = 0.02 * i ** min(d, 3) - 0.05 * (i * j if d >= 2 else j) + 0.3 * j + 1
+    net = ControlNet(points=np.stack([3 * i, 2 * j + 0.1 * i, z], axis=-1))
+    for method in ("predicted", "measured"):
+        b = budget(net, s, method=method, component="vector")
+        scale = np.abs(net.points).max()
+        for band in ("x1", "x2", "diagonal", "lateral", "total"):
+            assert b.stats[band].peak <= 1e-9 * scale, (method, band, b.stats[band].peak)
+
+
+@pytest.mark.parametrize("degrees", [(3, 3), (2, 3), (3, 2)])
+def test_polynomial_clamped_face_zero_artifact_both_roads(degrees):
+    """A clamped B-spline face whose net samples a polynomial of degree <= min(p, q): no ripple, ends included."""
+    i, j = np.meshgrid(np.arange(12.0), np.arange(10.0), indexing="ij")
+    x, y = 7.5 * i, 6.0 * j
+    d = min(degrees)
+    z = 0.001 * x ** d + 0.0005 * x * y - 2e-4 * y ** 2 + 5
+    net = ControlNet.from_points(np.stack([x, y, z], axis=-1), degrees=degrees)
+    for method in ("predicted", "measured"):
+        b = budget(net, method=method)
+        assert b.stats["total"].peak <= 1e-9 * np.abs(z).max(), (method, b.stats["total"])
+
+
+def test_face_road_agrees_with_prediction_on_interior():
+    """A uniform clamped bicubic face: measured (NURBS evaluation) close to predicted on the interior."""
+    i, j = np.meshgrid(np.arange(20.0), np.arange(16.0), indexing="ij")
+    x, y = 5.0 * i, 5.0 * j
+    z = 2.0 * np.cos(2 * np.pi * (x + y) / 45.0)
+    net = ControlNet.from_points(np.stack([x, y, z], axis=-1), degrees=(3, 3))
+    b = budget(net, method="both")
+    assert b.method == "predicted"
+    assert b.check["max_abs_diff"] < 0.02 * 2.0  # 2 % of the ridge amplitude
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.floats(0.01, 10.0), st.floats(-50, 50), st.integers(0, 3))
+def test_budget_scales_linearly_and_ignores_offsets(scale, shift, seed):
+    """Ripple is linear in the net and blind to rigid translation (property)."""
+    rng = np.random.default_rng(seed)
+    i, j = np.meshgrid(np.arange(9.0), np.arange(7.0), indexing="ij")
+    z = rng.normal(size=i.shape)
+    pts = np.stack([i, j, z], axis=-1)
+    a = budget(ControlNet.from_points(pts), component="vector")
+    b = budget(ControlNet.from_points(pts * scale + shift), component="vector")
+    for k in ("x1", "x2", "diagonal", "total"):
+        assert b.stats[k].peak == pytest.approx(a.stats[k].peak * scale, rel=1e-7, abs=1e-12)
+
+
+def test_non_uniform_face_is_measured_and_says_so():
+    i, j = np.meshgrid(np.arange(8.0), np.arange(6.0), indexing="ij")
+    pts = np.stack([i, j, np.sin(i) * np.cos(j)], axis=-1)
+    net = ControlNet.from_points(pts, degrees=(3, 3))
+    ku = net.knots[0].copy()
+    ku[4] = 0.1  # uneven interior spacing
+    uneven = net.replace(knots=(ku, net.knots[1]))
+    b = budget(uneven)
+    assert b.method == "measured" and "knots are not uniform" in b.reason
+    w = np.ones(net.shape)
+    w[3, 2] = 2.0
+    b = budget(net.replace(weights=w))
+    assert b.method == "measured" and "weights vary" in b.reason
+
+
+def test_budget_options_are_checked():
+    net = ControlNet.from_points(np.random.default_rng(0).normal(size=(6, 6)))
+    with pytest.raises(ca.errors.OptionError, match="metric"):
+        budget(net, metric="max")
+    with pytest.raises(ca.errors.OptionError, match="tolerance"):
+        budget(net, tolerance=-1)
+    with pytest.raises(ca.errors.OptionError, match="method"):
+        budget(net, method="guess")
