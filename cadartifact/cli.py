@@ -220,6 +220,83 @@ def demo_cmd(
               "Try: cadartifact advise FILE --tol 0.05 --json")
 
 
+# ---------------------------------------------------------------- gate (CI quality gate)
+@app.command("gate")
+@cli_errors
+def gate_cmd(
+    paths: List[str] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files, folders (recursive) or globs.",
+                                      show_default=False),
+    tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
+    policy: Optional[Path] = typer.Option(None, "--policy",
+                                          help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
+                                               "pyproject.toml, looked up from here upward)."),
+    fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
+    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
+    report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
+    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", help="Worker processes (default: CPU count)."),
+    metric: Optional[str] = typer.Option(None, "--metric", help="peak or rms (overrides the policy)."),
+    warn_fraction: Optional[float] = typer.Option(None, "--warn-fraction",
+                                                  help="Warn at this fraction of the tolerance (0 < f <= 1; "
+                                                       "default 0.8)."),
+    scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
+    verify: bool = typer.Option(False, "--verify/--no-verify",
+                                help="Verify the advised net of failing faces on the real surface (slower)."),
+):
+    """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
+
+    Exit 0 when every face passes (warnings allowed), 1 when a face fails, 2 on usage errors or
+    when a file cannot be read (that file is reported as an error; the other files are still
+    analysed; with --output the report is complete and lists it). The policy and verdict rules
+    are documented in cadartifact.gate_policy and cadartifact.gate.
+    """
+    import importlib.util
+    import os
+
+    from .errors import OptionError, check_option
+    from .gate import build_document, run_gate
+    from .gate_policy import base_settings, check_cli, expand_paths, find_policy, load_policy
+    from .gate_reports import FORMATS, render_text, summary_line, to_json, to_junit, to_sarif, to_text, write_atomic
+
+    check_option("--format", fmt, FORMATS)
+    if jobs is not None and jobs < 1:
+        raise OptionError("--jobs", "a number of processes >= 1", jobs)
+    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme})
+    pol = load_policy(policy) if policy is not None else find_policy()
+    files = expand_paths(paths)
+    settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis
+    for option, target in (("--output", output), ("--report", report)):
+        if target is not None and not (target.parent if str(target.parent) else Path(".")).is_dir():
+            raise OptionError(option, "a file in an existing folder", str(target))
+    if report is not None and importlib.util.find_spec("cadartifact.viz.html") is None:
+        raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
+                                      "installation", str(report))
+
+    err = _console(stderr=True)
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=err, transient=True, disable=not err.is_terminal) as bar:
+        task = bar.add_task("gating files", total=len(files))
+        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify,
+                           progress=lambda entry: bar.update(task, advance=1, description=f"gated {entry['path']}"))
+    doc = build_document(entries, base_settings(pol, cli), pol)
+
+    if fmt == "text" and output is None:
+        render_text(doc, _console())
+    else:
+        text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
+        if output is None:
+            typer.echo(text, nl=False)
+        else:
+            write_atomic(output, text)
+            _console().print(summary_line(doc) + f"; {fmt} report written to {output}", soft_wrap=True)
+    if report is not None:
+        from .viz.html import write_report
+
+        write_report(doc, report)
+    raise typer.Exit(doc["exit_code"])
+
+
 def main():  # console-script entry point
     try:
         app()

@@ -1,0 +1,285 @@
+"""The pipeline quality gate: pass / warn / fail verdicts per face and file, and the exit code.
+
+``cadartifact gate PATH...`` advises every analysable face of every file (the advise document of
+:mod:`cadartifact.report`) under the settings its policy gives it (:mod:`cadartifact.gate_policy`)
+and adds a verdict, so that a CI job or a pre-commit hook can block a model whose control nets
+ripple beyond the tolerance. Report writers are in :mod:`cadartifact.gate_reports`.
+
+Per face: ``fail`` when the value (ripple, or whole deviation with ``include_signal_error``, under
+the metric) exceeds the tolerance, ``warn`` when it is within it but ``>= warn_fraction *
+tolerance``, else ``pass``; faces outside the uniform theory are capped at ``warn`` unless the
+policy says ``measured = "fail"`` (why: :mod:`cadartifact.gate_policy`). Per file: the worst face;
+``pass`` with a note when the file has no analysable face; ``error`` when it cannot be read or
+analysed. Fail closed: an ``error`` file never passes, every readable file is still analysed and
+reported, and the exit code is then 2; else 1 when any face fails, else 0.
+"""
+
+from __future__ import annotations
+
+import os
+
+from .errors import CadArtifactError
+from .gate_policy import FileSettings, Policy
+
+__all__ = ["GATE_SCHEMA", "VERDICTS", "face_verdict", "file_verdict", "gate_file", "run_gate", "build_document"]
+
+GATE_SCHEMA = "cadartifact.gate/1"
+
+#: Verdicts from best to worst.
+VERDICTS = ("pass", "warn", "fail", "error")
+
+
+def _worst(verdicts) -> str:
+    return max(verdicts, key=VERDICTS.index, default="pass")
+
+
+def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]:
+    """Verdict of one face record of the advise document.
+
+    Parameters
+    ----------
+    record : dict
+        A face entry (:func:`cadartifact.report.face_record`).
+    settings : FileSettings
+
+    Returns
+    -------
+    verdict : {"pass", "warn", "fail"}
+    reason : str
+        One line with the numbers.
+    value : float
+        ``budget[total | deviation][metric]``, the number compared with the tolerance.
+
+    Notes
+    -----
+    ``fail`` if ``value > t``; ``warn`` if ``warn_fraction * t <= value <= t``; else ``pass``. A
+    measured face (outside the uniform theory) is capped at ``warn`` unless ``measured = "fail"``.
+    """
+    key = "deviation" if settings.include_signal_error else "total"
+    value = record["budget"][key][settings.metric]
+    t = settings.tolerance
+    what = "deviation" if settings.include_signal_error else "ripple"
+    if value > t:
+        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} exceeds tolerance {t:g}"
+    elif value >= settings.warn_fraction * t:
+        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} is within tolerance {t:g} but above "
+                                   f"{settings.warn_fraction:g} of it")
+    else:
+        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} within tolerance {t:g}"
+    if verdict == "fail" and record["method"] == "measured" and settings.measured == "warn":
+        verdict = "warn"
+        reason += " (outside the uniform theory, numbers relative to control-point intent: capped at warn " \
+                  "by policy measured = 'warn')"
+    return verdict, reason, value
+
+
+def file_verdict(entry: dict) -> str:
+    """The worst face verdict; ``error`` for an entry with an error; ``pass`` without faces."""
+    if entry.get("error"):
+        return "error"
+    return _worst(f["verdict"] for f in entry["faces"])
+
+
+# ---------------------------------------------------------------- analysis (one file, any process)
+def _error_entry(path: str, settings: FileSettings | None, message: str) -> dict:
+    return {"path": path, "verdict": "error", "error": message, "units": None, "faces_total": None, "skipped": {},
+            "warnings": [], "notes": [], "ignored_faces": [], "faces": [],
+            "policy": settings.to_dict() if settings else None}
+
+
+def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
+    """Read, advise and judge one file; never raises (errors become an ``error`` entry).
+
+    Parameters
+    ----------
+    path : str
+    settings : FileSettings
+    verify : bool
+        Verify the advice of failing faces on the real surface (slower).
+
+    Returns
+    -------
+    dict
+        The advise document's file entry plus ``verdict``, ``policy`` (the settings), ``notes``,
+        ``ignored_faces`` and per face ``verdict``, ``verdict_reason`` and ``value``; or an error
+        entry ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
+    """
+    import warnings
+
+    from .advisor import advise
+    from .budget import budget
+    from .exchange import read
+    from .report import face_record
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the no-analysable-face warning is in res.warnings
+            res = read(path)
+        faces = []
+        for net in res.nets:
+            if net.origin.face in settings.ignore_faces:
+                continue
+            try:
+                check_first = verify
+                if check_first:
+                    # verification costs a real-surface evaluation: only for faces that fail
+                    b = budget(net, settings.scheme, settings.tolerance, metric=settings.metric)
+                    check_first = not b.meets(settings.include_signal_error)
+                adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric,
+                             include_signal_error=settings.include_signal_error, compare=False, verify=check_first)
+                rec = face_record(net, adv)
+            except CadArtifactError as exc:
+                raise CadArtifactError(f"face {net.origin.face}: {exc}") from None
+            key = "deviation" if settings.include_signal_error else "total"
+            if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
+                raise CadArtifactError(f"face {net.origin.face}: the analysis gave a non-finite value "
+                                       "(coordinates too large, or a degenerate net)")
+            verdict, reason, value = face_verdict(rec, settings)
+            rec.update(verdict=verdict, verdict_reason=reason, value=value)
+            faces.append(rec)
+    except CadArtifactError as exc:
+        message = str(exc)
+        if not message.startswith(str(path)):
+            message = f"{path}: {message}"
+        return _error_entry(path, settings, message)
+    except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
+        return _error_entry(path, settings, f"{path}: analysis failed ({type(exc).__name__}: {exc})")
+    present = {n.origin.face for n in res.nets}
+    ignored = sorted(settings.ignore_faces)
+    notes = []
+    missing = [i for i in ignored if i not in present]
+    if missing:
+        notes.append(f"ignore_faces {missing} name no analysable face of this file")
+    if not faces:
+        notes.append("no analysable face (nothing to gate): pass")
+    entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total, "skipped": dict(res.skipped),
+             "warnings": list(res.warnings), "notes": notes, "ignored_faces": [i for i in ignored if i in present],
+             "policy": settings.to_dict(), "faces": faces}
+    entry["verdict"] = file_verdict(entry)
+    return entry
+
+
+def _gate_file_args(args):
+    return gate_file(*args)
+
+
+# ---------------------------------------------------------------- the run
+def _pool_context():
+    import multiprocessing as mp
+
+    # OCCT is not fork-safe once loaded, and the parent may hold rich's refresh thread
+    methods = mp.get_all_start_methods()
+    return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
+
+
+def _run_isolated(tasks: list, jobs: int, done) -> list:
+    """Run ``gate_file`` over tasks in a process pool; a task whose worker dies becomes an error entry."""
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    results: list = [None] * len(tasks)
+    pending = list(range(len(tasks)))
+    isolate = False
+    while pending:
+        # after a crash, rerun what is left one file per pool, so the culprit is known
+        batches = [[i] for i in pending] if isolate else [pending]
+        pending = []
+        for batch in batches:
+            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context()) as ex:
+                futures = {ex.submit(_gate_file_args, tasks[i]): i for i in batch}
+                for fut in _as_completed(futures):
+                    i = futures[fut]
+                    try:
+                        results[i] = fut.result()
+                        done(results[i])
+                    except BrokenProcessPool:
+                        if isolate:
+                            path, settings = tasks[i][0], tasks[i][1]
+                            results[i] = _error_entry(path, settings, f"{path}: the analysis process crashed "
+                                                                      "(corrupt geometry?)")
+                            done(results[i])
+                        else:
+                            pending.append(i)
+        pending.sort()
+        isolate = True
+    return results
+
+
+def _as_completed(futures):
+    from concurrent.futures import as_completed
+
+    return as_completed(futures)
+
+
+def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None) -> list:
+    """Gate files (in parallel with ``jobs > 1``); results in input order, identical for any ``jobs``.
+
+    Parameters
+    ----------
+    paths : list of path-like
+    settings : list of FileSettings
+        One per path.
+    jobs : int
+        Worker processes; 1 runs in this process.
+    progress : callable, optional
+        ``progress(entry)`` after each file.
+
+    Returns
+    -------
+    list of dict
+        File entries (:func:`gate_file`).
+    """
+    done = progress or (lambda entry: None)
+    tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
+    jobs = max(1, min(int(jobs), len(tasks)))
+    if jobs == 1:
+        out = []
+        for t in tasks:
+            out.append(gate_file(*t))
+            done(out[-1])
+        return out
+    return _run_isolated(tasks, jobs, done)
+
+
+def build_document(entries: list, base: dict, policy: Policy) -> dict:
+    """The gate document: the advise document's keys, verdicts, summary and exit code.
+
+    Parameters
+    ----------
+    entries : list of dict
+        File entries from :func:`run_gate`.
+    base : dict
+        The settings without per-file overrides (``tolerance``, ``metric``, ``include_signal_error``,
+        ``warn_fraction``, ``measured``, ``scheme``).
+    policy : Policy
+
+    Returns
+    -------
+    dict
+        ``{"schema": "cadartifact.advise/1", "gate": "cadartifact.gate/1", "tolerance", "units",
+        "metric", "include_signal_error", "warn_fraction", "measured", "policy": source | None,
+        "files": [...], "summary": {..., "verdicts": {"files": {...}, "faces": {...}}},
+        "verdict", "exit_code"}``
+    """
+    from .report import SCHEMA
+
+    face_counts = {v: 0 for v in VERDICTS[:3]}
+    file_counts = {v: 0 for v in VERDICTS}
+    summary = {"files": len(entries), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+    for e in entries:
+        file_counts[e["verdict"]] += 1
+        for f in e["faces"]:
+            face_counts[f["verdict"]] += 1
+            summary["faces"] += 1
+            summary["within" if f["meets_tolerance"] else "exceeding"] += 1
+            summary["unreachable"] += 0 if f["advice"]["meets_tolerance"] else 1
+    summary["errors"] = file_counts["error"]
+    summary["verdicts"] = {"files": file_counts, "faces": face_counts}
+    verdict = _worst(e["verdict"] for e in entries)
+    exit_code = 2 if verdict == "error" else 1 if verdict == "fail" else 0
+    units = next((e["units"] for e in entries if e.get("units")), "mm")
+    return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": base["tolerance"], "units": units,
+            "metric": base["metric"], "include_signal_error": base["include_signal_error"],
+            "warn_fraction": base["warn_fraction"], "measured": base["measured"], "scheme": base["scheme"],
+            "policy": policy.source[len("policy "):] if policy.source else None,
+            "files": entries, "summary": summary, "verdict": verdict, "exit_code": exit_code}
