@@ -172,8 +172,13 @@ def _pool_context():
     return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
-def _run_isolated(tasks: list, jobs: int, done) -> list:
-    """Run ``gate_file`` over tasks in a process pool; a task whose worker dies becomes an error entry."""
+def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
+    """Run ``worker`` (default :func:`gate_file`) over ``(path, settings, verify)`` tasks in a process pool.
+
+    A task whose worker process dies (a crash in native code) becomes an error entry; the others are
+    rerun one per process so that only the culprit is blamed.
+    """
+    worker = worker or _gate_file_args
     from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
 
@@ -186,7 +191,7 @@ def _run_isolated(tasks: list, jobs: int, done) -> list:
         pending = []
         for batch in batches:
             with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context()) as ex:
-                futures = {ex.submit(_gate_file_args, tasks[i]): i for i in batch}
+                futures = {ex.submit(worker, tasks[i]): i for i in batch}
                 for fut in _as_completed(futures):
                     i = futures[fut]
                     try:

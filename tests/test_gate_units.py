@@ -209,3 +209,22 @@ def test_pre_commit_hook_definition():
         assert files.search(name), name
     for name in ("a.step.txt", "readme.md", "stp", "x.objx"):
         assert not files.search(name), name
+
+
+def crash_on_bad(task):
+    """A stand-in worker: dies like a native crash for paths containing 'bad', else a pass entry."""
+    path = task[0]
+    if "bad" in path:
+        os._exit(139)
+    return {"path": path, "verdict": "pass", "faces": []}
+
+
+def test_a_crashing_worker_blames_only_its_file():
+    from cadartifact.gate import _run_isolated
+
+    tasks = [(p, FileSettings(tolerance=1.0), False) for p in ("a.step", "bad.step", "c.step", "d.step")]
+    seen = []
+    out = _run_isolated(tasks, 2, seen.append, worker=crash_on_bad)
+    assert [e["verdict"] for e in out] == ["pass", "error", "pass", "pass"]
+    assert "crashed" in out[1]["error"] and "bad.step" in out[1]["error"]
+    assert sorted(e["path"] for e in seen) == sorted(t[0] for t in tasks)
