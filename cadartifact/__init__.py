@@ -18,26 +18,25 @@ from .net import ControlNet, NetOrigin
 
 __version__ = "0.1.0"
 
-# public name -> (module, attribute); attribute None means the module itself
+# The numerical core imports numpy only, so it is loaded eagerly. This also matters for names
+# shared by a module and a function (``schemes``, ``budget``): importing a submodule binds the
+# package attribute to the module, so the function must be bound after it.
+from .schemes import Scheme, box, bspline, scheme, schemes  # noqa: E402
+from .spectral import Response  # noqa: E402
+from .budget import Budget, budget  # noqa: E402
+from .advisor import Advice, advise, resample  # noqa: E402
+
+# public name -> (module, attribute) loaded on first use (OCP, cadquery); attribute None: the module
 _LAZY = {
-    "Scheme": ("schemes", "Scheme"),
-    "scheme": ("schemes", "scheme"),
-    "schemes": ("schemes", "schemes"),
-    "box": ("schemes", "box"),
-    "bspline": ("schemes", "bspline"),
-    "Response": ("spectral", "Response"),
     "load": ("exchange", "load"),
+    "read": ("exchange", "read"),
     "from_shape": ("exchange", "from_shape"),
-    "budget": ("budget", "budget"),
-    "Budget": ("budget", "Budget"),
-    "resample": ("advisor", "resample"),
-    "advise": ("advisor", "advise"),
-    "Advice": ("advisor", "Advice"),
     "write_step": ("exchange", "write_step"),
     "cq": ("cadquery_plugin", None),
 }
 
-__all__ = ["ControlNet", "NetOrigin", "CadArtifactError", "errors", "__version__", *_LAZY]
+__all__ = ["ControlNet", "NetOrigin", "CadArtifactError", "errors", "__version__", "Scheme", "box", "bspline",
+           "scheme", "schemes", "Response", "Budget", "budget", "Advice", "advise", "resample", *_LAZY]
 
 
 def __getattr__(name: str):
