@@ -23,12 +23,17 @@ where ``S(eta) = sum_m |phi_hat(eta + m)|^2 = sum_n psi(n) exp(-2 pi i eta.n)`` 
 ``psi`` at the integers. The X1 class obeys the same recursion with ``S`` replaced by the line sum
 ``sum_m1 |phi_hat(eta1 + m1, eta2)|^2 = sum_n1 exp(-2 pi i eta1 n1) G(n1, eta2)``, where
 ``G(n1, eta) = int psi(n1, y) exp(-2 pi i eta y) dy`` satisfies the vector refinement
-``G(., eta) = B(eta) G(., eta/2)`` (``B`` built from the rows of the autocorrelation mask).
-Every term is non-negative, so nothing cancels; the recursion is cut after ``J`` halvings where
-the dropped remainder is ``O(2^(-2 J (d+1)))`` relative (``d`` the reproduction degree), below 1e-17.
-Tensor-product masks factor into 1-D sums. For masks that are not tensor products the diagonal
-class is ``R - R_X1 - R_X2``: its absolute error is about 1e-8 of the axial artifact amplitude
-(rounding in the subtraction), negligible in every energy and percentage.
+``G(., eta) = B(eta) G(., eta/2)`` (``B`` built from the rows of the autocorrelation mask); the
+diagonal class uses ``S`` at ``V = X1+X2`` and the off-line sums ``sum_{m2 != 0}`` of the same
+vectors, which obey a recursion of their own. No class is obtained by subtracting the others, so
+zeros stay zeros (the diagonal on the axes, X1 and X2 on the diagonals of 4-3 and 4-8). The
+recursion is cut after ``J`` halvings where the dropped remainder is ``O(2^(-2 J (d+1)))`` relative
+(``d`` the reproduction degree), below ``2^-60``. Tensor-product masks factor into 1-D sums
+(``x1^2 = R_x(wx) |phi_y_hat(wy)|^2``, ``diagonal^2 = R_x R_y``), accurate to rounding relative to
+each class. For other masks each squared class amplitude is accurate to about 1e-16 relative
+plus 1e-17 absolute (the symbol of the autocorrelation near its multiple zeros), i.e. a class
+amplitude below ~1e-8 of the signal carries a few 1e-9 of absolute error: irrelevant for energies,
+percentages and tolerances.
 
 References
 ----------
@@ -232,8 +237,8 @@ def _continuous(s, wx, wy):
         x2 = np.abs(px) * np.sqrt(ry)
         diag = np.sqrt(rx) * np.sqrt(ry)
         return [_realify(signal), x1, x2, diag]
-    r, r1, r2 = alias_class_sums(s, wx, wy)
-    return [_realify(s.basis_hat(wx, wy)), np.sqrt(r1), np.sqrt(r2), np.sqrt(np.maximum(r - r1 - r2, 0.0))]
+    r1, r2, rd = alias_class_sums(s, wx, wy)
+    return [_realify(s.basis_hat(wx, wy)), np.sqrt(r1), np.sqrt(r2), np.sqrt(rd)]
 
 
 def _realify(a):
@@ -248,19 +253,22 @@ def _autocorrelation_data(s):
     cache = s._cache
     if "psi" not in cache:
         a = sy.autocorrelation_mask(s.mask)
-        cache["psi"] = sy.limit_stencil(a)
-        cache["line"] = (_line_data(a), _line_data(a.T))
+        psi = sy.limit_stencil(a)
+        cache["psi"] = psi
+        cache["line"] = (_line_data(a, psi), _line_data(a.T, psi.T))
     return cache["psi"], cache["line"]
 
 
-def _line_data(a: np.ndarray):
-    """Matrices for ``G(n1, eta) = int psi(n1, y) exp(-2 pi i eta y) dy`` along axis 0 of ``a``.
+def _line_data(a: np.ndarray, psi: np.ndarray) -> dict:
+    """Data for ``G(n1, eta) = int psi(n1, y) exp(-2 pi i eta y) dy`` along axis 0 of the autocorrelation mask ``a``.
 
-    Returns ``(coef, k2, g0, n1, symmetric)`` with ``coef[n1, n1', k2] = a[2 n1 - n1', k2] / 2`` (so that
-    ``G(., eta) = (coef . exp(-i pi eta k2)) G(., eta/2)``), ``g0 = G(., 0)`` (the marginal's integer
-    samples) and whether ``a`` is even in ``k2`` (then ``G(., eps) - G(., 0) = O(eps^2)``).
+    ``coef[n1, n1', k2] = a[2 n1 - n1', k2] / 2`` so that ``G(., eta) = B(eta) G(., eta/2)`` with
+    ``B(eta) = coef . exp(-i pi eta k2)``; ``g0 = G(., 0)`` (integer samples of the marginal
+    ``int psi(x, y) dy``); ``rows[n1, n2] = psi(n1, n2)``; ``even`` whether ``a`` is even in ``k2`` (then
+    ``G(., eps) - G(., 0) = O(eps^2)``); ``factor`` whether every row of ``a`` has alternating sum 0, i.e. the
+    mask has a ``(1 + z2)`` factor, so ``phi_hat(xi1, m2) = 0`` for ``m2 != 0`` and ``H(., 0) = 0`` exactly.
     """
-    R1 = (a.shape[0] - 1) // 2
+    R1, R2 = (a.shape[0] - 1) // 2, (a.shape[1] - 1) // 2
     k2 = sy.centred_offsets(a.shape[1])
     n1 = np.arange(-R1, R1 + 1)
     coef = np.zeros((len(n1), len(n1), a.shape[1]))
@@ -273,65 +281,89 @@ def _line_data(a: np.ndarray):
     g0 = np.zeros(len(n1))
     h = (len(marginal) - 1) // 2
     g0[R1 - h: R1 + h + 1] = marginal
-    symmetric = bool(np.allclose(a, a[:, ::-1], rtol=0, atol=1e-15 * np.abs(a).max()))
-    return coef, k2, g0, n1, symmetric
+    rows = np.zeros((len(n1), 2 * R2 + 1))
+    h1, h2 = (psi.shape[0] - 1) // 2, (psi.shape[1] - 1) // 2
+    rows[R1 - h1: R1 + h1 + 1, R2 - h2: R2 + h2 + 1] = psi
+    tol = 1e-15 * np.abs(a).max()
+    even = bool(np.allclose(a, a[:, ::-1], rtol=0, atol=tol))
+    factor = bool(np.all(np.abs(a @ (-1.0) ** np.arange(a.shape[1])) <= 16 * tol))
+    return dict(coef=coef, k2=k2, g0=g0, n1=n1, rows=rows, n2=np.arange(-R2, R2 + 1), even=even, factor=factor)
 
 
-def _line_G(data, eta_base: np.ndarray, levels: int) -> list[np.ndarray]:
-    """``[G(., eta_base / 2^t) for t = 1..levels]``, each ``(P, n)``, by one deep-to-shallow sweep."""
-    coef, k2, g0, n1, symmetric = data
+def _line_sweep(data: dict, eta_base: np.ndarray, levels: int):
+    """``G(., eta_base / 2^t)`` and ``H(., eta_base / 2^t)`` for ``t = 1..levels`` (lists of ``(P, n)``).
+
+    ``H(., eta) = sum_{m2 != 0} G(., eta + m2)`` obeys ``H(., eta) = B(eta + 1) F(., (eta + 1)/2) + B(eta) H(., eta/2)``
+    with ``F(n1, theta) = sum_n2 psi(n1, n2) exp(-2 pi i theta n2)`` (all aliases, exact). Both are swept from
+    ``eta ~ 0`` (``G(., 0) = g0``; ``H(., 0) = 0`` for masks with a ``(1 + z2)`` factor, else ``F(., 0) - g0``) up to
+    the wanted levels, doubling ``eta`` at each step.
+    """
+    coef, k2, g0, n1 = data["coef"], data["k2"], data["g0"], data["n1"]
     eta_max = np.abs(eta_base).max(initial=0.0)
-    tiny = 2.0 ** (-28 if symmetric else -54)
+    tiny = 2.0 ** (-28 if data["even"] else -54)
     deep = max(levels, int(np.ceil(np.log2(max(eta_max, tiny) / tiny))))
     n = len(n1)
     flat = coef.reshape(n * n, len(k2))
-    g = np.broadcast_to(g0, (len(eta_base), n)).astype(complex)
-    out = [None] * (levels + 1)
+    P = len(eta_base)
+    g = np.broadcast_to(g0, (P, n)).astype(complex)
+    h0 = np.zeros(n) if data["factor"] else data["rows"].sum(axis=1) - g0
+    h = np.broadcast_to(h0, (P, n)).astype(complex)
+    outg, outh = [None] * (levels + 1), [None] * (levels + 1)
+
+    def B(theta):  # (P, n, n)
+        E = np.exp(-1j * np.pi * np.multiply.outer(k2, theta))
+        return (flat @ E).reshape(n, n, -1).transpose(2, 0, 1)
+
     for t in range(deep, 0, -1):
-        eta = eta_base / 2.0 ** t  # g currently holds G(., eta)
+        eta = eta_base / 2.0 ** t  # g, h hold G(., eta), H(., eta)
         if t <= levels:
-            out[t] = g
-        # G(., 2 eta) = B(2 eta) G(., eta)
-        E = np.exp(-1j * np.pi * np.multiply.outer(k2, 2.0 * eta))  # (nk, P)
-        B = (flat @ E).reshape(n, n, -1).transpose(2, 0, 1)  # (P, n, n)
-        g = np.einsum("pij,pj->pi", B, g)
-    return out[1:]
+            outg[t], outh[t] = g, h
+        F = np.exp(-2j * np.pi * np.multiply.outer(eta + 0.5, data["n2"])) @ data["rows"].T  # F(., eta + 1/2)
+        B2 = B(2.0 * eta)
+        h = np.einsum("pij,pj->pi", B(2.0 * eta + 1.0), F) + np.einsum("pij,pj->pi", B2, h)
+        g = np.einsum("pij,pj->pi", B2, g)
+    return outg[1:], outh[1:]
 
 
 def alias_class_sums(s, wx, wy):
-    """``(R, R_X1, R_X2)``: sums of ``|phi_hat(Omega + m)|^2`` over ``m != 0``, over ``m1 != 0 = m2``, and
-    over ``m2 != 0 = m1``, by the exact recursions of the module notes (any mask)."""
+    """``(R_X1, R_X2, R_D)``: sums of ``|phi_hat(Omega + m)|^2`` over the X1 aliases (``m1 != 0 = m2``), the X2
+    aliases (``m2 != 0 = m1``) and the diagonal ones (both non-zero), for any mask.
+
+    Exact recursions in ``Omega -> Omega/2`` (module notes); every class has its own, so no class is
+    obtained by subtracting the others and zeros stay zeros (e.g. the diagonal class on the axes).
+    """
     wx = np.asarray(wx, dtype=float)
     wy = np.asarray(wy, dtype=float)
     psi, (line1, line2) = _autocorrelation_data(s)
     kp1, kp2 = sy.centred_offsets(psi.shape[0]), sy.centred_offsets(psi.shape[1])
     xi_max = max(np.abs(wx).max(initial=0.0), np.abs(wy).max(initial=0.0))
     J = _recursion_depth(xi_max, s.reproduction_degree)
-    # line sums need G(n1, wy / 2^(j+1)) and G(n2, wx / 2^(j+1)) for j < J
+    # line sums need G, H(n1, wy / 2^(j+1)) and G, H(n2, wx / 2^(j+1)) for j < J
     uy, inv_y = np.unique(wy.ravel(), return_inverse=True)
     ux, inv_x = np.unique(wx.ravel(), return_inverse=True)
-    G1 = _line_G(line1, uy, J)
-    G2 = _line_G(line2, ux, J)
-    n1, n2 = line1[3], line2[3]
+    G1, H1 = _line_sweep(line1, uy, J)
+    G2, H2 = _line_sweep(line2, ux, J)
+    n1, n2 = line1["n1"], line2["n1"]
     shape = np.broadcast_shapes(wx.shape, wy.shape)
-    R = np.zeros(shape)
-    R1 = np.zeros(shape)
-    R2 = np.zeros(shape)
+    R1, R2, RD = np.zeros(shape), np.zeros(shape), np.zeros(shape)
     weight = np.ones(shape)
     for j in range(J):
         x, y = wx / 2.0 ** j, wy / 2.0 ** j
-        sq = [np.abs(s.symbol(x + v1, y + v2) / 4.0) ** 2 for v1, v2 in _SHIFTS]
-        for (v1, v2), q in zip(_SHIFTS[1:], sq[1:]):
-            S = trig_sum(psi, kp1, kp2, (x + v1) / 2.0, (y + v2) / 2.0, 2.0 * np.pi)
-            R = R + weight * q * np.real(S)
-        g1 = G1[j][inv_y].reshape(wy.shape + (len(n1),))  # G(n1, y/2)
-        g2 = G2[j][inv_x].reshape(wx.shape + (len(n2),))  # G(n2, x/2)
+        q0, q1, q2, q3 = (np.abs(s.symbol(x + v1, y + v2) / 4.0) ** 2 for v1, v2 in _SHIFTS)
+        S = np.real(trig_sum(psi, kp1, kp2, (x + 1.0) / 2.0, (y + 1.0) / 2.0, 2.0 * np.pi))
+        pick_y = lambda A: A[j][inv_y].reshape(wy.shape + (len(n1),))  # noqa: E731  at y/2
+        pick_x = lambda A: A[j][inv_x].reshape(wx.shape + (len(n2),))  # noqa: E731  at x/2
         e1 = np.exp(-2j * np.pi * np.multiply.outer((x + 1.0) / 2.0, n1))
         e2 = np.exp(-2j * np.pi * np.multiply.outer((y + 1.0) / 2.0, n2))
-        R1 = R1 + weight * sq[1] * np.real(_pair_sum(e1, g1))
-        R2 = R2 + weight * sq[2] * np.real(_pair_sum(g2, e2))
-        weight = weight * sq[0]
-    return np.maximum(R, 0.0), np.maximum(R1, 0.0), np.maximum(R2, 0.0)
+        line_1 = np.real(_pair_sum(e1, pick_y(G1)))  # sum_m1 |phi_hat((x+1)/2 + m1, y/2)|^2
+        line_2 = np.real(_pair_sum(pick_x(G2), e2))
+        off_1 = np.real(_pair_sum(e1, pick_y(H1)))  # same point, all aliases with m2 != 0
+        off_2 = np.real(_pair_sum(pick_x(H2), e2))
+        R1 = R1 + weight * q1 * line_1
+        R2 = R2 + weight * q2 * line_2
+        RD = RD + weight * (q3 * S + q1 * off_1 + q2 * off_2)
+        weight = weight * q0
+    return np.maximum(R1, 0.0), np.maximum(R2, 0.0), np.maximum(RD, 0.0)
 
 
 def _pair_sum(ex: np.ndarray, ey: np.ndarray):
