@@ -234,6 +234,7 @@ class Scheme:
         set_("interpolating", _is_interpolating(mask))
         set_("_axes", axes)
         set_("_samples", samples)
+        grid = _frozen(grid)
         set_("_grid_stencil", grid)
         set_("_cache", {})
 
@@ -272,6 +273,15 @@ class Scheme:
         """Per axis, whether the mask has even size: refined vertices then sit at quarter offsets
         (``J +- 1/4, +- 3/4``), never on the net's half-grid."""
         return tuple(bool(s % 2 == 0) for s in self.mask.shape)
+
+    @property
+    def grid_stencil(self) -> np.ndarray:
+        """``phi`` sampled at ``Z + dual/2`` (centred; even length on dual axes, half-integer offsets).
+
+        It takes the vertices of ``L >= 1`` subdivision steps to the limit surface at the points of
+        ``2^-L Z^2`` (for primal axes it is the limit stencil); :meth:`transfer` uses its symbol.
+        """
+        return self._grid_stencil
 
     @property
     def tensor(self) -> bool:
