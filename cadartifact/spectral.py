@@ -177,13 +177,24 @@ def response(scheme, wx, wy, stage: str = "limit") -> Response:
     elif s.tensor:
         vals = _discrete_tensor(s, wx, wy, stage == "limit")
     else:
-        vals = []
-        for v1, v2 in _SHIFTS:
-            a = s.symbol(wx + v1, wy + v2) / 4.0
-            if stage == "limit":
-                a = a * s.limit_symbol(wx + v1, wy + v2)
-            vals.append(a)
+        # M/4 * L is the symbol of the convolved coefficients (m * L)/4: one trigonometric sum per V
+        # (one matrix product on grids) instead of two sums and a product
+        coef = _limit_coefficients(s) if stage == "limit" else s.mask / 4.0
+        k1, k2 = sy.centred_offsets(coef.shape[0]), sy.centred_offsets(coef.shape[1])
+        vals = [trig_sum(coef, k1, k2, wx + v1, wy + v2, np.pi) for v1, v2 in _SHIFTS]
     return Response(*vals, stage=stage, wx=wx, wy=wy)
+
+
+def _limit_coefficients(s) -> np.ndarray:
+    """Cached ``(m * L) / 4`` (full 2-D convolution, centred like the mask)."""
+    if "limit_coef" not in s._cache:
+        m, L = s.mask, s.limit_stencil
+        out = np.zeros((m.shape[0] + L.shape[0] - 1, m.shape[1] + L.shape[1] - 1))
+        for a in range(L.shape[0]):
+            for b in range(L.shape[1]):
+                out[a:a + m.shape[0], b:b + m.shape[1]] += L[a, b] * m
+        s._cache["limit_coef"] = out / 4.0
+    return s._cache["limit_coef"]
 
 
 def _discrete_tensor(s, wx, wy, limit: bool):
