@@ -122,6 +122,8 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
         As :attr:`Budget.stats`.
     """
     net = intent.net
+    if only is not None and region == "face" and getattr(scheme, "tensor", False):
+        return _artifact_at_tensor(intent, scheme, shape, levels, component, only)
     new = resample(net, shape, scheme, intent=intent)
     it2 = design_intent(new, scheme, levels)
     au, av = it2.axes
@@ -152,6 +154,26 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
         keep = region_mask(new.replace(uv_bounds=None), ArtifactFields(x=au.x, y=av.x, surface=err,
                                                                         intent=target), "interior", margin)
     return _stats(scalars, keep)
+
+
+def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only) -> dict:
+    """:func:`artifact_at` for tensor-product schemes by per-axis operators (same numbers, much faster)."""
+    from .fields import Axis, trend_caps
+    from .separable import axis_model, tensor_error
+
+    net = intent.net
+    d = int(scheme.reproduction_degree)
+    old_axes = intent.axes
+    new_axes = (Axis(shape[0], net.periodic[0], levels), Axis(shape[1], net.periodic[1], levels))
+    old = tuple(axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(old_axes, trend_caps(d, old_axes))))
+    new = tuple(axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(new_axes, trend_caps(d, new_axes))))
+    scales = [_scale(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic)]
+    x_new = tuple(_new_positions(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic))
+    x_fine = tuple(a.x * s for a, s in zip(new_axes, scales))
+    err, target = tensor_error(net.points, old, new, x_new, x_fine, levels, ripple=(only == "total"))
+    normal = None if component == "vector" else intent_normals(target, new_axes[0].K)
+    v = np.abs(project(err, normal, component))
+    return {only: Stat(peak=float(v.max()), rms=float(np.sqrt(np.mean(v ** 2))))}
 
 
 @dataclass(frozen=True, eq=False)

@@ -36,7 +36,8 @@ from .net import ControlNet
 
 __all__ = ["Axis", "Intent", "ArtifactFields", "FIELD_NAMES", "design_intent", "predicted_fields",
            "band_split", "legendre_terms", "poly_design",
-           "predicted_surface", "ripple_only"]
+           "predicted_surface", "ripple_only", "bandlimited_basis",
+           "bandlimited_basis_real"]
 
 #: The fields a budget reports, in report order.
 FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
@@ -100,9 +101,13 @@ def _reflect(a: np.ndarray, axis: int) -> np.ndarray:
 
 
 # ---------------------------------------------------------------- polynomial trend
-def legendre_terms(degree: int, caps: tuple[int, int]) -> list[tuple[int, int]]:
-    """Exponent pairs ``(a, b)`` with ``a + b <= degree``, ``a <= caps[0]``, ``b <= caps[1]``."""
-    return [(a, b) for a in range(caps[0] + 1) for b in range(caps[1] + 1) if a + b <= degree]
+def legendre_terms(degree: int, caps: tuple[int, int], tensor: bool = False) -> list[tuple[int, int]]:
+    """Exponent pairs ``(a, b)`` with ``a <= caps[0]``, ``b <= caps[1]`` and, unless ``tensor``, ``a + b <= degree``.
+
+    A tensor-product scheme whose factors generate degree ``d`` generates every ``x^a y^b`` with
+    ``a, b <= d``; other schemes are only known to generate total degree ``<= d``.
+    """
+    return [(a, b) for a in range(caps[0] + 1) for b in range(caps[1] + 1) if tensor or a + b <= degree]
 
 
 def poly_design(x: np.ndarray, y: np.ndarray, spans: tuple[float, float],
@@ -197,12 +202,35 @@ class Intent:
 
 def _bandlimited_at(spectrum: np.ndarray, au: Axis, av: Axis, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Band-limited interpolant of a periodic spectrum at arbitrary outer-grid points (direct DFT sums)."""
-    mats = []
-    for ax, pts in ((au, x), (av, y)):
-        f = ax.freqs(fine=False)
-        w = np.where(np.abs(f) < 0.5, 1.0, np.where(np.isclose(np.abs(f), 0.5), 0.5, 0.0))
-        mats.append(np.exp(2j * np.pi * pts[:, None] * f[None, :]) * w[None, :] / ax.period)
+    mats = [bandlimited_basis(pts, ax.freqs(fine=False)) for ax, pts in ((au, x), (av, y))]
     return np.einsum("ak,klc,bl->abc", mats[0], spectrum, mats[1], optimize=True).real
+
+
+def bandlimited_basis(x: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """``(len(x), N)`` synthesis matrix of the band-limited interpolant from an N-bin DFT.
+
+    Bins with ``|f| < 1/2`` contribute ``exp(2 pi i f x) / N``; the single Nyquist bin of an even
+    N stands for the pair ``+-1/2`` and contributes ``cos(pi x) / N`` (the even split the zero-padded
+    fine spectrum makes), so the interpolant is real and passes through the samples.
+    """
+    C, S = bandlimited_basis_real(x, f)
+    return C + 1j * S
+
+
+def bandlimited_basis_real(x: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Real and imaginary parts ``(C, S)`` of :func:`bandlimited_basis` (for real matrix products)."""
+    f = np.asarray(f, float)
+    inside = np.abs(f) < 0.5
+    nyq = np.abs(np.abs(f) - 0.5) < 1e-12
+    ph = (2 * np.pi) * np.outer(np.asarray(x, float), f)
+    C = np.cos(ph) * (inside | nyq)  # the Nyquist bin: cos(pi x), full weight
+    S = np.sin(ph) * inside
+    return C / len(f), S / len(f)
+
+
+def trend_caps(degree: int, axes) -> tuple[int, int]:
+    """Trend degree per axis: ``min(d, n-1)`` on open axes, 0 on periodic ones."""
+    return tuple(0 if a.periodic else min(degree, a.n - 1) for a in axes)
 
 
 def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
@@ -232,8 +260,8 @@ def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
     nu, nv = net.shape
     axes = (Axis(nu, net.periodic[0], levels), Axis(nv, net.periodic[1], levels))
     d = int(scheme.reproduction_degree)
-    caps = tuple(0 if a.periodic else min(d, a.n - 1) for a in axes)
-    terms = legendre_terms(d, caps)
+    caps = trend_caps(d, axes)
+    terms = legendre_terms(d, caps, tensor=bool(getattr(scheme, "tensor", False)))
     spans = tuple(float(max(a.n - 1, 1)) for a in axes)
     A = poly_design(np.arange(nu), np.arange(nv), spans, terms).reshape(nu * nv, len(terms))
     P = net.points.reshape(nu * nv, 3)
