@@ -282,7 +282,10 @@ def gate_cmd(
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:
-        render_text(doc, _console())
+        con = _console()
+        if not con.is_terminal:  # CI logs: rich's 80-column default would fold every table
+            con.width = max(con.width, 132)
+        render_text(doc, con)
     else:
         text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
         if output is None:

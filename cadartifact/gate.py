@@ -21,7 +21,7 @@ import os
 from .errors import CadArtifactError
 from .gate_policy import FileSettings, Policy
 
-__all__ = ["GATE_SCHEMA", "VERDICTS", "face_verdict", "file_verdict", "gate_file", "run_gate", "build_document"]
+__all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "face_verdict", "file_verdict", "gate_file", "run_gate", "build_document"]
 
 GATE_SCHEMA = "cadartifact.gate/1"
 
@@ -87,6 +87,10 @@ def _error_entry(path: str, settings: FileSettings | None, message: str) -> dict
             "policy": settings.to_dict() if settings else None}
 
 
+#: Skipped-face kinds that mean broken data (non-finite or all-coincident poles), not a face type.
+INVALID_SKIPS = ("degenerate", "conversion failed")
+
+
 def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
     """Read, advise and judge one file; never raises (errors become an ``error`` entry).
 
@@ -100,43 +104,27 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
     Returns
     -------
     dict
-        The advise document's file entry plus ``verdict``, ``policy`` (the settings), ``notes``,
-        ``ignored_faces`` and per face ``verdict``, ``verdict_reason`` and ``value``; or an error
-        entry ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
+        The advise document's file entry plus ``units``, ``verdict``, ``policy`` (the settings),
+        ``notes``, ``ignored_faces`` and per face ``verdict``, ``verdict_reason`` and ``value``; or an
+        error entry ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
+
+    Notes
+    -----
+    Fail closed: a file that cannot be read, a face whose analysis raises or gives a non-finite
+    value, and a face the reader skipped because its control points are invalid (NaN/infinite or all
+    coincident: :data:`INVALID_SKIPS`) make the whole file an ``error``. Faces skipped because they
+    are analytic (planes, cylinders...) are simply not gated.
     """
     import warnings
 
-    from .advisor import advise
-    from .budget import budget
-    from .exchange import read
-    from .report import face_record
+    import numpy as np
 
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # the no-analysable-face warning is in res.warnings
-            res = read(path)
-        faces = []
-        for net in res.nets:
-            if net.origin.face in settings.ignore_faces:
-                continue
-            try:
-                check_first = verify
-                if check_first:
-                    # verification costs a real-surface evaluation: only for faces that fail
-                    b = budget(net, settings.scheme, settings.tolerance, metric=settings.metric)
-                    check_first = not b.meets(settings.include_signal_error)
-                adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric,
-                             include_signal_error=settings.include_signal_error, compare=False, verify=check_first)
-                rec = face_record(net, adv)
-            except CadArtifactError as exc:
-                raise CadArtifactError(f"face {net.origin.face}: {exc}") from None
-            key = "deviation" if settings.include_signal_error else "total"
-            if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
-                raise CadArtifactError(f"face {net.origin.face}: the analysis gave a non-finite value "
-                                       "(coordinates too large, or a degenerate net)")
-            verdict, reason, value = face_verdict(rec, settings)
-            rec.update(verdict=verdict, verdict_reason=reason, value=value)
-            faces.append(rec)
+        # numpy overflow warnings (e.g. 1e300 coordinates) would only add noise: the non-finite
+        # result is turned into an error below
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            return _gate_file(path, settings, verify)
     except CadArtifactError as exc:
         message = str(exc)
         if not message.startswith(str(path)):
@@ -144,6 +132,46 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
         return _error_entry(path, settings, message)
     except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
         return _error_entry(path, settings, f"{path}: analysis failed ({type(exc).__name__}: {exc})")
+
+
+def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
+    import numpy as np
+
+    from .advisor import advise
+    from .budget import budget
+    from .exchange import read
+    from .report import face_record
+
+    res = read(path)
+    invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
+    if invalid:
+        detail = "; ".join(w for w in res.warnings if "no analysable face" not in w)
+        raise CadArtifactError(f"{invalid} face(s) with invalid control points could not be analysed"
+                               + (f" ({detail})" if detail else ""))
+    key = "deviation" if settings.include_signal_error else "total"
+    faces = []
+    for net in res.nets:
+        if net.origin.face in settings.ignore_faces:
+            continue
+        if not np.isfinite(np.sum(net.points ** 2)):  # squared norms overflow: nothing finite would come out
+            raise CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
+                                   f"(max |x| = {np.abs(net.points).max():.3g})")
+        try:
+            check = verify
+            if check:  # verification costs a real-surface evaluation: only for faces that fail
+                b = budget(net, settings.scheme, settings.tolerance, metric=settings.metric)
+                check = not b.meets(settings.include_signal_error)
+            adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric,
+                         include_signal_error=settings.include_signal_error, compare=False, verify=check)
+            rec = face_record(net, adv)
+        except CadArtifactError as exc:
+            raise CadArtifactError(f"face {net.origin.face}: {exc}") from None
+        if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
+            raise CadArtifactError(f"face {net.origin.face}: the analysis gave a non-finite value "
+                                   "(coordinates too large?)")
+        verdict, reason, value = face_verdict(rec, settings)
+        rec.update(verdict=verdict, verdict_reason=reason, value=value)
+        faces.append(rec)
     present = {n.origin.face for n in res.nets}
     ignored = sorted(settings.ignore_faces)
     notes = []
@@ -152,9 +180,9 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
     if not faces:
         notes.append("no analysable face (nothing to gate): pass")
-    entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total, "skipped": dict(res.skipped),
-             "warnings": list(res.warnings), "notes": notes, "ignored_faces": [i for i in ignored if i in present],
-             "policy": settings.to_dict(), "faces": faces}
+    entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
+             "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
+             "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
     entry["verdict"] = file_verdict(entry)
     return entry
 

@@ -106,7 +106,8 @@ def render_text(doc: dict, console) -> None:
             table = Table(title=title, title_justify="left", header_style="bold")
             for col in ("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised",
                         "verdict"):
-                table.add_column(col, no_wrap=col != "face")
+                # fold rather than truncate: the numbers must stay readable in narrow CI logs
+                table.add_column(col, overflow="fold", min_width=4 if col != "face" else 6)
             for f in entry["faces"]:
                 sh = f["share"]
                 advised = _net(f["advice"]["net"]) if f["advice"]["meets_tolerance"] else "out of reach"
@@ -167,7 +168,7 @@ def to_junit(doc: dict) -> str:
         if pol:
             props = ET.SubElement(suite, "properties")
             for k in ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured"):
-                ET.SubElement(props, "property", name=k, value=str(pol[k]))
+                ET.SubElement(props, "property", name=k, value="default" if pol[k] is None else str(pol[k]))
             ET.SubElement(props, "property", name="verdict", value=entry["verdict"])
         if entry["verdict"] == "error":
             case = ET.SubElement(suite, "testcase", name=entry["path"], classname="cadartifact.gate")
