@@ -17,9 +17,9 @@ array([[ 1.,  4.,  1.],
 >>> round(float(s.response(0.1, 0.2).percent), 3)
 0.273
 
-Reference: N. A. Dodgson, U. H. Augsdörfer, T. J. Cashman, M. A. Sabin, "Deriving box-spline
-subdivision schemes" / Augsdörfer, Dodgson, Sabin, "Artifact analysis on B-splines, box-splines
-and other surfaces defined by quadrilateral polyhedra", CAGD 2011 (paper in ``shared/paper``).
+Reference: U. H. Augsdörfer, N. A. Dodgson, M. A. Sabin, "Artifact analysis on B-splines,
+box-splines and other surfaces defined by quadrilateral polyhedra", CAGD 28 (2011) (text in
+``shared/paper``; SPEC §2 is the contract where they differ).
 """
 
 from __future__ import annotations

@@ -158,7 +158,8 @@ def mask_symbol(mask, wx, wy, centre=None):
 
     References
     ----------
-    SPEC §2; Dodgson, Augsdörfer, Sabin et al., "Artifact analysis of subdivision schemes", §3.
+    SPEC §2; Augsdörfer, Dodgson, Sabin, "Artifact analysis on B-splines, box-splines and other
+    surfaces defined by quadrilateral polyhedra", CAGD 28 (2011), §3.
     """
     mask = np.asarray(mask, dtype=float)
     s1, s2 = mask.shape
