@@ -1,0 +1,237 @@
+"""Control nets from CAD and mesh files: STEP, IGES, BREP (via OCCT) and OBJ cages.
+
+Format code converts to and from :class:`~cadartifact.net.ControlNet` and does no
+analysis. Importing this package loads numpy only; OCP is imported the first time
+a STEP/IGES/BREP file or shape is handled.
+
+>>> from cadartifact.exchange import read
+>>> result = read("samples/wavy_panel_diagonal.step")            # doctest: +SKIP
+>>> result.nets[0].shape, result.skipped                          # doctest: +SKIP
+((12, 12), {})
+
+Bad or degenerate nets
+----------------------
+A face whose poles are not finite or all coincide is skipped with a warning
+(counted as ``"degenerate"`` in ``skipped``); a file with no analysable face is
+a warning, not an error. Files that cannot be read raise
+:class:`~cadartifact.errors.InputError` subclasses with a ``"PATH: problem"`` message.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import OptionError, UnsupportedFormatError
+from ..net import ControlNet
+from .messages import LoadWarning, warn
+from .quadmesh import Chart, QuadMesh
+
+__all__ = [
+    "LoadResult",
+    "LoadWarning",
+    "QuadMesh",
+    "Chart",
+    "SUPPORTED_EXTENSIONS",
+    "read",
+    "load",
+    "from_shape",
+    "write_step",
+    "occ_surface",
+    "evaluate_grid",
+]
+
+#: lower-case extension -> format
+SUPPORTED_EXTENSIONS = {
+    ".step": "step", ".stp": "step",
+    ".iges": "iges", ".igs": "iges",
+    ".brep": "brep", ".brp": "brep",
+    ".obj": "obj",
+}
+
+
+@dataclass(frozen=True, eq=False)
+class LoadResult:
+    """Everything read from one file.
+
+    Attributes
+    ----------
+    path : Path
+    nets : list of ControlNet
+        The analysable faces (STEP/IGES/BREP) or grid charts (OBJ), in file order.
+    faces_total : int
+        Every face in the file (B-rep faces; OBJ polygons).
+    skipped : dict str -> int
+        Faces not analysed, by kind: ``"plane"``, ``"cylinder"``, ``"cone"``, ``"sphere"``,
+        ``"torus"``, ``"revolution"``, ``"extrusion"``, ``"offset"``, ..., ``"degenerate"``;
+        for OBJ ``"triangle"``, ``"n-gon"``, ``"irregular quad"``.
+    warnings : list of str
+        Also issued through :func:`warnings.warn` (category ``LoadWarning``).
+    mesh : QuadMesh or None
+        OBJ only: the polygon mesh with its regularity analysis.
+    charts : list of Chart
+        OBJ only: ``charts[i]`` is the grid behind ``nets[i]`` (``nets[i].origin.face == i``).
+    """
+
+    path: Path
+    nets: list = field(default_factory=list)
+    faces_total: int = 0
+    skipped: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+    mesh: QuadMesh | None = None
+    charts: list = field(default_factory=list)
+
+    @property
+    def analysable(self) -> int:
+        """Number of nets."""
+        return len(self.nets)
+
+
+def _format_of(path: Path) -> str:
+    fmt = SUPPORTED_EXTENSIONS.get(path.suffix.lower())
+    if fmt is None:
+        listed = ", ".join(sorted(SUPPORTED_EXTENSIONS))
+        raise UnsupportedFormatError(path, f"unsupported file extension {path.suffix or '(none)'!r}; "
+                                     f"supported: {listed}")
+    return fmt
+
+
+def read(path: str | os.PathLike, *, convert: bool = False) -> LoadResult:
+    """Read every control net in a file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``.step/.stp``, ``.iges/.igs``, ``.brep/.brp`` or ``.obj`` (any case).
+    convert : bool
+        Convert revolution/extrusion/offset and other non-analytic freeform faces to
+        B-splines with OCCT (kind ``"converted"``) instead of skipping them.
+
+    Returns
+    -------
+    LoadResult
+
+    Raises
+    ------
+    UnsupportedFormatError
+        Unknown extension (the message lists the supported ones).
+    InputError, FileFormatError
+        Missing, empty, truncated or malformed file; non-manifold OBJ; OBJ without quads.
+    """
+    path = Path(path)
+    fmt = _format_of(path)
+    if fmt == "obj":
+        from .obj import read_obj
+
+        return read_obj(path)
+    from . import occ, step
+
+    reader = {"step": step.read_step, "iges": step.read_iges, "brep": step.read_brep}[fmt]
+    shape, face_name = reader(path)
+    nets, total, skipped, messages = occ.nets_from_shape(shape, file=str(path), convert=convert, face_name=face_name)
+    if not nets:
+        kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
+        hint = "" if convert else "; try convert=True (--convert) for revolution/extrusion/offset faces"
+        messages.append(f"{path}: no analysable face (no B-spline or Bezier face among {total} faces; "
+                        f"skipped: {kinds}){hint}")
+    for message in messages:
+        warn(message)
+    return LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
+
+
+def load(path: str | os.PathLike, *, convert: bool = False) -> list[ControlNet]:
+    """The control nets of a file: ``read(path, convert=convert).nets``."""
+    return read(path, convert=convert).nets
+
+
+def _shapes_of(obj) -> list:
+    """The OCP shapes of a Workplane / cq Shape / TopoDS_Shape / sequence of those."""
+    if isinstance(obj, (list, tuple)):
+        return [s for item in obj for s in _shapes_of(item)]
+    if hasattr(obj, "vals") and hasattr(obj, "objects"):  # cadquery Workplane
+        return [s for item in obj.vals() if hasattr(item, "wrapped") for s in _shapes_of(item)]
+    wrapped = getattr(obj, "wrapped", obj)  # cadquery Shape
+    from OCP.TopoDS import TopoDS_Shape
+
+    if isinstance(wrapped, TopoDS_Shape):
+        return [] if wrapped.IsNull() else [wrapped]
+    return []
+
+
+def from_shape(obj, *, convert: bool = False, name: str | None = None) -> list[ControlNet]:
+    """Control nets of an in-memory shape, without a file round trip.
+
+    Parameters
+    ----------
+    obj : cadquery.Workplane, cadquery.Shape, OCP TopoDS_Shape, or a list of these
+        A Workplane contributes the faces of all its objects (``Workplane.vals()``).
+    convert : bool
+        As in :func:`read`.
+    name : str, optional
+        Label stored in each net's ``origin.file`` (reports show ``name#face``); faces of
+        in-memory shapes carry no names.
+
+    Returns
+    -------
+    list of ControlNet
+        Face indices count every face in ``TopExp_Explorer`` order over the compound of
+        the given shapes. A shape with no analysable face gives ``[]`` and a warning.
+
+    Raises
+    ------
+    OptionError
+        ``obj`` holds no shape.
+    """
+    from ..dependencies import require
+
+    require("OCP", "reading CadQuery/OCP shapes")
+    shapes = _shapes_of(obj)
+    if not shapes:
+        raise OptionError("obj", "a cadquery Workplane or Shape, or an OCP TopoDS_Shape, holding a shape",
+                          type(obj).__name__)
+    from OCP.BRep import BRep_Builder
+    from OCP.TopoDS import TopoDS_Compound
+
+    from . import occ
+
+    if len(shapes) == 1:
+        shape = shapes[0]
+    else:
+        builder = BRep_Builder()
+        shape = TopoDS_Compound()
+        builder.MakeCompound(shape)
+        for s in shapes:
+            builder.Add(shape, s)
+    nets, total, skipped, messages = occ.nets_from_shape(shape, file=name, convert=convert)
+    if not nets:
+        kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
+        messages.append(f"{name or '<shape>'}: no analysable face (no B-spline or Bezier face among {total} faces; "
+                        f"skipped: {kinds})")
+    for message in messages:
+        warn(message)
+    return nets
+
+
+def write_step(nets, path: str | os.PathLike) -> Path:
+    """Write B-spline nets to STEP, one face each (see :func:`cadartifact.exchange.step.write_step`)."""
+    from .step import write_step as _write
+
+    return _write(nets, path)
+
+
+def occ_surface(net: ControlNet):
+    """The exact OCCT ``Geom_BSplineSurface`` of a net (see :func:`cadartifact.exchange.occ.occ_surface`)."""
+    from .occ import occ_surface as _surface
+
+    return _surface(net)
+
+
+def evaluate_grid(net: ControlNet, u, v):
+    """OCCT's evaluation of the net's surface on the outer grid ``u x v``: ``(len(u), len(v), 3)``.
+
+    See :func:`cadartifact.exchange.occ.evaluate_grid`.
+    """
+    from .occ import evaluate_grid as _evaluate
+
+    return _evaluate(net, u, v)

@@ -1,0 +1,200 @@
+"""A small, strict Wavefront OBJ reader that keeps polygons as they are (no triangulation).
+
+Read: ``v x y z [w]`` vertices and ``f a b c ...`` faces (``a``, ``a/t``, ``a//n``,
+``a/t/n``; negative indices count back from the last vertex). OpenSubdiv tags
+``t name ni/nf/ns ints... floats... strings...`` are kept (``crease`` edges with
+their sharpness, the rest as generic tags). Every other statement (``vt``, ``vn``,
+``o``, ``g``, ``s``, ``usemtl``, ``l``, comments, unknown keywords) is skipped.
+A trailing ``\\`` continues a statement on the next line.
+
+Errors are :class:`~cadartifact.errors.FileFormatError` with the file and line:
+non-finite or missing coordinates, a face index out of range, a face with fewer
+than 3 vertices or a repeated vertex.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FileFormatError
+
+__all__ = ["ObjData", "Tag", "parse_obj"]
+
+
+@dataclass(frozen=True)
+class Tag:
+    """An OpenSubdiv ``t`` statement: name and its integer, float and string arguments."""
+
+    name: str
+    ints: tuple[int, ...] = ()
+    floats: tuple[float, ...] = ()
+    strings: tuple[str, ...] = ()
+
+
+@dataclass
+class ObjData:
+    """What :func:`parse_obj` found: vertices ``(n, 3)``, faces (0-based ids) and tags."""
+
+    vertices: np.ndarray
+    faces: list[tuple[int, ...]]
+    tags: list[Tag] = field(default_factory=list)
+    face_lines: list[int] = field(default_factory=list)
+
+
+def _statements(text: str):
+    """Yield ``(line_number, tokens)`` with continuation lines joined and comments removed."""
+    pending: list[str] = []
+    start = 0
+    for number, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].rstrip()
+        if not pending:
+            start = number
+        if line.endswith("\\"):
+            pending.append(line[:-1])
+            continue
+        pending.append(line)
+        tokens = " ".join(pending).split()
+        pending = []
+        if tokens:
+            yield start, tokens
+    if pending:
+        tokens = " ".join(pending).split()
+        if tokens:
+            yield start, tokens
+
+
+def _tag(path, number: int, tokens: list[str]) -> Tag:
+    """Parse ``t name ni/nf/ns args...`` (lenient: a malformed tag keeps its name only)."""
+    name = tokens[1] if len(tokens) > 1 else ""
+    try:
+        ni, nf, ns = (int(x) for x in tokens[2].split("/"))
+        args = tokens[3:]
+        ints = tuple(int(x) for x in args[:ni])
+        floats = tuple(float(x) for x in args[ni:ni + nf])
+        strings = tuple(args[ni + nf:ni + nf + ns])
+    except (IndexError, ValueError):
+        return Tag(name)
+    return Tag(name, ints, floats, strings)
+
+
+def parse_obj(path) -> ObjData:
+    """Parse an OBJ file into vertices, polygon faces and OpenSubdiv tags.
+
+    Parameters
+    ----------
+    path : path-like
+        An existing, non-empty file (checked by the caller).
+
+    Returns
+    -------
+    ObjData
+        ``vertices (n, 3) float``; ``faces`` as tuples of 0-based vertex ids in file
+        order; ``tags``; ``face_lines`` the line number of each face.
+    """
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8", errors="strict")
+    except UnicodeDecodeError:
+        raise FileFormatError(path, "not an OBJ file (binary or not UTF-8 text)") from None
+    if "\x00" in text:
+        raise FileFormatError(path, "not an OBJ file (binary data)")
+    coords: list[tuple[float, float, float]] = []
+    faces: list[tuple[int, ...]] = []
+    face_lines: list[int] = []
+    tags: list[Tag] = []
+    for number, tokens in _statements(text):
+        key = tokens[0]
+        if key == "v":
+            try:
+                xyz = tuple(float(x) for x in tokens[1:4])
+            except ValueError:
+                raise FileFormatError(path, f"line {number}: vertex coordinates are not numbers") from None
+            if len(xyz) != 3:
+                raise FileFormatError(path, f"line {number}: vertex needs 3 coordinates, found {len(xyz)}")
+            if not all(math.isfinite(c) for c in xyz):
+                raise FileFormatError(path, f"line {number}: vertex {len(coords) + 1} has a NaN or infinite coordinate")
+            coords.append(xyz)
+        elif key == "f":
+            ids = []
+            for item in tokens[1:]:
+                head = item.split("/", 1)[0]
+                try:
+                    k = int(head)
+                except ValueError:
+                    raise FileFormatError(path, f"line {number}: face index {item!r} is not an integer") from None
+                if k < 0:
+                    k = len(coords) + k + 1
+                if k < 1 or k > len(coords):
+                    raise FileFormatError(path, f"line {number}: face refers to vertex {head}, "
+                                          f"but only {len(coords)} vertices are defined so far")
+                ids.append(k - 1)
+            if len(ids) < 3:
+                raise FileFormatError(path, f"line {number}: face has {len(ids)} vertices, needs at least 3")
+            if len(set(ids)) != len(ids):
+                raise FileFormatError(path, f"line {number}: face repeats a vertex ({' '.join(tokens[1:])})")
+            faces.append(tuple(ids))
+            face_lines.append(number)
+        elif key == "t":
+            tags.append(_tag(path, number, tokens))
+        # everything else (vt, vn, vp, o, g, s, l, usemtl, mtllib, ...) carries no net data
+    vertices = np.array(coords, dtype=float).reshape(-1, 3)
+    return ObjData(vertices=vertices, faces=faces, tags=tags, face_lines=face_lines)
+
+
+def read_obj(path):
+    """Read an OBJ cage: its mesh record, grid charts and one cage net per chart.
+
+    Returns
+    -------
+    LoadResult
+        ``nets[i]`` is chart ``i`` (``degrees None``, kind ``"quad-chart"``, ``origin.face == i``);
+        ``faces_total`` counts polygons; ``skipped`` counts triangles, n-gons and quads
+        touching an irregular vertex (see :mod:`cadartifact.exchange.quadmesh`).
+
+    Raises
+    ------
+    InputError
+        Missing or empty file, or a mesh without quad faces.
+    FileFormatError
+        Malformed statements or a non-manifold edge (see :func:`parse_obj`).
+    """
+    from ..errors import InputError, InvalidNetError
+    from ..net import ControlNet, NetOrigin
+    from . import LoadResult
+    from .messages import warn
+    from .quadmesh import Chart, build_quadmesh, find_charts
+    from .files import check_file
+
+    path = check_file(path)
+    data = parse_obj(path)
+    if not data.faces:
+        raise InputError(path, "no faces in the OBJ file")
+    mesh, topology = build_quadmesh(path, data.vertices, data.faces, data.tags)
+    if mesh.n_quads == 0:
+        raise InputError(path, f"no quad faces ({mesh.n_triangles} triangles, {mesh.n_ngons} n-gons): "
+                         "a quad cage is needed")
+    messages: list[str] = []
+    nets, charts = [], []
+    for chart in find_charts(mesh, topology):
+        origin = NetOrigin(file=str(path), face=len(charts), kind="quad-chart")
+        try:
+            net = ControlNet(points=mesh.vertices[chart.vertex_ids], degrees=None, origin=origin, unit="model")
+        except InvalidNetError as exc:
+            messages.append(f"skipped chart: {exc}")
+            continue
+        charts.append(Chart(index=len(charts), vertex_ids=chart.vertex_ids, face_ids=chart.face_ids))
+        nets.append(net)
+    irregular_quads = int(((mesh.face_sizes == 4) & ~mesh.regular_faces).sum())
+    skipped = {k: n for k, n in (("triangle", mesh.n_triangles), ("n-gon", mesh.n_ngons),
+                                 ("irregular quad", irregular_quads)) if n}
+    if not nets:
+        messages.append(f"{path}: no analysable face (no regular quad face; "
+                        f"{len(mesh.extraordinary)} extraordinary vertices)")
+    for message in messages:
+        warn(message)
+    return LoadResult(path=path, nets=nets, faces_total=mesh.n_faces, skipped=skipped, warnings=messages,
+                      mesh=mesh, charts=charts)

@@ -1,0 +1,204 @@
+"""Read STEP, IGES and BREP files into OCCT shapes, and write nets to STEP.
+
+Every reader checks the file first (exists, is a file, not empty), silences
+OCCT's console printers, and turns a failed read or an empty transfer into a
+one-line :class:`~cadartifact.errors.FileFormatError` naming the file.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..dependencies import require
+from ..errors import FileFormatError, InputError, OptionError
+from ..net import ControlNet
+from .files import check_file
+from .occ import make_face, quiet_occt
+
+require("OCP", "reading and writing STEP/IGES/BREP files")
+
+from OCP.BRep import BRep_Builder  # noqa: E402
+from OCP.BRepTools import BRepTools  # noqa: E402
+from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
+from OCP.IGESControl import IGESControl_Reader  # noqa: E402
+from OCP.Standard import Standard_Failure  # noqa: E402
+from OCP.STEPConstruct import STEPConstruct  # noqa: E402
+from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer  # noqa: E402
+from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
+from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
+
+__all__ = ["check_file", "read_step", "read_iges", "read_brep", "write_step"]
+
+
+def _step_name(reader: STEPControl_Reader):
+    """A face -> name lookup through the STEP entity the face was transferred from."""
+    session = reader.WS()  # the lookup needs the reader's session alive: keep references to both
+    transfer = session.TransferReader()
+
+    def face_name(face, _keep=(reader, session)) -> str | None:
+        entity = transfer.EntityFromShapeResult(face, 1)
+        if entity is None or not hasattr(entity, "Name"):
+            return None
+        name = entity.Name()
+        text = name.ToCString() if name is not None else ""
+        return text or None
+
+    return face_name
+
+
+def read_step(path) -> tuple[TopoDS_Shape, object]:
+    """Read a STEP file.
+
+    Returns
+    -------
+    shape : TopoDS_Shape
+        All roots (OCCT's ``OneShape``), in mm (OCCT's default unit conversion).
+    face_name : callable(face) -> str or None
+        The ``ADVANCED_FACE`` name of a face, None when empty.
+
+    Raises
+    ------
+    InputError, FileFormatError
+        Missing/empty file, a file OCCT's STEP parser rejects (status != RetDone:
+        truncated, not STEP, binary), or a file without transferable shapes.
+    """
+    path = check_file(path)
+    reader = STEPControl_Reader()
+    with quiet_occt():
+        status = reader.ReadFile(str(path))
+        if status != IFSelect_RetDone:
+            raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
+                                  "truncated, corrupt or not STEP)")
+        if reader.NbRootsForTransfer() == 0:
+            raise FileFormatError(path, "STEP file has no shape to transfer")
+        try:
+            reader.TransferRoots()
+        except Standard_Failure as exc:
+            raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
+        if reader.NbShapes() == 0 or reader.OneShape().IsNull():
+            raise FileFormatError(path, "STEP file has no shape to transfer")
+        return reader.OneShape(), _step_name(reader)
+
+
+def read_iges(path) -> tuple[TopoDS_Shape, None]:
+    """Read an IGES file (no face names). Same errors as :func:`read_step`."""
+    path = check_file(path)
+    reader = IGESControl_Reader()
+    with quiet_occt():
+        status = reader.ReadFile(str(path))
+        if status != IFSelect_RetDone:
+            raise FileFormatError(path, "not a readable IGES file (OCCT's parser rejected it: "
+                                  "truncated, corrupt or not IGES)")
+        try:
+            reader.TransferRoots()
+        except Standard_Failure as exc:
+            raise FileFormatError(path, f"IGES transfer failed: {exc}") from None
+        if reader.NbShapes() == 0 or reader.OneShape().IsNull():
+            raise FileFormatError(path, "IGES file has no shape to transfer")
+        return reader.OneShape(), None
+
+
+def _check_brep_text(path: Path) -> None:
+    """Reject truncated or foreign text before OCCT sees it (its BREP reader can loop forever on them).
+
+    A BREP file written by OCCT ends with a ``TShapes N`` section of ``N`` records,
+    each closed by a sub-shape list ending in ``*``, followed by the root reference
+    ``+i l``.
+    """
+    try:
+        text = path.read_text(encoding="ascii", errors="strict")
+    except (UnicodeDecodeError, OSError):
+        raise FileFormatError(path, "not a BREP file (binary or unreadable text)") from None
+    if "CASCADE Topology" not in text[:200]:
+        raise FileFormatError(path, "not a BREP file (no 'CASCADE Topology' header)")
+    head, sep, tail = text.partition("\nTShapes ")
+    lines = tail.split("\n")
+    try:
+        count = int(lines[0].split()[0])
+    except (IndexError, ValueError):
+        count = -1
+    body = [line.strip() for line in lines[1:] if line.strip()]
+    closed = sum(1 for line in body if line.endswith("*"))
+    root = body[-1].split() if body else []
+    root_ok = len(root) == 2 and root[0][:1] in "+-" and root[0][1:].isdigit() and root[1].isdigit()
+    if not sep or count < 0 or closed != count or not root_ok:
+        raise FileFormatError(path, "truncated or corrupt BREP file")
+
+
+def read_brep(path) -> tuple[TopoDS_Shape, None]:
+    """Read an OCCT native (text) BREP file (no face names). Same errors as :func:`read_step`."""
+    path = check_file(path)
+    _check_brep_text(path)
+    shape = TopoDS_Shape()
+    with quiet_occt():
+        try:
+            ok = BRepTools.Read_s(shape, str(path), BRep_Builder())
+        except Standard_Failure as exc:
+            raise FileFormatError(path, f"not a readable BREP file: {exc}") from None
+    if not ok or shape.IsNull():
+        raise FileFormatError(path, "not a readable BREP file (truncated or corrupt)")
+    return shape, None
+
+
+def write_step(nets, path) -> Path:
+    """Write B-spline nets to a STEP file, one face each, in one shell.
+
+    Parameters
+    ----------
+    nets : ControlNet or iterable of ControlNet
+        Cages (``degrees is None``) are skipped. A net with ``uv_bounds`` becomes a face
+        bounded by that parameter rectangle; ``origin.name`` becomes the ``ADVANCED_FACE``
+        name, so it reads back as the face name.
+    path : str or path-like
+        Output file (``.step``/``.stp``).
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Notes
+    -----
+    Reading the file back gives the same poles, weights, knots and multiplicities for
+    non-periodic nets. STEP has no periodic B-spline: OCCT writes periodic nets
+    unrolled (same surface, more poles).
+
+    Raises
+    ------
+    OptionError
+        No B-spline net to write.
+    InputError
+        The file cannot be written.
+    """
+    if isinstance(nets, ControlNet):
+        nets = [nets]
+    nets = [n for n in nets if n.degrees is not None and n.knots is not None]
+    if not nets:
+        raise OptionError("nets", "at least one B-spline net (cages cannot be written to STEP)", "none")
+    path = Path(path)
+    builder = BRep_Builder()
+    shell = TopoDS_Shell()
+    builder.MakeShell(shell)
+    faces = [make_face(net) for net in nets]
+    for face in faces:
+        builder.Add(shell, face)
+    compound = TopoDS_Compound()
+    builder.MakeCompound(compound)
+    builder.Add(compound, shell)
+    writer = STEPControl_Writer()
+    with quiet_occt():
+        if writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone:
+            raise InputError(path, "OCCT could not translate the nets to STEP")
+        finder = writer.WS().TransferWriter().FinderProcess()
+        for net, face in zip(nets, faces):
+            if net.origin.name:
+                entity = STEPConstruct.FindEntity_s(finder, face)
+                if entity is not None and hasattr(entity, "SetName"):
+                    entity.SetName(TCollection_HAsciiString(net.origin.name))
+        try:
+            status = writer.Write(str(path))
+        except Standard_Failure as exc:
+            raise InputError(path, f"cannot write STEP: {exc}") from None
+    if status != IFSelect_RetDone or not path.exists():
+        raise InputError(path, "cannot write STEP file (check the folder exists and is writable)")
+    return path
