@@ -300,6 +300,94 @@ def gate_cmd(
     raise typer.Exit(doc["exit_code"])
 
 
+# ---------------------------------------------------------------- inspect (exchange: what a file holds)
+@app.command("inspect")
+@cli_errors
+def inspect_cmd(
+    files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
+    json_out: bool = typer.Option(False, "--json", help="Print one JSON document (schema below) instead of tables."),
+    convert: bool = typer.Option(False, "--convert",
+                                 help="Convert revolution/extrusion/offset faces to B-splines instead of skipping them."),
+):
+    """List the control nets in CAD and mesh files: one row per analysable face (or OBJ chart).
+
+    Columns: face index, kind, degrees, net size, rational / weights vary, periodic, knots uniform,
+    trimmed fraction (face UV-bounds area / full knot-range area) and name; then a summary line
+    (faces total, analysable, skipped by kind). A file with no analysable face prints a warning
+    and exits 0. If any file cannot be read, every error is printed (one line each), nothing else
+    is printed (no partial tables or JSON) and the exit code is 2.
+
+    JSON schema (--json)::
+
+        {"schema": "cadartifact.inspect/1",
+         "files": [{"path": str, "format": "step"|"iges"|"brep"|"obj",
+                    "faces_total": int, "analysable": int, "skipped": {kind: int}, "warnings": [str],
+                    "faces": [{"face": int, "name": str|null, "kind": str, "degrees": [int, int]|null,
+                               "size": [nu, nv], "rational": bool, "weights_vary": bool,
+                               "periodic": [bool, bool], "knots_uniform": [bool, bool],
+                               "trimmed_fraction": float|null}],
+                    "mesh": null | {"vertices": int, "quads": int, "triangles": int, "ngons": int,
+                                    "regular_faces": int, "extraordinary": [vertex ids, 0-based],
+                                    "crease_edges": int,
+                                    "charts": [{"chart": int, "size": [nu, nv], "faces": [mesh face ids]}]}}]}
+    """
+    import json
+    import warnings
+
+    from .exchange import SUPPORTED_EXTENSIONS, LoadWarning, read
+    from .exchange.summary import result_summary
+
+    summaries, errors = [], []
+    for path in files:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", LoadWarning)  # they are in result.warnings, shown below
+                result = read(path, convert=convert)
+        except CadArtifactError as exc:
+            errors.append(exc)
+            continue
+        summaries.append(result_summary(result, SUPPORTED_EXTENSIONS[Path(path).suffix.lower()]))
+    if errors:  # fail closed: no partial output
+        for exc in errors[:-1]:
+            fail(str(exc), exc.exit_code)
+        raise fail(str(errors[-1]), errors[-1].exit_code)
+
+    if json_out:
+        typer.echo(json.dumps({"schema": "cadartifact.inspect/1", "files": summaries}, indent=2))
+        return
+    from rich.table import Table
+
+    con = _console()
+    if not con.is_terminal:
+        con.width = max(con.width, 132)
+    yes = {True: "yes", False: "no"}
+    for doc in summaries:
+        table = Table(title=doc["path"], header_style="bold", title_justify="left")
+        for col in ("face", "kind", "degrees", "net", "rational", "weights vary", "periodic u,v",
+                    "uniform knots u,v", "trimmed", "name"):
+            table.add_column(col)
+        for f in doc["faces"]:
+            frac = f["trimmed_fraction"]
+            table.add_row(
+                str(f["face"]), f["kind"], "x".join(map(str, f["degrees"])) if f["degrees"] else "cage",
+                "x".join(map(str, f["size"])), yes[f["rational"]], yes[f["weights_vary"]],
+                ",".join(yes[x] for x in f["periodic"]), ",".join(yes[x] for x in f["knots_uniform"]),
+                "-" if frac is None else f"{frac:.3f}", f["name"] or "")
+        if doc["faces"]:
+            con.print(table)
+        skipped = ", ".join(f"{k} {n}" for k, n in doc["skipped"].items()) or "none"
+        con.print(f"{doc['path']}: {doc['faces_total']} faces, {doc['analysable']} analysable, skipped: {skipped}",
+                  soft_wrap=True)
+        mesh = doc["mesh"]
+        if mesh is not None:
+            con.print(f"  mesh: {mesh['vertices']} vertices, {mesh['quads']} quads, {mesh['triangles']} triangles, "
+                      f"{mesh['ngons']} n-gons, {len(mesh['extraordinary'])} extraordinary vertices, "
+                      f"{mesh['crease_edges']} crease edges, {mesh['regular_faces']} regular faces in "
+                      f"{len(mesh['charts'])} charts", soft_wrap=True)
+        for w in doc["warnings"]:
+            _console(stderr=True).print(f"[yellow]warning:[/] {w}", soft_wrap=True)
+
+
 def main():  # console-script entry point
     try:
         app()
