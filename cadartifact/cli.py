@@ -388,6 +388,45 @@ def inspect_cmd(
             _console(stderr=True).print(f"[yellow]warning:[/] {w}", soft_wrap=True)
 
 
+# ---------------------------------------------------------------- view (3-D heatmaps)
+@app.command("view")
+@cli_errors
+def view_cmd(
+    file: Path = typer.Argument(..., help="STEP/IGES/BREP/OBJ file.", show_default=False),
+    direction: str = typer.Option("total", "--direction", "-d",
+                                  help="Field to colour: total, x1, x2, diagonal, lateral, signal_error or deviation."),
+    tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Colour scale 0..tol in model units, red beyond."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="PNG to write (default: <file stem>_<direction>.png)."),
+    glb: Optional[Path] = typer.Option(None, "--glb", help="Also write the coloured faces as a .glb mesh."),
+    face: Optional[List[int]] = typer.Option(None, "--face", help="Only this face index (repeatable)."),
+    scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (default: each face's own degrees)."),
+    size: str = typer.Option("1200x900", "--size", help="Picture size WIDTHxHEIGHT in pixels."),
+    layout: str = typer.Option("auto", "--layout", help="auto, model (faces in place) or tiles (one view per face)."),
+):
+    """Render each face coloured by its ripple (off screen) with the control net on top; optionally export glb."""
+    from .dependencies import require
+    from .errors import OptionError
+    from .viz.view import view
+
+    try:
+        width, height = (int(x) for x in size.lower().split("x"))
+    except ValueError:
+        raise OptionError("--size", "WIDTHxHEIGHT in pixels, e.g. 1200x900", size) from None
+    require("pyvista", "3-D heatmaps").OFF_SCREEN = True  # this process never opens a window
+    try:
+        res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
+                   window_size=(width, height), layout=layout)
+    except OptionError as exc:  # name the command-line option, not the library parameter
+        option = {"window_size": "size"}.get(exc.parameter, exc.parameter)
+        if option in ("direction", "tol", "out", "glb", "face", "scheme", "size", "layout"):
+            raise OptionError(f"--{option}", exc.expected, exc.received) from None
+        raise
+    con = _console()
+    con.print(f"wrote {res.png} ({len(res.faces)} face(s), {res.direction} peak {res.peak:.4g})", soft_wrap=True)
+    if res.glb is not None:
+        con.print(f"wrote {res.glb}", soft_wrap=True)
+
+
 def main():  # console-script entry point
     try:
         app()

@@ -1,0 +1,512 @@
+"""3-D heatmaps of the ripple on each face: off-screen pyvista pictures and coloured glb meshes.
+
+Each analysed face is drawn as its fine-grid surface (``Budget.fields.surface``, ``2**levels``
+samples per control spacing) coloured by the magnitude of one band of its artifact field
+(``|Budget.scalar_fields[direction]|``, model units), with the control net as thin lines on top.
+Points outside the trimmed face's parameter rectangle are left out, as in the budget's statistics,
+so the largest colour on a face is its budget peak in that direction.
+
+With a tolerance the colour scale runs from 0 to the tolerance and anything beyond it is drawn in
+red, so the places that break the tolerance stand out; without one it runs from 0 to the largest
+value shown.
+
+>>> from cadartifact.viz.view import view
+>>> view("part.step", direction="x1", tol=0.05)          # doctest: +SKIP
+ViewResult(png=PosixPath('part_x1.png'), ...)
+
+pyvista (VTK) and trimesh are imported lazily; rendering is off screen (EGL/OSMesa when there is
+no display), nothing opens a window.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..dependencies import require
+from ..errors import CadArtifactError, OptionError, check_option
+
+__all__ = [
+    "DIRECTIONS",
+    "FaceMap",
+    "ViewResult",
+    "face_maps",
+    "colour_limits",
+    "vertex_colours",
+    "LAYOUTS",
+    "choose_layout",
+    "render_image",
+    "write_png",
+    "png_bytes",
+    "export_glb",
+    "view",
+]
+
+#: Fields that can be shown (SPEC §4): ripple per direction, its total, the signal error and the
+#: whole deviation from intent.
+DIRECTIONS = ("total", "x1", "x2", "diagonal", "lateral", "signal_error", "deviation")
+
+_LABELS = {
+    "total": "Ripple",
+    "x1": "X1 ripple",
+    "x2": "X2 ripple",
+    "diagonal": "Diagonal ripple",
+    "lateral": "Lateral ripple",
+    "signal_error": "Signal error",
+    "deviation": "Deviation",
+}
+
+CMAP = "viridis"
+ABOVE_COLOUR = (0.86, 0.08, 0.08)  # red: beyond the tolerance
+OUTSIDE_COLOUR = (0.75, 0.75, 0.75)  # grey: no value (glb only)
+DEFAULT_SIZE = (1200, 900)
+
+
+@dataclass(frozen=True, eq=False)
+class FaceMap:
+    """One face ready to draw.
+
+    Attributes
+    ----------
+    net : ControlNet
+    points : (a, b, 3) float
+        The fine-grid limit surface.
+    values : (a, b) float
+        ``|field|`` in model units; NaN outside the trimmed face.
+    peak : float
+        Largest value on the face (0 if none).
+    budget : Budget
+    """
+
+    net: object
+    points: np.ndarray
+    values: np.ndarray
+    peak: float
+    budget: object
+
+
+@dataclass(frozen=True)
+class ViewResult:
+    """What :func:`view` wrote and the largest value shown (model units)."""
+
+    png: Path | None
+    glb: Path | None
+    direction: str
+    peak: float
+    faces: tuple
+
+
+def label(direction: str, unit: str = "mm") -> str:
+    """Scalar-bar title such as ``"X1 ripple [mm]"``."""
+    check_option("direction", direction, DIRECTIONS)
+    return f"{_LABELS[direction]} [{unit}]"
+
+
+def face_maps(nets, direction: str = "total", scheme=None, *, levels: int = 3, component: str = "normal") -> list:
+    """Compute the fields of each net and the magnitudes to draw.
+
+    Parameters
+    ----------
+    nets : list of ControlNet
+    direction : str
+        One of :data:`DIRECTIONS`.
+    scheme : str or Scheme, optional
+        As :func:`cadartifact.budget` (default: each face's own degrees).
+    levels, component
+        As :func:`cadartifact.budget`.
+
+    Returns
+    -------
+    list of FaceMap
+        ``values = |scalar_fields[direction]|`` on the fine grid, NaN outside the trimmed face
+        (the budget's ``region="face"`` mask), so ``peak == budget.stats[direction].peak``.
+    """
+    from ..budget import budget, region_mask
+
+    check_option("direction", direction, DIRECTIONS)
+    out = []
+    for net in nets:
+        b = budget(net, scheme, levels=levels, component=component, keep_fields=True)
+        keep = region_mask(net, b.fields, "face", 0)
+        values = np.where(keep, np.abs(b.scalar_fields[direction]), np.nan)
+        peak = float(np.nanmax(values)) if keep.any() else 0.0
+        out.append(FaceMap(net=net, points=np.asarray(b.fields.surface), values=values, peak=peak, budget=b))
+    return out
+
+
+def number(value: float) -> str:
+    """Three significant digits; values below 1e-10 (rounding noise in model units) print as 0."""
+    return "0" if abs(value) < 1e-10 else f"{value:.3g}"
+
+
+def colour_limits(maps, tol: float | None = None) -> tuple[float, float]:
+    """``(0, tol)`` with a tolerance, else ``(0, largest peak)`` (a tiny positive number if all are 0)."""
+    if tol is not None:
+        return 0.0, float(tol)
+    top = max((m.peak for m in maps), default=0.0)
+    return 0.0, top if top > 0 else 1e-12
+
+
+def _quads(a: int, b: int) -> np.ndarray:
+    """``(a-1)(b-1), 4`` vertex indices of the grid cells of a C-ordered ``(a, b)`` point grid."""
+    i, j = np.meshgrid(np.arange(a - 1), np.arange(b - 1), indexing="ij")
+    k = (i * b + j).ravel()
+    return np.stack([k, k + b, k + b + 1, k + 1], axis=1)
+
+
+def _cells(m: FaceMap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points ``(a b, 3)``, values ``(a b,)`` and the quads whose four corners lie on the face."""
+    a, b = m.values.shape
+    pts = m.points.reshape(-1, 3)
+    vals = m.values.ravel()
+    quads = _quads(a, b)
+    inside = np.all(np.isfinite(vals[quads]), axis=1)
+    return pts, vals, quads[inside]
+
+
+def vertex_colours(values: np.ndarray, clim: tuple[float, float], cmap: str = CMAP) -> np.ndarray:
+    """RGBA ``uint8`` colours ``(n, 4)`` of magnitudes: the colormap over ``clim``, red above, grey for NaN."""
+    mpl = require("matplotlib", "heatmap colours")
+    lo, hi = clim
+    span = hi - lo if hi > lo else 1.0
+    t = np.clip((np.nan_to_num(values, nan=lo) - lo) / span, 0.0, 1.0)
+    rgba = np.asarray(mpl.colormaps[cmap](t), dtype=float)
+    rgba[values > hi, :3] = ABOVE_COLOUR
+    rgba[~np.isfinite(values), :3] = OUTSIDE_COLOUR
+    return np.round(rgba * 255).astype(np.uint8)
+
+
+@contextlib.contextmanager
+def _quiet_vtk():
+    """Hide VTK's warnings while a window is made (without a display it tries X11 first, warns, then
+    falls back to EGL/OSMesa); errors still show."""
+    try:
+        from vtkmodules.vtkCommonCore import vtkLogger
+    except ImportError:  # older VTK: nothing to quiet
+        yield
+        return
+    before = vtkLogger.GetCurrentVerbosityCutoff()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+    try:
+        yield
+    finally:
+        vtkLogger.SetStderrVerbosity(before)
+
+
+LAYOUTS = ("auto", "model", "tiles")
+#: ``auto`` draws faces as tiles when their median size is below this share of the whole scene.
+TILE_SPREAD = 0.2
+MAX_TILES = 25
+
+
+def choose_layout(maps, layout: str = "auto") -> str:
+    """``model`` (faces in place, one scene) or ``tiles`` (one zoomed view per face).
+
+    ``auto`` gives tiles for 2..:data:`MAX_TILES` faces whose median bounding-box diagonal is below
+    :data:`TILE_SPREAD` of the scene's (small blends of a large part would otherwise be specks).
+    """
+    check_option("layout", layout, LAYOUTS)
+    if layout != "auto":
+        return layout
+    if not 1 < len(maps) <= MAX_TILES:
+        return "model"
+    boxes = [np.ptp(m.points.reshape(-1, 3), axis=0) for m in maps]
+    allpts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+    scene = float(np.linalg.norm(np.ptp(allpts, axis=0)))
+    sizes = [float(np.linalg.norm(b)) for b in boxes]
+    return "tiles" if scene > 0 and np.median(sizes) < TILE_SPREAD * scene else "model"
+
+
+def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) -> np.ndarray:
+    """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background."""
+    pv = require("pyvista", "3-D heatmaps")
+    with _quiet_vtk():
+        plotter = pv.Plotter(off_screen=True, window_size=size)
+        try:
+            plotter.set_background("white")
+            extra = {"above_color": ABOVE_COLOUR} if tol is not None else {}
+            for m in maps:
+                pts, vals, quads = _cells(m)
+                if len(quads) == 0:
+                    continue
+                mesh = pv.PolyData(pts, np.hstack([np.full((len(quads), 1), 4), quads]).ravel())
+                mesh.point_data["value"] = np.nan_to_num(vals, nan=0.0)
+                plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
+                                 show_scalar_bar=False, **extra)
+                if show_net:
+                    nu, nv = m.net.shape
+                    cage = pv.PolyData(np.asarray(m.net.points, float).reshape(-1, 3), lines=_net_lines(nu, nv))
+                    plotter.add_mesh(cage, color="black", line_width=1, opacity=0.5)
+            if face_labels:
+                centres = np.array([_centre(m) for m in maps])
+                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in maps], font_size=14,
+                                         point_size=1, shape_opacity=0.5, always_visible=True)
+            plotter.view_isometric()
+            plotter.reset_camera()
+            return plotter.screenshot(None, return_img=True)
+        finally:
+            plotter.close()
+
+
+def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
+    """Cut the white margin around a rendered scene."""
+    ink = np.any(img < 250, axis=-1)
+    if not ink.any():
+        return img
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    r0, r1 = max(rows[0] - pad, 0), min(rows[-1] + pad + 1, img.shape[0])
+    c0, c1 = max(cols[0] - pad, 0), min(cols[-1] + pad + 1, img.shape[1])
+    return img[r0:r1, c0:c1]
+
+
+def render_image(maps, *, direction: str = "total", tol: float | None = None, title: str | None = None,
+                 window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
+                 cmap: str = CMAP) -> np.ndarray:
+    """Render faces off screen and return the picture: heatmap(s), colour bar, title.
+
+    Parameters
+    ----------
+    maps : list of FaceMap
+    direction : str
+        Names the colour bar (e.g. ``"X1 ripple [mm]"``).
+    tol : float, optional
+        Colour scale 0..tol, red beyond (the bar's red end).
+    title : str, optional
+    window_size : (int, int)
+        Width and height of the picture in pixels.
+    show_net : bool
+        Draw each control net as thin black lines.
+    layout : {"auto", "model", "tiles"}
+        See :func:`choose_layout`. ``model`` labels faces with their index when there are several;
+        each tile is titled with its face index and peak.
+
+    Returns
+    -------
+    (height, width, 3) uint8
+
+    Notes
+    -----
+    The 3-D views are pyvista off-screen renders; the page around them (tiles, titles, colour bar)
+    is a matplotlib Agg figure, so the picture looks the same for one face or twenty.
+    """
+    mpl = require("matplotlib", "3-D heatmaps")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+
+    if not maps:
+        raise CadArtifactError("nothing to draw: no analysable face")
+    check_option("direction", direction, DIRECTIONS)
+    try:
+        width, height = (int(x) for x in window_size)
+    except (TypeError, ValueError):
+        raise OptionError("window_size", "(width, height) in pixels", window_size) from None
+    if not (64 <= width <= 8192 and 64 <= height <= 8192):
+        raise OptionError("window_size", "width and height between 64 and 8192 pixels", tuple(window_size))
+    layout = choose_layout(maps, layout)
+    clim = colour_limits(maps, tol)
+    unit = maps[0].net.unit
+
+    dpi = 100
+    fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi, facecolor="white")
+    FigureCanvasAgg(fig)
+    top = 0.93 if title else 0.98
+    bar_left = 1.0 - 110 / width
+    if layout == "model":
+        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap))
+        ax = fig.add_axes([0.01, 0.02, bar_left - 0.03, top - 0.03])
+        ax.imshow(img)
+        ax.set_axis_off()
+    else:
+        n = len(maps)
+        cols = max(1, min(n, int(round(math.sqrt(n * (bar_left - 0.02) * width / ((top - 0.02) * height))))))
+        rows = math.ceil(n / cols)
+        cw, ch = (bar_left - 0.02) / cols, (top - 0.02) / rows
+        tile = (max(64, int(cw * width)), max(64, int(ch * height)))
+        for k, m in enumerate(maps):
+            r, c = divmod(k, cols)
+            ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
+            ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap)))
+            ax.set_axis_off()
+            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit}", fontsize=9, pad=2)
+    cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
+    colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
+    sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
+    bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
+    bar.set_label(label(direction, unit), fontsize=11)
+    bar.ax.tick_params(labelsize=9)
+    if title:
+        fig.text(0.01, 0.985, title, ha="left", va="top", fontsize=12)
+    fig.canvas.draw()
+    return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+
+
+def _net_lines(nu: int, nv: int) -> np.ndarray:
+    """VTK line cells along both parameter directions of a C-ordered ``(nu, nv)`` net."""
+    idx = np.arange(nu * nv).reshape(nu, nv)
+    rows = [np.concatenate([[nv], idx[i]]) for i in range(nu)]
+    cols = [np.concatenate([[nu], idx[:, j]]) for j in range(nv)]
+    return np.concatenate(rows + cols)
+
+
+def _centre(m: FaceMap) -> np.ndarray:
+    ok = np.isfinite(m.values)
+    pts = m.points[ok] if ok.any() else m.points.reshape(-1, 3)
+    return pts.mean(axis=0)
+
+
+def png_bytes(image: np.ndarray) -> bytes:
+    """PNG encoding of an ``(h, w, 3|4) uint8`` image."""
+    import io
+
+    mpl_image = require("matplotlib.image", "PNG encoding")
+    buf = io.BytesIO()
+    mpl_image.imsave(buf, image, format="png")
+    return buf.getvalue()
+
+
+def _write_atomic(path: Path, data: bytes) -> Path:
+    path = Path(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def write_png(maps, out, **options) -> Path:
+    """:func:`render_image` written to ``out`` atomically (options as there). Returns ``out``."""
+    return _write_atomic(Path(out), png_bytes(render_image(maps, **options)))
+
+
+def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP) -> Path:
+    """Write the faces as one glb scene of triangle meshes with vertex colours (trimesh).
+
+    Parameters
+    ----------
+    maps : list of FaceMap
+    out : path-like
+        ``.glb`` file, written atomically.
+    tol : float, optional
+        Colour scale 0..tol with red beyond (as the picture), else 0..largest peak.
+
+    Returns
+    -------
+    Path
+        One mesh per face, named ``face_<index>``; each quad of the fine grid is two triangles.
+    """
+    trimesh = require("trimesh", "glb export")
+    if not maps:
+        raise CadArtifactError("nothing to export: no analysable face")
+    clim = colour_limits(maps, tol)
+    scene = trimesh.Scene()
+    for m in maps:
+        pts, vals, quads = _cells(m)
+        if len(quads) == 0:
+            continue
+        tris = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+        mesh = trimesh.Trimesh(vertices=pts, faces=tris, vertex_colors=vertex_colours(vals, clim, cmap),
+                               process=False)
+        name = f"face_{m.net.origin.face}"
+        scene.add_geometry(mesh, node_name=name, geom_name=name)
+    return _write_atomic(Path(out), scene.export(file_type="glb"))
+
+
+def _check_out(option: str, path, suffix: str) -> Path:
+    path = Path(path)
+    if path.suffix.lower() != suffix:
+        raise OptionError(option, f"a {suffix} file", str(path))
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OptionError(option, "a file in an existing folder", str(path))
+    return path
+
+
+def view(path, *, direction: str = "total", tol: float | None = None, out=None, glb=None, faces=None,
+         scheme=None, window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto") -> ViewResult:
+    """Heatmap picture (and optionally a glb) of a file's faces.
+
+    Parameters
+    ----------
+    path : path-like
+        STEP/IGES/BREP/OBJ file.
+    direction : str
+        One of :data:`DIRECTIONS`.
+    tol : float, optional
+        Colour scale 0..tol, red beyond.
+    out : path-like, optional
+        PNG to write; default ``<file stem>_<direction>.png`` in the current folder. ``False``: no PNG.
+    glb : path-like, optional
+        Also write the coloured meshes here.
+    faces : iterable of int, optional
+        Only these face indices.
+    scheme : str or Scheme, optional
+    window_size, show_net, layout
+        As :func:`render_image`.
+
+    Returns
+    -------
+    ViewResult
+
+    Raises
+    ------
+    OptionError
+        Bad direction, tolerance, output path or face index (before anything is computed or written).
+    CadArtifactError
+        The file cannot be read or has no analysable face.
+    """
+    from ..exchange import read
+
+    check_option("direction", direction, DIRECTIONS)
+    if tol is not None:
+        try:
+            tol = float(tol)
+        except (TypeError, ValueError):
+            raise OptionError("tol", "a positive number of model units", tol) from None
+        if not math.isfinite(tol) or tol <= 0:
+            raise OptionError("tol", "a positive number of model units", tol)
+    src = Path(path)
+    png = None if out is False else _check_out("out", out if out is not None else f"{src.stem}_{direction}.png",
+                                               ".png")
+    glb_path = None if glb is None else _check_out("glb", glb, ".glb")
+    if scheme is not None:
+        from ..schemes import scheme as get_scheme
+
+        scheme = get_scheme(scheme)
+    nets = read(src).nets
+    if not nets:
+        raise CadArtifactError(f"{src}: no analysable face to draw")
+    if faces is not None:
+        wanted = sorted(set(int(f) for f in faces))
+        have = {n.origin.face for n in nets}
+        missing = [f for f in wanted if f not in have]
+        if missing:
+            shown = ", ".join(str(f) for f in sorted(have)[:20]) + (", ..." if len(have) > 20 else "")
+            raise OptionError("face", f"an analysable face index of {src.name} ({shown})", missing[0])
+        nets = [n for n in nets if n.origin.face in wanted]
+    maps = face_maps(nets, direction, scheme)
+    peak = max(m.peak for m in maps)
+    unit = nets[0].unit
+    if png is not None:
+        what = f"face {nets[0].origin.face}" if len(nets) == 1 else f"{len(nets)} faces"
+        title = f"{src.name}  ({what}): {_LABELS[direction]}, peak {number(peak)} {unit}"
+        if tol is not None:
+            title += f", tolerance {tol:g} {unit} (red beyond)"
+        write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
+                  layout=layout)
+    if glb_path is not None:
+        export_glb(maps, glb_path, tol=tol)
+    return ViewResult(png=png, glb=glb_path, direction=direction, peak=peak,
+                      faces=tuple(n.origin.face for n in nets))
