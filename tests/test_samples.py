@@ -1,0 +1,83 @@
+"""The committed samples load and are what samples/make_samples.py says they are."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("OCP")
+
+from cadartifact.exchange import evaluate_grid, load, read  # noqa: E402
+
+SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+
+
+def _one(name):
+    result = read(SAMPLES / name)
+    assert result.faces_total == 1 and result.skipped == {} and len(result.nets) == 1
+    net = result.nets[0]
+    assert net.origin.name == name.removesuffix(".step") and net.origin.kind == "bspline"
+    assert net.degrees == (3, 3) and not net.rational and net.uniform and net.unit == "mm"
+    return net
+
+
+def test_wavy_panel_is_a_diagonal_ridge_on_a_coarse_net():
+    net = _one("wavy_panel_diagonal.step")
+    assert net.shape == (12, 12)
+    x, y, z = np.moveaxis(net.points, -1, 0)
+    np.testing.assert_allclose(x[:, 0], np.linspace(0, 100, 12), atol=1e-9)
+    np.testing.assert_allclose(y[0], np.linspace(0, 100, 12), atol=1e-9)
+    np.testing.assert_allclose(z, 8.0 * np.exp(-(((x - y) / 9.0) ** 2)), atol=1e-9)
+    assert 0.8 < 9.0 / (100 / 11) < 1.2  # ridge width about one control spacing
+    # the ridge runs along the diagonal: z is constant along x = y
+    np.testing.assert_allclose(np.diag(z), 8.0, atol=1e-9)
+
+
+def test_hull_car_hood_and_clean_panel():
+    hull = _one("hull_freeform.step")
+    assert hull.shape == (16, 8)
+    assert np.ptp(hull.points[..., 0]) == pytest.approx(1000.0)
+    assert np.all(hull.points[:, 0, 1] == pytest.approx(0.0, abs=1e-9))  # keel on the centre plane
+    hood = _one("car_hood_coarse.step")
+    assert hood.shape == (8, 6)
+    spacing = np.diff(hood.points[0, :, 1]).min()
+    assert spacing > 3 * 40.0  # the 40 mm swage line is far narrower than the control spacing
+    clean = _one("clean_panel.step")
+    assert clean.shape == (10, 10)
+    z = clean.points[..., 2]
+    # a degree-2 polynomial in index space: third differences vanish both ways
+    assert np.abs(np.diff(z, 3, axis=0)).max() < 1e-9 and np.abs(np.diff(z, 3, axis=1)).max() < 1e-9
+    # and the real surface is smooth: OCCT evaluation stays within the net's z range
+    grid = evaluate_grid(clean, np.linspace(0, 1, 33), np.linspace(0, 1, 33))
+    assert z.min() - 1e-9 <= grid[..., 2].min() and grid[..., 2].max() <= z.max() + 1e-9
+
+
+def test_cage_obj():
+    result = read(SAMPLES / "cage.obj")
+    mesh = result.mesh
+    assert mesh.n_quads == 40 and mesh.n_triangles == 0 and mesh.n_ngons == 0
+    (corner,) = mesh.extraordinary
+    assert mesh.boundary[corner] and mesh.valence[corner] == 4
+    np.testing.assert_allclose(mesh.vertices[corner], [40.0, 40.0, mesh.vertices[corner][2]])
+    assert result.skipped == {"irregular quad": 3}
+    covered = np.concatenate([c.face_ids.ravel() for c in result.charts])
+    assert sorted(covered) == sorted(np.flatnonzero(mesh.regular_faces))
+    assert mesh.vertices[:, 2].max() > 5.0  # the bump
+    assert [t.name for t in mesh.tags] == ["interpolateboundary"]
+
+
+def test_samples_are_small_and_regenerate_identically(tmp_path):
+    total = sum(p.stat().st_size for p in SAMPLES.iterdir() if p.is_file())
+    assert total < 1_000_000
+    spec = importlib.util.spec_from_file_location("make_samples", SAMPLES / "make_samples.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    written = module.main(tmp_path)
+    assert {p.name for p in written} == {"wavy_panel_diagonal.step", "hull_freeform.step", "car_hood_coarse.step",
+                                         "clean_panel.step", "cage.obj"}
+    for p in written:
+        assert p.read_bytes() == (SAMPLES / p.name).read_bytes(), p.name
+    assert load(tmp_path / "wavy_panel_diagonal.step")[0].shape == (12, 12)
