@@ -35,7 +35,10 @@ def _console(stderr: bool = False):
 
 def fail(message: str, code: int = 2) -> "typer.Exit":
     """Print a one-line error to stderr and return the Exit to raise."""
-    _console(stderr=True).print(f"[bold red]cadartifact: error:[/] {message}", soft_wrap=True)
+    from rich.markup import escape
+
+    # escaped: messages quote user text and names like [tool.cadartifact] that rich would eat as markup
+    _console(stderr=True).print(f"[bold red]cadartifact: error:[/] {escape(message)}", soft_wrap=True)
     return typer.Exit(code)
 
 
@@ -148,6 +151,8 @@ def advise_cmd(
     write_resampled: Optional[Path] = typer.Option(None, "--write-resampled",
                                                    help="Write every advised face as a B-spline surface to this STEP file."),
     json_out: bool = typer.Option(False, "--json", help="Print one JSON document (schema: cadartifact.report)."),
+    report: Optional[Path] = typer.Option(None, "--report",
+                                          help="Also write a self-contained HTML report (tables, heatmaps, maps)."),
     compare: bool = typer.Option(True, "--compare/--no-compare", help="Also advise the other named schemes."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Verify each advice on the real surface (OCCT)."),
 ):
@@ -164,6 +169,8 @@ def advise_cmd(
         from .schemes import scheme as get_scheme
 
         get_scheme(scheme)  # a bad name fails before any file is read
+    if report is not None and not (report.parent if str(report.parent) else Path(".")).is_dir():
+        raise fail(f"--report: expected a file in an existing folder, received {str(report)!r}")
     keep = [] if write_resampled else None
     err = _console(stderr=True)
     with RichProgress(err, enabled=err.is_terminal) as progress:
@@ -184,6 +191,12 @@ def advise_cmd(
         render(doc, _console())
         if doc.get("written"):
             _console().print(f"wrote {doc['written']['faces']} resampled face(s) to {doc['written']['path']}")
+    if report is not None:
+        from .viz.html import write_report
+
+        write_report(doc, report)
+        if not json_out:
+            _console().print(f"wrote {report}", soft_wrap=True)
     all_ok = all(f["meets_tolerance"] for fl in doc["files"] for f in fl["faces"])
     raise typer.Exit(0 if all_ok else 1)
 

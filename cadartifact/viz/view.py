@@ -45,6 +45,7 @@ __all__ = [
     "write_png",
     "png_bytes",
     "export_glb",
+    "write_atomic",
     "view",
 ]
 
@@ -371,13 +372,18 @@ def png_bytes(image: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
-def _write_atomic(path: Path, data: bytes) -> Path:
+def write_atomic(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file in the same folder and a rename, so a reader
+    never sees a half-written file; permissions as a plain ``open`` would give (umask)."""
     path = Path(path)
     folder = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):
@@ -388,7 +394,7 @@ def _write_atomic(path: Path, data: bytes) -> Path:
 
 def write_png(maps, out, **options) -> Path:
     """:func:`render_image` written to ``out`` atomically (options as there). Returns ``out``."""
-    return _write_atomic(Path(out), png_bytes(render_image(maps, **options)))
+    return write_atomic(Path(out), png_bytes(render_image(maps, **options)))
 
 
 def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP) -> Path:
@@ -421,7 +427,7 @@ def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP) -> Path
                                process=False)
         name = f"face_{m.net.origin.face}"
         scene.add_geometry(mesh, node_name=name, geom_name=name)
-    return _write_atomic(Path(out), scene.export(file_type="glb"))
+    return write_atomic(Path(out), scene.export(file_type="glb"))
 
 
 def _check_out(option: str, path, suffix: str) -> Path:
