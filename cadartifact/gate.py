@@ -219,7 +219,8 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         pending = []
         for batch in batches:
             with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context()) as ex:
-                futures = {ex.submit(worker, tasks[i]): i for i in batch}
+                # biggest files first (a cheap proxy for their cost) balances the workers' loads
+                futures = {ex.submit(worker, tasks[i]): i for i in sorted(batch, key=lambda i: -_size(tasks[i][0]))}
                 for fut in _as_completed(futures):
                     i = futures[fut]
                     try:
@@ -236,6 +237,13 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         pending.sort()
         isolate = True
     return results
+
+
+def _size(path: str) -> int:
+    try:
+        return os.path.getsize(path)
+    except OSError:
+        return 0
 
 
 def _as_completed(futures):

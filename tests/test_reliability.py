@@ -29,6 +29,8 @@ from cadartifact.errors import CadArtifactError
 from cadartifact.net import ControlNet, NetOrigin
 
 pytest.importorskip("OCP")
+# mutated inputs are expected to warn (overflow in advise, skipped faces in load): only outcomes are checked
+pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning", "ignore::UserWarning")
 
 SEED = 20240605
 MUTATIONS = ("trunc10", "trunc50", "trunc90", "flip0", "flip1", "flip2", "empty", "huge", "nan", "wrong-ext")
