@@ -1,0 +1,115 @@
+"""Load time of cadartifact.exchange.read vs OCCT's bare STEP read + transfer, in the same run.
+
+    python benchmarks/bench_load.py [--repeat N]
+
+Per real STEP file (../shared/realdata/step): best-of-N wall time of
+``STEPControl_Reader.ReadFile + TransferRoots`` (the baseline) and of ``read(path)``
+(the same read + transfer, plus walking every face and extracting the B-spline nets
+per index and the face names). The ratio's excess over 1 is the extraction overhead
+(target < 10 %). Also: OCCT grid evaluation speed (evaluate_grid) on the real nets at
+the (8 nu) x (8 nv) grids the measured road uses, and OBJ load times.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+REALDATA = ROOT.parent / "shared" / "realdata"
+
+
+def best_of(fn, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def bare_occt(path: Path) -> None:
+    from OCP.STEPControl import STEPControl_Reader
+
+    from cadartifact.exchange.occ import quiet_occt
+
+    reader = STEPControl_Reader()
+    with quiet_occt():
+        reader.ReadFile(str(path))
+        reader.TransferRoots()
+    reader.OneShape()
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args(argv)
+    if not REALDATA.exists():
+        print(f"{REALDATA} not present: nothing to measure")
+        return 0
+    from cadartifact.exchange import evaluate_grid, read
+
+    warnings.simplefilter("ignore")
+    files = sorted((REALDATA / "step").glob("*"))
+    bare_occt(files[0])  # warm up OCCT's STEP schema tables
+    read(files[0])
+
+    from cadartifact.exchange.occ import nets_from_shape
+    from cadartifact.exchange.step import read_step
+
+    print(f"STEP load (best of {args.repeat}, interleaved): OCCT read+transfer vs cadartifact read; "
+          "'extract' = face walk + net extraction + names alone, over the same run's read+transfer")
+    print(f"{'file':34s} {'faces':>6s} {'nets':>5s} {'occt ms':>9s} {'read ms':>9s} {'ratio':>7s} "
+          f"{'extract ms':>11s} {'extract %':>10s}")
+    ratios, shares = [], []
+    for path in files:
+        bare, full, split = [], [], []
+        for _ in range(args.repeat):  # interleaved so that machine load drifts hit both alike
+            bare.append(best_of(lambda: bare_occt(path), 1))
+            full.append(best_of(lambda: read(path), 1))
+            start = time.perf_counter()
+            shape, face_name = read_step(path)
+            middle = time.perf_counter()
+            nets_from_shape(shape, file=str(path), face_name=face_name)
+            split.append((middle - start, time.perf_counter() - middle))
+        result = read(path)
+        ratio = min(full) / min(bare)
+        occt_part, extract = min(split, key=lambda ab: ab[0] + ab[1])
+        ratios.append(ratio)
+        shares.append(extract / occt_part)
+        print(f"{path.name:34s} {result.faces_total:6d} {len(result.nets):5d} {1e3 * min(bare):9.1f} "
+              f"{1e3 * min(full):9.1f} {ratio:7.3f} {1e3 * extract:11.2f} {100 * extract / occt_part:9.1f}%")
+    print(f"{'geometric mean':34s} {'':6s} {'':5s} {'':9s} {'':9s} {np.exp(np.mean(np.log(ratios))):7.3f} "
+          f"{'':11s} {100 * np.exp(np.mean(np.log(shares))):9.1f}%")
+
+    print("\nOCCT grid evaluation (evaluate_grid) on (8 nu) x (8 nv) grids")
+    points = seconds = 0.0
+    for path in files:
+        for net in read(path).nets:
+            nu, nv = net.shape
+            (ku, kv), (p, q) = net.knots, net.degrees
+            u = np.linspace(ku[p], ku[len(ku) - p - 1], 8 * nu)
+            v = np.linspace(kv[q], kv[len(kv) - q - 1], 8 * nv)
+            start = time.perf_counter()
+            evaluate_grid(net, u, v)
+            seconds += time.perf_counter() - start
+            points += len(u) * len(v)
+    print(f"{int(points)} points in {seconds:.2f} s: {1e6 * seconds / points:.2f} us/point "
+          f"({points / seconds / 1e6:.2f} M points/s)")
+
+    print("\nOBJ load (best of 3)")
+    for path in sorted((REALDATA / "obj").glob("*.obj")):
+        t = best_of(lambda: read(path), 3)
+        r = read(path)
+        print(f"{path.name:34s} {r.faces_total:6d} faces {len(r.charts):5d} charts {1e3 * t:8.1f} ms")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
