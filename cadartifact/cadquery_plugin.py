@@ -141,6 +141,8 @@ def _describe(row: dict, metric: str, t: float, include_signal_error: bool, unit
     adv = row.get("advice")
     if adv:
         text += f"; advised net {adv['net'][0]}x{adv['net'][1]}"
+        if list(adv["net"]) == list(row["net"]) and adv["meets_tolerance"]:
+            text += " (same density: resample the intent with uniform knots)"
         if not adv["meets_tolerance"]:
             text += " (tolerance out of reach up to the search limit)"
     return text
