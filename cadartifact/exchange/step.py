@@ -22,6 +22,7 @@ from OCP.BRepTools import BRepTools  # noqa: E402
 from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
 from OCP.IGESControl import IGESControl_Reader  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
+from OCP.StepBasic import StepBasic_Product  # noqa: E402
 from OCP.STEPConstruct import STEPConstruct  # noqa: E402
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer  # noqa: E402
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
@@ -140,6 +141,18 @@ def read_brep(path) -> tuple[TopoDS_Shape, None]:
     return shape, None
 
 
+def _name_products(writer: STEPControl_Writer, name: str) -> None:
+    """Name the STEP products after the file: OCCT's default carries a per-process counter,
+    which would make the same nets give different files."""
+    model = writer.Model()
+    label = TCollection_HAsciiString(name or "cadartifact")
+    for i in range(1, model.NbEntities() + 1):
+        entity = model.Value(i)
+        if isinstance(entity, StepBasic_Product):
+            entity.SetId(label)
+            entity.SetName(label)
+
+
 def write_step(nets, path) -> Path:
     """Write B-spline nets to a STEP file, one face each, in one shell.
 
@@ -189,6 +202,7 @@ def write_step(nets, path) -> Path:
     with quiet_occt():
         if writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone:
             raise InputError(path, "OCCT could not translate the nets to STEP")
+        _name_products(writer, path.stem)
         finder = writer.WS().TransferWriter().FinderProcess()
         for net, face in zip(nets, faces):
             if net.origin.name:
