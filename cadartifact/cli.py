@@ -241,7 +241,7 @@ def gate_cmd(
                                       show_default=False),
     tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
     policy: Optional[Path] = typer.Option(None, "--policy",
-                                          help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
+                                          help="Policy TOML (default: cadartifact.toml or \\[tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
     fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
@@ -257,10 +257,11 @@ def gate_cmd(
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
-    Exit 0 when every face passes (warnings allowed), 1 when a face fails, 2 on usage errors or
-    when a file cannot be read (that file is reported as an error; the other files are still
-    analysed; with --output the report is complete and lists it). The policy and verdict rules
-    are documented in cadartifact.gate_policy and cadartifact.gate.
+    Exit 0 when every face passes (warnings allowed), 1 when a face fails, 2 on usage errors or unreadable files.
+
+    An unreadable file is reported as an error and the other files are still analysed (fail closed).
+
+    Policy: cadartifact.toml or \\[tool.cadartifact] in pyproject.toml (see cadartifact.gate_policy).
     """
     import importlib.util
     import os

@@ -151,9 +151,11 @@ class Policy:
                 merged.update(values)
         merged.update({k: v for k, v in (cli or {}).items() if v is not None})
         if merged["tolerance"] is None:
-            where = f"policy {self.source}" if self.source else "no policy file (cadartifact.toml or " \
-                                                                 "[tool.cadartifact] in pyproject.toml) found"
-            raise PolicyError(where, None, f"no tolerance for {path}: pass --tol or set 'tolerance' in the policy")
+            if self.source:
+                raise PolicyError(self.source, None, f"no tolerance for {path}: set 'tolerance' or pass --tol")
+            raise PolicyError(os.fspath(path), None, "no tolerance: pass --tol, or set 'tolerance' in "
+                                                     "cadartifact.toml or [tool.cadartifact] in pyproject.toml "
+                                                     "(none found from the working directory upward)")
         merged["ignore_faces"] = tuple(merged["ignore_faces"])
         return FileSettings(**merged)
 
