@@ -319,7 +319,11 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     verdict = _worst(e["verdict"] for e in entries)
     exit_code = 2 if verdict == "error" else 1 if verdict == "fail" else 0
     units = next((e["units"] for e in entries if e.get("units")), "mm")
-    return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": base["tolerance"], "units": units,
+    # with the tolerance only in overrides, the top level shows the first file's (the schema needs one)
+    tolerance = base["tolerance"]
+    if tolerance is None:
+        tolerance = next((e["policy"]["tolerance"] for e in entries if e.get("policy")), None)
+    return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": tolerance, "units": units,
             "metric": base["metric"], "include_signal_error": base["include_signal_error"],
             "warn_fraction": base["warn_fraction"], "measured": base["measured"], "scheme": base["scheme"],
             "policy": policy.source[len("policy "):] if policy.source else None,

@@ -228,3 +228,10 @@ def test_a_crashing_worker_blames_only_its_file():
     assert [e["verdict"] for e in out] == ["pass", "error", "pass", "pass"]
     assert "crashed" in out[1]["error"] and "bad.step" in out[1]["error"]
     assert sorted(e["path"] for e in seen) == sorted(t[0] for t in tasks)
+
+
+def test_document_top_level_tolerance_falls_back_to_the_first_file():
+    b = base()
+    b["tolerance"] = None  # tolerance only in [[override]] tables
+    doc = build_document([entry("a.step", ["pass"], tol=0.3)], b, Policy(source="policy p.toml"))
+    assert doc["tolerance"] == 0.3 and doc["policy"] == "p.toml"
