@@ -21,7 +21,8 @@ import os
 from .errors import CadArtifactError
 from .gate_policy import FileSettings, Policy
 
-__all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "face_verdict", "file_verdict", "gate_file", "run_gate", "build_document"]
+__all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
+           "run_gate"]
 
 GATE_SCHEMA = "cadartifact.gate/1"
 
@@ -206,9 +207,10 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
     A task whose worker process dies (a crash in native code) becomes an error entry; the others are
     rerun one per process so that only the culprit is blamed.
     """
-    worker = worker or _gate_file_args
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
+
+    worker = worker or _gate_file_args
 
     results: list = [None] * len(tasks)
     pending = list(range(len(tasks)))
@@ -220,8 +222,9 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         for batch in batches:
             with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context()) as ex:
                 # biggest files first (a cheap proxy for their cost) balances the workers' loads
-                futures = {ex.submit(worker, tasks[i]): i for i in sorted(batch, key=lambda i: -_size(tasks[i][0]))}
-                for fut in _as_completed(futures):
+                order = sorted(batch, key=lambda i: -_size(tasks[i][0]))
+                futures = {ex.submit(worker, tasks[i]): i for i in order}
+                for fut in as_completed(futures):
                     i = futures[fut]
                     try:
                         results[i] = fut.result()
@@ -244,12 +247,6 @@ def _size(path: str) -> int:
         return os.path.getsize(path)
     except OSError:
         return 0
-
-
-def _as_completed(futures):
-    from concurrent.futures import as_completed
-
-    return as_completed(futures)
 
 
 def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None) -> list:
