@@ -239,3 +239,27 @@ def test_from_shape_skips_analytic_and_converts_freeform():
             assert projection.LowerDistance() < 1e-6
     with pytest.raises(Exception, match="obj"):
         from_shape(object())
+
+
+def test_degenerate_face_is_skipped_with_a_warning():
+    from OCP.BRep import BRep_Builder
+    from OCP.gp import gp_Pnt
+    from OCP.TColgp import TColgp_Array2OfPnt
+    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
+    from OCP.TopoDS import TopoDS_Face
+
+    poles = TColgp_Array2OfPnt(1, 2, 1, 2)
+    for i in (1, 2):
+        for j in (1, 2):
+            poles.SetValue(i, j, gp_Pnt(1, 2, 3))  # every pole at the same point
+    knots, mults = TColStd_Array1OfReal(1, 2), TColStd_Array1OfInteger(1, 2)
+    for k in (1, 2):
+        knots.SetValue(k, k - 1.0)
+        mults.SetValue(k, 2)
+    face = TopoDS_Face()
+    BRep_Builder().MakeFace(face, Geom_BSplineSurface(poles, knots, knots, mults, mults, 1, 1), 1e-7)
+    with pytest.warns(LoadWarning) as caught:
+        assert from_shape(face, name="flat") == []
+    messages = [str(w.message) for w in caught]
+    assert any("degenerate net, all control points coincide" in m for m in messages)
+    assert any("no analysable face among 1 faces (skipped: degenerate 1)" in m for m in messages)

@@ -133,8 +133,7 @@ def read(path: str | os.PathLike, *, convert: bool = False) -> LoadResult:
     if not nets:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
         hint = "" if convert else "; try convert=True (--convert) for revolution/extrusion/offset faces"
-        messages.append(f"{path}: no analysable face (no B-spline or Bezier face among {total} faces; "
-                        f"skipped: {kinds}){hint}")
+        messages.append(f"{path}: no analysable face among {total} faces (skipped: {kinds}){hint}")
     for message in messages:
         warn(message)
     return LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
@@ -206,8 +205,7 @@ def from_shape(obj, *, convert: bool = False, name: str | None = None) -> list[C
     nets, total, skipped, messages = occ.nets_from_shape(shape, file=name, convert=convert)
     if not nets:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
-        messages.append(f"{name or '<shape>'}: no analysable face (no B-spline or Bezier face among {total} faces; "
-                        f"skipped: {kinds})")
+        messages.append(f"{name or '<shape>'}: no analysable face among {total} faces (skipped: {kinds})")
     for message in messages:
         warn(message)
     return nets

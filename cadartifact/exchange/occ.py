@@ -301,7 +301,7 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
                                          uv_bounds=uv))
         except InvalidNetError as exc:
             skipped["degenerate"] = skipped.get("degenerate", 0) + 1
-            messages.append(f"skipped: {exc}")
+            messages.append(f"skipped face: {exc}")
     return nets, total, skipped, messages
 
 
@@ -386,7 +386,8 @@ def evaluate_grid(net: ControlNet, u, v) -> np.ndarray:
     -------
     S : (a, b, 3) float
         ``S[i, j] = surface(u[i], v[j])`` from ``Geom_BSplineSurface.D0``
-        (OCCT's span-cached evaluator, about 1.5 microseconds per point).
+        (OCCT's span-cached evaluator, per point from Python: about 1.5 microseconds per
+        point for bicubic nets, up to about 5 for rational degree 6x10 ones).
 
     Raises
     ------
