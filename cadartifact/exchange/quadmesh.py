@@ -87,7 +87,7 @@ class QuadMesh:
     irregular: np.ndarray
     crease_edges: np.ndarray
     crease_sharpness: np.ndarray
-    tags: tuple = ()
+    tags: tuple[Tag, ...] = ()
     path: str | None = None
 
     @property
