@@ -25,6 +25,7 @@ import math
 from pathlib import Path
 
 from ..errors import CadArtifactError, OptionError
+from .view import unit_text
 
 __all__ = ["write_report", "render_html", "HEATMAP_FACES", "HEATMAP_FILES", "MAP_SCHEMES"]
 
@@ -187,6 +188,8 @@ def _heatmap(entry: dict, doc: dict, tol: float, unit: str) -> str:
                              layout="tiles" if len(maps) > 1 else "model")
     except CadArtifactError as exc:
         return f'<p class="note">No heatmap: {_e(exc)}</p>'
+    except Exception as exc:  # a picture (e.g. no OpenGL on this machine) must not cost the report
+        return f'<p class="note">No heatmap: rendering failed ({_e(type(exc).__name__)}: {_e(exc)})</p>'
     caption = (f"|{direction.replace('_', ' ')}| on the limit surface, 0 to the tolerance {tol:g} {_e(unit)}; red: "
                "beyond it. Thin lines: the control net.")
     return f"<figure>{_img(png_bytes(image), title, 'heatmap')}<figcaption>{caption}</figcaption></figure>"
@@ -207,7 +210,7 @@ def _response_maps(doc: dict) -> str:
 
     try:
         fig = maps_figure(names, "limit", 201)
-    except CadArtifactError as exc:
+    except Exception as exc:  # as for heatmaps: the tables matter more than the picture
         return f'<p class="note">No response maps: {_e(exc)}</p>'
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=80)
@@ -226,7 +229,7 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     from .. import __version__
 
     tol = doc.get("tolerance")
-    unit = doc.get("units") or "mm"
+    unit = unit_text(doc.get("units") or "mm")
     metric = doc.get("metric", "peak")
     warn_fraction = doc.get("warn_fraction") or 1.0
     what = "deviation (ripple and signal error)" if doc.get("include_signal_error") else "ripple"

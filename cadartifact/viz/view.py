@@ -109,6 +109,11 @@ def label(direction: str, unit: str = "mm") -> str:
     return f"{_LABELS[direction]} [{unit}]"
 
 
+def unit_text(unit: str) -> str:
+    """``"mm"`` as it is; an OBJ cage's unitless ``"model"`` as ``"model units"``."""
+    return "model units" if unit == "model" else unit
+
+
 def face_maps(nets, direction: str = "total", scheme=None, *, levels: int = 3, component: str = "normal") -> list:
     """Compute the fields of each net and the magnitudes to draw.
 
@@ -335,7 +340,7 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
             ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
             ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap)))
             ax.set_axis_off()
-            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit}", fontsize=9, pad=2)
+            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}", fontsize=9, pad=2)
     cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
     colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
     sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
@@ -504,7 +509,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         nets = [n for n in nets if n.origin.face in wanted]
     maps = face_maps(nets, direction, scheme)
     peak = max(m.peak for m in maps)
-    unit = nets[0].unit
+    unit = unit_text(nets[0].unit)
     if png is not None:
         what = f"face {nets[0].origin.face}" if len(nets) == 1 else f"{len(nets)} faces"
         title = f"{src.name}  ({what}): {_LABELS[direction]}, peak {number(peak)} {unit}"
