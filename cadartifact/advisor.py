@@ -22,11 +22,11 @@ import numpy as np
 from .budget import METRICS, Budget, Stat, _stats, budget, default_scheme
 from .errors import OptionError, check_option
 from .fields import (FIELD_NAMES, Intent, band_split, design_intent, intent_normals, predicted_surface, project,
-                     ripple_only)
+                     ripple_only)  # noqa: F401
 from .net import ControlNet, clamped_uniform_knots
 from .splines import param_range
 
-__all__ = ["Advice", "advise", "resample", "artifact_at", "NAMED_SCHEMES"]
+__all__ = ["Advice", "advise", "resample", "artifact_at", "carried_intent", "NAMED_SCHEMES"]
 
 NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 
@@ -125,7 +125,7 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
     if only is not None and region == "face" and getattr(scheme, "tensor", False):
         return _artifact_at_tensor(intent, scheme, shape, levels, component, only)
     new = resample(net, shape, scheme, intent=intent)
-    it2 = design_intent(new, scheme, levels)
+    it2 = carried_intent(intent, new, levels)
     au, av = it2.axes
     surface = predicted_surface(it2, scheme)
     su = _scale(net.shape[0], shape[0], net.periodic[0])
@@ -147,13 +147,29 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
         scalars["deviation"] = project(err, normal, component)
     keep = np.ones(err.shape[:2], bool)
     if region == "interior":
-        from .budget import region_mask
+        from .budget import border_margin, region_mask
         from .fields import ArtifactFields
 
-        margin = max(new.degrees) if new.degrees else max(scheme.mask.shape) // 2
+        margin = border_margin(new, scheme)
         keep = region_mask(new.replace(uv_bounds=None), ArtifactFields(x=au.x, y=av.x, surface=err,
                                                                         intent=target), "interior", margin)
     return _stats(scalars, keep)
+
+
+def carried_intent(intent: Intent, new: ControlNet, levels: int) -> Intent:
+    """The intent of a resampled net as today's trend plus its band-limited residual (no refit).
+
+    Refitting a trend to the resampled points would move part of the band-limited residual into a
+    polynomial whose even reflection kinks at the borders: spurious ripple. Today's Legendre
+    coefficients apply unchanged, because both nets scale index space to the same ``[-1, 1]``.
+    """
+    from .fields import Axis
+
+    axes = (Axis(new.shape[0], new.periodic[0], levels), Axis(new.shape[1], new.periodic[1], levels))
+    tmp = Intent(net=new, axes=axes, terms=intent.terms, coef=intent.coef, residual=None, spectrum=None)
+    residual = new.points - tmp.trend(np.arange(new.shape[0]), np.arange(new.shape[1]))
+    spectrum = np.fft.fft2(axes[1].extend(axes[0].extend(residual, 0), 1), axes=(0, 1))
+    return Intent(net=new, axes=axes, terms=intent.terms, coef=intent.coef, residual=residual, spectrum=spectrum)
 
 
 def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only) -> dict:
@@ -165,8 +181,9 @@ def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only) 
     d = int(scheme.reproduction_degree)
     old_axes = intent.axes
     new_axes = (Axis(shape[0], net.periodic[0], levels), Axis(shape[1], net.periodic[1], levels))
-    old = tuple(axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(old_axes, trend_caps(d, old_axes))))
-    new = tuple(axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(new_axes, trend_caps(d, new_axes))))
+    caps = trend_caps(d, old_axes)  # the resampled net carries today's trend (SPEC §5)
+    old = tuple(axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(old_axes, caps)))
+    new = tuple(axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(new_axes, caps)))
     scales = [_scale(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic)]
     x_new = tuple(_new_positions(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic))
     x_fine = tuple(a.x * s for a, s in zip(new_axes, scales))
@@ -304,20 +321,29 @@ def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
             return (a, b), False
         a, b = min(hi[0], 2 * a), min(hi[1], 2 * b)
     hi = (a, b)
-    a_min = _first_true(lo[0], hi[0], lambda a: search.ok(a, hi[1]))
-    b_min = _first_true(lo[1], hi[1], lambda b: search.ok(hi[0], b))
-    best = None
-    b = hi[1]
-    for a in range(a_min, hi[0] + 1):
-        if best is not None and a * b_min >= best[0] * best[1]:
-            break
-        # b(a) is non-increasing in a: walk down from the previous row's answer
-        b = _first_true(b_min, b, lambda bb: search.ok(a, bb)) if search.ok(a, b) else b
-        if not search.ok(a, b):
-            continue
-        if best is None or a * b < best[0] * best[1] or (a * b == best[0] * best[1] and a + b < sum(best)):
-            best = (a, b)
-    return best, True
+    a_min = _first_true(lo[0], hi[0], lambda x: search.ok(x, hi[1]))
+    b_min = _first_true(lo[1], hi[1], lambda y: search.ok(hi[0], y))
+    # the artifact of each direction mostly depends on that direction's density: the answer lies
+    # near the corner (a_min, b_min). Grow greedily from it, taking the step that lowers the value
+    # more, then shrink while the tolerance still holds.
+    a, b = a_min, b_min
+    while not search.ok(a, b):
+        up_a = search.value(a + 1, b) if a < hi[0] else math.inf
+        up_b = search.value(a, b + 1) if b < hi[1] else math.inf
+        if math.isinf(up_a) and math.isinf(up_b):
+            return (a, b), False
+        # compare the improvement per added control point (a step in u adds b points, in v adds a)
+        gain_a = (search.value(a, b) - up_a) / b
+        gain_b = (search.value(a, b) - up_b) / a
+        a, b = (a + 1, b) if gain_a >= gain_b else (a, b + 1)
+    changed = True
+    while changed:
+        changed = False
+        for da, db in ((1, 0), (0, 1), (1, -1), (-1, 1)):
+            na, nb = a - da, b - db
+            if lo[0] <= na <= hi[0] and lo[1] <= nb <= hi[1] and na * nb < a * b and search.ok(na, nb):
+                a, b, changed = na, nb, True
+    return (a, b), True
 
 
 def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak",

@@ -21,7 +21,7 @@ __all__ = ["Budget", "Stat", "budget", "default_scheme", "METHODS", "METRICS", "
 
 METHODS = ("auto", "predicted", "measured", "both")
 METRICS = ("peak", "rms")
-REGIONS = ("face", "interior")
+REGIONS = ("auto", "face", "interior")
 
 #: All statistics a budget carries: the ripple fields, the signal error and the whole deviation.
 STAT_NAMES = FIELD_NAMES + ("deviation",)
@@ -129,6 +129,18 @@ def _num(x):
     return None if x is None or not math.isfinite(x) else float(x)
 
 
+def border_margin(net: ControlNet, scheme) -> int:
+    """Control spacings from an open border that the *interior* leaves out.
+
+    A clamped B-spline's first ``p`` spans have uneven Greville abscissae, and their effect on the
+    surface decays by about ``2 - sqrt(3)`` per span (cubic): ``p + 1`` spans keep it below a few
+    percent. Cages: the mask radius.
+    """
+    if net.degrees is not None:
+        return max(net.degrees) + 1
+    return max(scheme.mask.shape) // 2
+
+
 def region_mask(net: ControlNet, fields: ArtifactFields, region: str, margin: int) -> np.ndarray:
     """Fine-grid points that count: inside the trimmed face's uv bounds, and away from open borders
     by ``margin`` control spacings for ``region="interior"``."""
@@ -177,7 +189,7 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
 
 
 def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metric: str = "peak",
-           method: str = "auto", levels: int = 3, component: str = "normal", region: str = "face",
+           method: str = "auto", levels: int = 3, component: str = "normal", region: str = "auto",
            keep_fields: bool = False) -> Budget:
     """Per-direction artifact budget of a control net.
 
@@ -200,8 +212,10 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     component : {"normal", "vector"}
         Report the displacement along the intent's normal (what a profile tolerance measures;
         tangential motion only re-parametrises) or its full length.
-    region : {"face", "interior"}
-        ``interior`` leaves out ``max(p, q)`` control spacings at open borders.
+    region : {"auto", "face", "interior"}
+        ``interior`` leaves out ``max(p, q) + 1`` control spacings at open borders (clamped ends are
+        outside the uniform model); ``auto``: the whole face when predicted, the interior when a face
+        is measured.
     keep_fields : bool
         Keep the fine-grid fields for pictures.
 
@@ -247,7 +261,11 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         primary, reason = "predicted", "predicted on request although " + reason.split(":")[0]
 
     main = _road(primary, intent, sch)
-    margin = max(net.degrees) if net.degrees else max(sch.mask.shape) // 2
+    margin = border_margin(net, sch)
+    if region == "auto":
+        region = "interior" if primary == "measured" and net.knots is not None else "face"
+        if region == "interior":
+            reason += f"; stats leave out {margin} spans at clamped borders (outside the uniform model)"
     scalars = _scalars(main, component)
     keep = region_mask(net, main, region, margin)
     stats = _stats(scalars, keep)

@@ -414,6 +414,9 @@ def _trend_limit_coef(intent: Intent, scheme) -> np.ndarray:
         # stencil's moments); fall back to the trend itself, i.e. no polynomial signal error.
         return intent.coef.copy()
     ru, rv = int(ru), int(rv)
+    # sample on enough integers to determine the limit polynomial (the trend extends past the net)
+    nu = max(nu, max(t[0] for t in intent.terms) + 2)
+    nv = max(nv, max(t[1] for t in intent.terms) + 2)
     xs = np.arange(-ru, nu + ru)
     ys = np.arange(-rv, nv + rv)
     padded = intent.trend(xs, ys)

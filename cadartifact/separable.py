@@ -11,13 +11,11 @@ the reference; a test keeps the two equal.
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from .fields import Axis, bandlimited_basis_real
 
-__all__ = ["AxisModel", "axis_model", "sandwich", "tensor_error"]
+__all__ = ["AxisModel", "axis_model", "ripple_part", "sandwich", "tensor_error"]
 
 
 def sandwich(A: np.ndarray, P: np.ndarray, B: np.ndarray) -> np.ndarray:
@@ -78,23 +76,31 @@ class AxisModel:
         """The two factors ``(Tx, Bx)`` with intent = ``Tx P Ty^T + Bx R By^T``, ``R`` the residual."""
         return self.trend(x), self.bandlimited(x)
 
-    def limit_trend(self, levels: int) -> np.ndarray:
-        """``(fine, n)``: samples -> limit surface of their trend polynomial on the fine grid."""
-        if ("lt", levels) in self._memo:
-            return self._memo[("lt", levels)]
-        ax = Axis(self.n, self.periodic, levels)
+    def limit_coef(self) -> np.ndarray:
+        """``(m, m)``: Legendre coefficients of a trend -> those of its limit surface (exact: degree kept).
+
+        The limit at integer ``J`` is ``sum_a s[a] trend(J + r - a)`` (the trend extends as a
+        polynomial past the net); it is sampled on enough integers to fit exactly.
+        """
+        if "lc" in self._memo:
+            return self._memo["lc"]
         m = self.degree + 1
         if self.stencil is None or m == 1:
             coef = np.eye(m)
         else:
             s = np.asarray(self.stencil, float)
             r = len(s) // 2
-            pad = _legvander(np.arange(-r, self.n + r), self.span, self.degree)  # (n+2r, m)
+            M = max(self.n, m + 1)
+            pad = _legvander(np.arange(-r, M + r), self.span, self.degree)  # (M+2r, m)
             # lim[J] = sum_a s[a] trend(J + r - a), as fields._trend_limit_coef
-            lim = np.stack([np.convolve(pad[:, j], s, mode="valid") for j in range(m)], axis=1)  # (n, m)
-            coef = self.Vp @ lim
-        out = self._memo[("lt", levels)] = _legvander(ax.x, self.span, self.degree) @ coef @ self.Vp
-        return out
+            lim = np.stack([np.convolve(pad[:, j], s, mode="valid") for j in range(m)], axis=1)  # (M, m)
+            coef = np.linalg.pinv(_legvander(np.arange(M), self.span, self.degree)) @ lim
+        self._memo["lc"] = coef
+        return coef
+
+    def fine_vander(self, levels: int) -> np.ndarray:
+        """``(fine, m)``: the Legendre basis (this axis's scaling) on the fine grid."""
+        return _legvander(Axis(self.n, self.periodic, levels).x, self.span, self.degree)
 
     def synthesis(self, levels: int) -> np.ndarray:
         """``(fine, n)``: residual samples -> predicted limit surface (1-D transfer) on the fine grid."""
@@ -107,17 +113,22 @@ class AxisModel:
         out = self._memo[("syn", levels)] = np.fft.ifft(spec, axis=0).real[: ax.fine_count]
         return out
 
-    @staticmethod
-    @lru_cache(maxsize=256)
-    def lowpass(n: int, periodic: bool, levels: int) -> np.ndarray:
-        """``(fine, fine)``: the base band (``|f| < 1/2``) of a fine-grid field, as the band split defines it."""
-        ax = Axis(n, periodic, levels)
-        a = ax.fine_count
-        eye = np.eye(a)
-        ext = ax.extend(eye, 0)
+
+
+def ripple_part(err: np.ndarray, au: Axis, av: Axis) -> np.ndarray:
+    """``err`` minus its base band (``|fx|, |fy| < 1/2``): the band split's low-pass, one axis at a time.
+
+    The base-band mask is a product of per-axis masks, so two passes of 1-D FFTs (after the same
+    extension as the band split: even reflection or wrap) equal the 2-D masked FFT.
+    """
+    low = err
+    for axis, ax in ((0, au), (1, av)):
+        n = low.shape[axis]
         f = ax.freqs(fine=True)
-        keep = (np.abs(f) < 0.5 - 1e-12)[:, None]
-        return np.fft.ifft(np.fft.fft(ext, axis=0) * keep, axis=0).real[:a]
+        keep = (np.abs(f) < 0.5 - 1e-12).reshape((-1, 1, 1) if axis == 0 else (1, -1, 1))
+        spec = np.fft.fft(ax.extend(low, axis), axis=axis) * keep
+        low = np.take(np.fft.ifft(spec, axis=axis).real, np.arange(n), axis=axis)
+    return err - low
 
 
 _MODELS: dict = {}
@@ -144,12 +155,16 @@ def tensor_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine_old
                  ripple: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Error ``surface(n') - intent`` (and its ripple) on the new net's fine grid, by per-axis operators.
 
+    The resampled net is today's trend plus today's band-limited residual at the new positions
+    (SPEC §5); its surface is the trend's limit polynomial plus the residual synthesised through the
+    scheme's transfer function.
+
     Parameters
     ----------
     P : (nu, nv, 3) float
         Today's control points.
     old, new : (AxisModel, AxisModel)
-        Today's and the candidate's axes.
+        Today's axes, and the candidate's axes built with TODAY's trend degrees.
     x_new : ((a,) float, (b,) float)
         The new control points' positions in today's index space.
     x_fine_old : ((A,) float, (B,) float)
@@ -162,18 +177,15 @@ def tensor_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine_old
     """
     ou, ov = old
     nu_, nv_ = new
-    R = P - sandwich(ou.T_old, P, ov.T_old)
-    Tu, Bu = ou.intent(x_new[0])
-    Tv, Bv = ov.intent(x_new[1])
-    N = sandwich(Tu, P, Tv) + sandwich(Bu, R, Bv)
-    R2 = N - sandwich(nu_.T_old, N, nv_.T_old)
-    surf = sandwich(nu_.limit_trend(levels), N, nv_.limit_trend(levels)) + \
-        sandwich(nu_.synthesis(levels), R2, nv_.synthesis(levels))
+    C = sandwich(ou.Vp, P, ov.Vp)  # trend coefficients (mu, mv, 3)
+    R = P - sandwich(ou.Vn, C, ov.Vn)
+    N_res = sandwich(ou.bandlimited(x_new[0]), R, ov.bandlimited(x_new[1]))
+    surf = sandwich(nu_.fine_vander(levels) @ nu_.limit_coef(), C, nv_.fine_vander(levels) @ nv_.limit_coef()) + \
+        sandwich(nu_.synthesis(levels), N_res, nv_.synthesis(levels))
     Fu, Gu = ou.intent(x_fine_old[0])
     Fv, Gv = ov.intent(x_fine_old[1])
     target = sandwich(Fu, P, Fv) + sandwich(Gu, R, Gv)
     err = surf - target
     if ripple:
-        err = err - sandwich(AxisModel.lowpass(nu_.n, nu_.periodic, levels), err,
-                             AxisModel.lowpass(nv_.n, nv_.periodic, levels))
+        err = ripple_part(err, Axis(nu_.n, nu_.periodic, levels), Axis(nv_.n, nv_.periodic, levels))
     return err, target

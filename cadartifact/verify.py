@@ -38,34 +38,45 @@ def measure_resampled(net, scheme, shape, intent, *, metric="peak", include_sign
         ``{"method": "occt" | "subdivision" | "uniform-bspline", "levels", "value", "stats"}`` with
         ``value`` the ripple (or whole deviation) under ``metric`` on the interior.
     """
-    from .advisor import _scale, resample
-    from .budget import region_mask
-    from .fields import design_intent
+    from .advisor import _scale, carried_intent, resample
+    from .budget import border_margin, region_mask
     from .measure import _evaluator, _param_axis, measurement_road
 
     new = resample(net, shape, scheme, intent=intent)
     au = Axis(new.shape[0], new.periodic[0], levels)
     av = Axis(new.shape[1], new.periodic[1], levels)
+    su = _scale(net.shape[0], shape[0], net.periodic[0])
+    sv = _scale(net.shape[1], shape[1], net.periodic[1])
+    x_new = np.arange(new.shape[0]) * su
+    y_new = np.arange(new.shape[1]) * sv
+    trend_pts = intent.trend(x_new, y_new)  # the resampled net is today's trend + residual (linear)
     road, _ = measurement_road(new, scheme)
     if road == "face":
         from .exchange import evaluate_grid
+        from .splines import evaluate
 
-        surface = evaluate_grid(new, _param_axis(new, 0, au.x), _param_axis(new, 1, av.x))
+        u, v = _param_axis(new, 0, au.x), _param_axis(new, 1, av.x)
+        surface = evaluate_grid(new, u, v)  # OCCT's evaluator on the real B-spline surface
+        s_trend = evaluate(new, u, v, points=trend_pts)
         method = "occt"
     else:
-        it_new = design_intent(new, scheme, levels)
-        surface = _evaluator(it_new, scheme, road)(new.points)
+        it_new = carried_intent(intent, new, levels)
+        ev = _evaluator(it_new, scheme, road)
+        surface = ev(new.points)
+        s_trend = ev(trend_pts)
         method = road
-    su = _scale(net.shape[0], shape[0], net.periodic[0])
-    sv = _scale(net.shape[1], shape[1], net.periodic[1])
     target = intent.evaluate(au.x * su, av.x * sv)
+    target_trend = intent.trend(au.x * su, av.x * sv)
     err = surface - target
-    spec = np.fft.fft2(av.extend(au.extend(err, 0), 1), axes=(0, 1))
+    # the trend's image is a polynomial-like signal error; band-split the residual's deviation only
+    dev_res = (surface - s_trend) - (target - target_trend)
+    spec = np.fft.fft2(av.extend(au.extend(dev_res, 0), 1), axes=(0, 1))
     bands = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
+    bands["signal_error"] = bands["signal_error"] + (s_trend - target_trend)
     normal = None if component == "vector" else intent_normals(target, au.K)
     scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
     scalars["deviation"] = project(err, normal, component)
-    margin = max(new.degrees) if new.degrees else max(scheme.mask.shape) // 2
+    margin = border_margin(new, scheme)
     keep = region_mask(new.replace(uv_bounds=None),
                        ArtifactFields(x=au.x, y=av.x, surface=surface, intent=target), "interior", margin)
     stats = _stats(scalars, keep)
