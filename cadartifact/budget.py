@@ -76,6 +76,10 @@ class Budget:
         ``{"method", "max_abs_diff", "relative"}``.
     fields : ArtifactFields or None
         The fine-grid fields (kept on request, for pictures).
+    scalar_fields : dict str -> (a, b) float or None
+        The reported scalar of each field on the fine grid (kept on request).
+    region : (a, b) bool or None
+        The fine-grid points the stats were taken over (kept on request).
     """
 
     net: ControlNet
@@ -90,6 +94,7 @@ class Budget:
     check: dict | None = None
     fields: ArtifactFields | None = field(default=None, repr=False)
     scalar_fields: dict | None = field(default=None, repr=False)
+    region: np.ndarray | None = field(default=None, repr=False)
 
     def share(self, name: str) -> float | None:
         """``stats[name].<metric> / tolerance`` (None without a tolerance)."""
@@ -283,7 +288,8 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
 
     return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=tolerance, metric=metric,
                   component=component, levels=levels, stats=stats, check=check,
-                  fields=main if keep_fields else None, scalar_fields=scalars if keep_fields else None)
+                  fields=main if keep_fields else None, scalar_fields=scalars if keep_fields else None,
+                  region=keep if keep_fields else None)
 
 
 def _road(name: str, intent, scheme) -> ArtifactFields:

@@ -131,15 +131,16 @@ def face_maps(nets, direction: str = "total", scheme=None, *, levels: int = 3, c
     -------
     list of FaceMap
         ``values = |scalar_fields[direction]|`` on the fine grid, NaN outside the trimmed face
-        (the budget's ``region="face"`` mask), so ``peak == budget.stats[direction].peak``.
+        (the budget's region: the trimmed face, its interior when measured), so
+        ``peak == budget.stats[direction].peak``.
     """
-    from ..budget import budget, region_mask
+    from ..budget import budget
 
     check_option("direction", direction, DIRECTIONS)
     out = []
     for net in nets:
         b = budget(net, scheme, levels=levels, component=component, keep_fields=True)
-        keep = region_mask(net, b.fields, "face", 0)
+        keep = b.region  # the points the budget's stats cover (trimmed face; interior when measured)
         values = np.where(keep, np.abs(b.scalar_fields[direction]), np.nan)
         peak = float(np.nanmax(values)) if keep.any() else 0.0
         out.append(FaceMap(net=net, points=np.asarray(b.fields.surface), values=values, peak=peak, budget=b))
