@@ -45,6 +45,9 @@ def test_hull_car_hood_and_clean_panel():
     assert hood.shape == (8, 6)
     spacing = np.diff(hood.points[0, :, 1]).min()
     assert spacing > 3 * 40.0  # the 40 mm swage line is far narrower than the control spacing
+    row = np.argmin(np.abs(hood.points[0, :, 1] - 360.0))
+    bump = hood.points[:, row, 2] - 0.5 * (hood.points[:, row - 1, 2] + hood.points[:, row + 1, 2])
+    assert bump.min() > 10.0  # one control row carries the crease
     clean = _one("clean_panel.step")
     assert clean.shape == (10, 10)
     z = clean.points[..., 2]
