@@ -30,7 +30,10 @@ app = typer.Typer(
 def _console(stderr: bool = False):
     from rich.console import Console
 
-    return Console(stderr=stderr, highlight=False)
+    con = Console(stderr=stderr, highlight=False)
+    if not con.is_terminal and not stderr:
+        con = Console(stderr=stderr, highlight=False, width=120)  # logs and pipes: do not squeeze tables to 80
+    return con
 
 
 def fail(message: str, code: int = 2) -> "typer.Exit":

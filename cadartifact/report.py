@@ -7,7 +7,7 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
       "tolerance": float, "units": "mm", "metric": "peak" | "rms",
       "include_signal_error": bool,
       "files": [{
-        "path": str,
+        "path": str, "units": "mm" | "model" | null,
         "faces_total": int, "skipped": {kind: count}, "warnings": [str],
         "faces": [{
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
@@ -128,7 +128,8 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             summary["unreachable"] += 0 if adv.meets_tolerance else 1
             if progress:
                 progress("face", None, f"{path.name}#{net.origin.face}")
-        doc_files.append({"path": str(path), "faces_total": res.faces_total, "skipped": dict(res.skipped),
+        doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
+                          "faces_total": res.faces_total, "skipped": dict(res.skipped),
                           "warnings": list(res.warnings), "faces": entries})
     units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
     return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
@@ -156,56 +157,72 @@ def resampled_nets(kept) -> list:
     return out
 
 
-def _bar(share: float | None, width: int = 10) -> str:
-    """A small text bar of a share of the tolerance (full at 1, red beyond)."""
+def _bar(share: float | None, width: int = 4) -> str:
+    """A compact bar of a share of the tolerance: green up to half, yellow up to 1, red beyond."""
     if share is None:
         return ""
     filled = min(width, int(round(min(share, 1.0) * width)))
     colour = "green" if share <= 0.5 else "yellow" if share <= 1.0 else "red"
-    return f"[{colour}]{'█' * filled}{'·' * (width - filled)}[/] {share * 100:5.1f}%"
+    pct = f"{share * 100:.0f}%" if share < 10 else f"{share:.0f}x"
+    return f"[{colour}]{'█' * filled}{'·' * (width - filled)} {pct:>4}[/]"
+
+
+def _units(units: str | None) -> str:
+    return "model units" if units in (None, "model") else units
 
 
 def render(doc: dict, console) -> None:
-    """Print one rich table per file and a summary line."""
+    """Print one rich table per file and a summary line.
+
+    Each direction column shows that ripple's share of the tolerance (peak or RMS, as the
+    document's metric), with a small bar; ``ripple`` is all of it together.
+    """
+    from rich import box
     from rich.table import Table
 
     t = doc["tolerance"]
-    units = doc["units"]
-    metric = doc["metric"]
     for f in doc["files"]:
-        table = Table(title=f"{f['path']}  (tolerance {t:g} {units}, {metric})", header_style="bold",
-                      title_justify="left")
-        for col in ("face", "net", "scheme", "method", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple",
-                    "advised", "verdict"):
-            table.add_column(col, no_wrap=col not in ("face",))
-        for r in f["faces"]:
+        schemes = sorted({r["scheme"] for r in f["faces"]})
+        methods = sorted({r["method"] for r in f["faces"]})
+        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); scheme {', '.join(schemes) or '-'}; "
+                   f"{', '.join(methods) or 'no face analysed'}")
+        table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
+                      title_justify="left", caption_justify="left", pad_edge=False)
+        for col in ("face", "net", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple", "advised", "verdict"):
+            table.add_column(col, no_wrap=True)
+        rows = sorted(f["faces"], key=lambda r: -(r["share"]["deviation" if doc["include_signal_error"] else "total"]
+                                                  or 0.0))
+        for r in rows:
             sh = r["share"]
             adv = r["advice"]
             label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
             if r["meets_tolerance"]:
                 verdict = "[green]within[/]"
                 if adv["points"] < r["net"][0] * r["net"][1]:
-                    verdict += " (could be coarser)"
+                    verdict += " [dim](coarser ok)[/]"
             elif adv["meets_tolerance"]:
-                verdict = "[red]exceeds[/]: resample"
+                verdict = "[red]exceeds[/]"
             else:
-                verdict = "[red]exceeds[/]: out of reach"
+                verdict = "[red]exceeds[/] [dim](out of reach)[/]"
             advised = "x".join(map(str, adv["net"]))
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
-                advised += " [yellow](unverified)[/]"
-            table.add_row(label, "x".join(map(str, r["net"])), r["scheme"], r["method"],
-                          _bar(sh["x1"]), _bar(sh["x2"]), _bar(sh["diagonal"]), _bar(sh["lateral"]),
+                advised += " [yellow]?[/]"
+            table.add_row(label[:24], "x".join(map(str, r["net"])), _bar(sh["x1"]), _bar(sh["x2"]),
+                          _bar(sh["diagonal"]), _bar(sh["lateral"]),
                           _bar(sh["deviation" if doc["include_signal_error"] else "total"]), advised, verdict)
         console.print(table)
         skipped = ", ".join(f"{v} {k}" for k, v in sorted(f["skipped"].items()))
         if skipped:
-            console.print(f"  skipped (not B-spline): {skipped}")
+            console.print(f"  not analysed: {skipped}")
         for w in f["warnings"]:
             console.print(f"  [yellow]warning:[/] {w}")
     s = doc["summary"]
     console.print(f"[bold]{s['faces']} face(s) in {s['files']} file(s): {s['within']} within tolerance, "
                   f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
+    if any((ff["advice"].get("verification") or {}).get("meets") is False for fl in doc["files"] for ff in fl["faces"]):
+        console.print("[yellow]?[/] the advised net did not verify on the real surface's interior "
+                      "(clamped ends of strongly curved faces): see the JSON 'verification'.")
 
 
 @dataclass
