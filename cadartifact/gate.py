@@ -242,6 +242,21 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
     return results
 
 
+def _workers_can_start() -> bool:
+    """Whether spawned workers can re-create ``__main__`` (they re-import it by path).
+
+    A program read from stdin (``__file__ == "<stdin>"``) cannot be: every worker would die at start,
+    so such callers are served in-process.
+    """
+    import sys
+
+    main = sys.modules.get("__main__")
+    if getattr(getattr(main, "__spec__", None), "name", None):
+        return True
+    path = getattr(main, "__file__", None)
+    return path is None or os.path.isfile(path)
+
+
 def _size(path: str) -> int:
     try:
         return os.path.getsize(path)
@@ -270,7 +285,7 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
     done = progress or (lambda entry: None)
     tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
     jobs = max(1, min(int(jobs), len(tasks)))
-    if jobs == 1:
+    if jobs == 1 or not _workers_can_start():
         out = []
         for t in tasks:
             out.append(gate_file(*t))

@@ -235,3 +235,19 @@ def test_document_top_level_tolerance_falls_back_to_the_first_file():
     b["tolerance"] = None  # tolerance only in [[override]] tables
     doc = build_document([entry("a.step", ["pass"], tol=0.3)], b, Policy(source="policy p.toml"))
     assert doc["tolerance"] == 0.3 and doc["policy"] == "p.toml"
+
+
+def test_programs_from_stdin_are_served_in_process(monkeypatch):
+    """Spawned workers re-import __main__ by path; '<stdin>' cannot be, so the pool is not used."""
+    import sys
+    import types
+
+    from cadartifact.gate import _workers_can_start
+
+    assert _workers_can_start()
+    fake = types.ModuleType("__main__")
+    fake.__file__ = "<stdin>"
+    monkeypatch.setitem(sys.modules, "__main__", fake)
+    assert not _workers_can_start()
+    del fake.__file__  # interactive interpreter: nothing to re-import
+    assert _workers_can_start()
