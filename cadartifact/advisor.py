@@ -33,6 +33,9 @@ NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 #: Largest advised density per direction, as a multiple of today's (and an absolute cap).
 GROWTH, MAX_POINTS = 8, 2000
 
+#: Nets above this many control points skip the scheme comparison unless asked for.
+COMPARE_MAX_POINTS = 2000
+
 
 def _new_positions(n_old: int, n_new: int, periodic: bool) -> np.ndarray:
     """Index coordinates (old net) of the new control points spanning the same domain."""
@@ -221,6 +224,8 @@ class Advice:
         "coarser": {"shape", "value", "meets"}}``.
     comparison : dict str -> dict
         The same advice for the other named schemes: ``{"net": [n'u, n'v], "points", "meets_tolerance"}``.
+    comparison_note : str or None
+        Why the comparison was skipped (large nets, ``compare="auto"``).
     """
 
     net: ControlNet
@@ -235,6 +240,7 @@ class Advice:
     binding: str | None = None
     verification: dict | None = None
     comparison: dict = field(default_factory=dict)
+    comparison_note: str | None = None
 
     @property
     def value(self) -> float:
@@ -261,6 +267,8 @@ class Advice:
             "verification": self.verification,
             "comparison": self.comparison,
         }
+        if self.comparison_note:
+            d["comparison_note"] = self.comparison_note
         return d
 
 
@@ -348,7 +356,7 @@ def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
 
 def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak",
            include_signal_error: bool = False, levels: int = 3, component: str = "normal",
-           compare: bool = True, verify: bool = True) -> Advice:
+           compare: bool | str = "auto", verify: bool = True) -> Advice:
     """Advise the control-point density that keeps the artifact within ``tolerance``.
 
     Parameters
@@ -365,8 +373,9 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         Fine grid ``2**levels`` per control spacing for the final numbers (the search runs at the
         paper's refined vertices, ``levels=1``, then confirms at ``levels``).
     component : {"normal", "vector"}
-    compare : bool
-        Also advise the other named schemes (search only, no verification).
+    compare : bool or "auto"
+        Also advise the other named schemes (search only, no verification); ``"auto"``: for nets of
+        up to :data:`COMPARE_MAX_POINTS` control points (a long sweep would take seconds per scheme).
     verify : bool
         Build the advised net as a real surface (OCCT B-spline; subdivision for other schemes),
         evaluate and measure it on its interior, and the same one step coarser in the binding
@@ -403,7 +412,11 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     if verify:
         verification = _verify(net, sch, shape, binding, search_fine, tolerance, metric, include_signal_error,
                                component)
-    comparison = {}
+    comparison, comparison_note = {}, None
+    if compare == "auto":
+        compare = net.size <= COMPARE_MAX_POINTS
+        if not compare:
+            comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
         for name in NAMED_SCHEMES:
             other = get_scheme(name)
@@ -416,7 +429,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
             comparison[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2)}
     return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric,
                   include_signal_error=include_signal_error, current=current, shape=tuple(shape), stats=stats,
-                  meets_tolerance=bool(meets), binding=binding, verification=verification, comparison=comparison)
+                  meets_tolerance=bool(meets), binding=binding, verification=verification, comparison=comparison,
+                  comparison_note=comparison_note)
 
 
 def _limits(net: ControlNet) -> tuple[tuple[int, int], tuple[int, int]]:

@@ -156,7 +156,8 @@ def advise_cmd(
     json_out: bool = typer.Option(False, "--json", help="Print one JSON document (schema: cadartifact.report)."),
     report: Optional[Path] = typer.Option(None, "--report",
                                           help="Also write a self-contained HTML report (tables, heatmaps, maps)."),
-    compare: bool = typer.Option(True, "--compare/--no-compare", help="Also advise the other named schemes."),
+    compare: Optional[bool] = typer.Option(None, "--compare/--no-compare",
+                                           help="Also advise the other named schemes (default: nets up to 2000 points)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Verify each advice on the real surface (OCCT)."),
 ):
     """Advise the control-point density that keeps each face's ripple within the tolerance.
@@ -178,7 +179,8 @@ def advise_cmd(
     err = _console(stderr=True)
     with RichProgress(err, enabled=err.is_terminal) as progress:
         doc = advise_files(files, tol, scheme=scheme, metric=metric.value, include_signal_error=include_signal_error,
-                           faces=set(face) if face else None, compare=compare, verify=verify, progress=progress,
+                           faces=set(face) if face else None, compare="auto" if compare is None else compare,
+                           verify=verify, progress=progress,
                            keep=keep)
     if write_resampled is not None:
         from .exchange import write_step
@@ -445,6 +447,10 @@ def view_cmd(
 
 
 def main():  # console-script entry point
+    import warnings
+
+    # the reader's warnings are part of every report (tables, JSON); do not echo them with source lines
+    warnings.filterwarnings("ignore", message=r".*(no analysable face|skipped face)")
     try:
         app()
     except KeyboardInterrupt:

@@ -30,6 +30,10 @@ __all__ = [
 #: What a net was made from.
 NET_KINDS = ("bspline", "bezier", "converted", "quad-chart", "array")
 
+#: Largest coordinate magnitude analysed: squares and products of larger values overflow float64
+#: (no real model is this large; 1e12 mm is a light-hour).
+MAX_COORDINATE = 1e12
+
 #: Relative tolerance on knot spans for a knot vector to count as uniform.
 UNIFORM_RTOL = 1e-6
 
@@ -193,6 +197,10 @@ class ControlNet:
         if not np.all(np.isfinite(pts)):
             bad = np.argwhere(~np.isfinite(pts))[0]
             raise InvalidNetError(f"{where}: control point ({bad[0]}, {bad[1]}) has a NaN or infinite coordinate")
+        big = np.abs(pts).max()
+        if big > MAX_COORDINATE:
+            raise InvalidNetError(f"{where}: control point coordinates up to {big:.3g} are too large to analyse "
+                                  f"(limit {MAX_COORDINATE:.0e} model units)")
         extent = np.ptp(pts.reshape(-1, 3), axis=0).max()
         if extent == 0.0:
             raise InvalidNetError(f"{where}: degenerate net, all control points coincide")

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .budget import METRICS
-from .errors import OptionError, check_option
+from .errors import FileFormatError, OptionError, check_option
 
 __all__ = ["advise_files", "face_record", "render", "SCHEMA"]
 
@@ -73,7 +73,7 @@ def face_record(net, advice) -> dict:
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
-                 faces=None, compare: bool = True, verify: bool = True, progress=None, keep=None) -> dict:
+                 faces=None, compare="auto", verify: bool = True, progress=None, keep=None) -> dict:
     """Load every file, advise every analysable face, and build the document.
 
     Parameters
@@ -107,6 +107,14 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     if not paths:
         raise OptionError("FILE", "at least one file", "none")
     loaded = [read(p) for p in paths]  # read everything first: a bad file fails before any output
+    for p, res in zip(paths, loaded):
+        if res.skipped.get("degenerate"):
+            # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
+            import re
+
+            why = next((w for w in res.warnings if re.search(r"#\d+: ", w)), "")
+            m = re.search(r"#(\d+): (.*)", why)
+            raise FileFormatError(p, f"face {m.group(1)}: {m.group(2)}" if m else "a face has invalid control points")
     total_faces = sum(len([n for n in r.nets if faces is None or n.origin.face in faces]) for r in loaded)
     if progress:
         progress("files", total_faces, "")

@@ -139,3 +139,25 @@ def test_tensor_fast_path_equals_fft_path(name, shape, levels):
         full = artifact_at(it, s, shape, levels=levels)[only]
         assert fast.peak == pytest.approx(full.peak, rel=1e-9, abs=1e-12)
         assert fast.rms == pytest.approx(full.rms, rel=1e-9, abs=1e-12)
+
+
+REALDATA = __import__("pathlib").Path(__file__).resolve().parents[1].parent / "shared" / "realdata" / "step"
+REAL_STEP = sorted(REALDATA.glob("*.st*p")) if REALDATA.is_dir() else []
+
+
+@pytest.mark.realdata
+@pytest.mark.skipif(not REAL_STEP, reason="../shared/realdata/step not present")
+@pytest.mark.parametrize("path", REAL_STEP, ids=lambda p: p.name)
+def test_every_real_step_file_advises(path):
+    """Every B-spline face of every real file advises without error; uniform faces agree by both roads."""
+    nets = ca.load(path)
+    assert nets
+    for net in nets:
+        a = advise(net, 0.05, compare=False)
+        assert a.shape[0] >= 2 and a.shape[1] >= 2
+        assert np.isfinite(a.value) and np.isfinite(a.current.stats["total"].peak)
+        assert a.current.method == ("predicted" if net.uniform else "measured")
+        if net.uniform and net.size <= 400:
+            b = ca.budget(net, method="both")
+            # predicted (spectral) vs measured (NURBS evaluation) on the interior
+            assert b.check["max_abs_diff"] <= 0.25 * b.stats["total"].peak + 1e-9

@@ -179,18 +179,20 @@ def read_obj(path):
                          "a quad cage is needed")
     messages: list[str] = []
     nets, charts = [], []
+    degenerate = 0
     for chart in find_charts(mesh, topology):
         origin = NetOrigin(file=str(path), face=len(charts), kind="quad-chart")
         try:
             net = ControlNet(points=mesh.vertices[chart.vertex_ids], degrees=None, origin=origin, unit="model")
         except InvalidNetError as exc:
             messages.append(f"skipped chart: {exc}")
+            degenerate += 1
             continue
         charts.append(Chart(index=len(charts), vertex_ids=chart.vertex_ids, face_ids=chart.face_ids))
         nets.append(net)
     irregular_quads = int(((mesh.face_sizes == 4) & ~mesh.regular_faces).sum())
     skipped = {k: n for k, n in (("triangle", mesh.n_triangles), ("n-gon", mesh.n_ngons),
-                                 ("irregular quad", irregular_quads)) if n}
+                                 ("irregular quad", irregular_quads), ("degenerate", degenerate)) if n}
     if not nets:
         messages.append(f"{path}: no analysable face (no regular quad face; "
                         f"{len(mesh.extraordinary)} extraordinary vertices)")
