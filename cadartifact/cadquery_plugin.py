@@ -63,25 +63,9 @@ def _nets(obj, convert: bool, name):
 
 def _record(net, b, include_signal_error: bool) -> dict:
     """A face entry shaped as :func:`cadartifact.report.face_record`, from a budget (no advice yet)."""
-    from .report import _f
+    from .report import budget_record
 
-    key = "deviation" if include_signal_error else "total"
-    t = b.tolerance
-    return {
-        "face": net.origin.face,
-        "name": net.origin.name,
-        "kind": net.origin.kind,
-        "net": list(net.shape),
-        "degrees": list(net.degrees) if net.degrees else None,
-        "rational": net.rational,
-        "scheme": b.scheme,
-        "method": b.method,
-        "reason": b.reason,
-        "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in b.stats.items()},
-        "share": None if t is None else {k: _f(s.get(b.metric) / t) for k, s in b.stats.items()},
-        "meets_tolerance": None if t is None else bool(b.stats[key].get(b.metric) <= t),
-        "advice": None,
-    }
+    return budget_record(net, b, include_signal_error)
 
 
 def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak", scheme=None,

@@ -40,7 +40,7 @@ from pathlib import Path
 from .budget import METRICS
 from .errors import FileFormatError, OptionError, check_option
 
-__all__ = ["advise_files", "face_record", "render", "SCHEMA"]
+__all__ = ["advise_files", "budget_record", "face_record", "render", "SCHEMA"]
 
 SCHEMA = "cadartifact.advise/1"
 DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total", "signal_error", "deviation")
@@ -50,11 +50,10 @@ def _f(x):
     return None if x is None or not math.isfinite(x) else round(float(x), 9)
 
 
-def face_record(net, advice) -> dict:
-    """One face's entry of the document from its :class:`~cadartifact.advisor.Advice`."""
-    cur = advice.current
-    t = advice.tolerance
-    key = "deviation" if advice.include_signal_error else "total"
+def budget_record(net, budget, include_signal_error: bool = False) -> dict:
+    """One face's entry of the document from its :class:`~cadartifact.budget.Budget` (``advice`` None)."""
+    t = budget.tolerance
+    key = "deviation" if include_signal_error else "total"
     return {
         "face": net.origin.face,
         "name": net.origin.name,
@@ -62,14 +61,21 @@ def face_record(net, advice) -> dict:
         "net": list(net.shape),
         "degrees": list(net.degrees) if net.degrees else None,
         "rational": net.rational,
-        "scheme": cur.scheme,
-        "method": cur.method,
-        "reason": cur.reason,
-        "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in cur.stats.items()},
-        "share": {k: _f(s.get(advice.metric) / t) for k, s in cur.stats.items()},
-        "meets_tolerance": bool(cur.stats[key].get(advice.metric) <= t),
-        "advice": advice.to_dict(),
+        "scheme": budget.scheme,
+        "method": budget.method,
+        "reason": budget.reason,
+        "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in budget.stats.items()},
+        "share": None if t is None else {k: _f(s.get(budget.metric) / t) for k, s in budget.stats.items()},
+        "meets_tolerance": None if t is None else bool(budget.stats[key].get(budget.metric) <= t),
+        "advice": None,
     }
+
+
+def face_record(net, advice) -> dict:
+    """One face's entry of the document from its :class:`~cadartifact.advisor.Advice`."""
+    rec = budget_record(net, advice.current, advice.include_signal_error)
+    rec["advice"] = advice.to_dict()
+    return rec
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
