@@ -23,6 +23,7 @@ __all__ = [
     "NetOrigin",
     "NET_KINDS",
     "clamped_uniform_knots",
+    "frozen_array",
     "greville",
     "knots_are_uniform",
 ]
@@ -139,7 +140,8 @@ def knots_are_uniform(knots: np.ndarray, degree: int, periodic: bool = False, rt
     return bool(np.all(np.abs(d - d.mean()) <= rtol * span) and np.all(d > rtol * span))
 
 
-def _frozen_array(a, dtype=float) -> np.ndarray:
+def frozen_array(a, dtype=float) -> np.ndarray:
+    """A read-only copy of ``a`` (frozen dataclasses of arrays stay immutable)."""
     arr = np.array(a, dtype=dtype, copy=True)
     arr.setflags(write=False)
     return arr
@@ -193,7 +195,7 @@ class ControlNet:
             raise InvalidNetError(f"{where}: a net needs at least 2x2 control points, received {pts.shape[0]}x{pts.shape[1]}")
         if not np.issubdtype(pts.dtype, np.number):
             raise InvalidNetError(f"{where}: points must be numbers, received dtype {pts.dtype}")
-        pts = _frozen_array(pts)
+        pts = frozen_array(pts)
         if not np.all(np.isfinite(pts)):
             bad = np.argwhere(~np.isfinite(pts))[0]
             raise InvalidNetError(f"{where}: control point ({bad[0]}, {bad[1]}) has a NaN or infinite coordinate")
@@ -207,7 +209,7 @@ class ControlNet:
         object.__setattr__(self, "points", pts)
 
         if self.weights is not None:
-            w = _frozen_array(self.weights)
+            w = frozen_array(self.weights)
             if w.shape != pts.shape[:2]:
                 raise InvalidNetError(f"{where}: weights must have shape {pts.shape[:2]}, received {w.shape}")
             if not np.all(np.isfinite(w)) or np.any(w <= 0):
@@ -228,7 +230,7 @@ class ControlNet:
         if self.knots is not None:
             if self.degrees is None:
                 raise InvalidNetError(f"{where}: knots given without degrees")
-            ku, kv = (_frozen_array(k) for k in self.knots)
+            ku, kv = (frozen_array(k) for k in self.knots)
             for name, k, n, d, pr in (("u", ku, pts.shape[0], self.degrees[0], per[0]),
                                       ("v", kv, pts.shape[1], self.degrees[1], per[1])):
                 if k.ndim != 1 or not np.all(np.isfinite(k)):

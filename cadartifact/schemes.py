@@ -33,6 +33,7 @@ import numpy as np
 
 from . import symbols as sy
 from .errors import OptionError, SchemeError
+from .net import frozen_array
 
 __all__ = ["Scheme", "BasisSamples", "scheme", "schemes", "box", "bspline", "SCHEME_NAMES"]
 
@@ -134,12 +135,6 @@ class BasisSamples(NamedTuple):
     levels: int
 
 
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=float, copy=True)
-    a.setflags(write=False)
-    return a
-
-
 @dataclass(frozen=True, eq=False)
 class Scheme:
     """A binary, stationary subdivision scheme on a quad grid, given by its mask.
@@ -197,7 +192,7 @@ class Scheme:
     def __post_init__(self):
         mask = _validated_mask(self.mask)
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
-        set_("mask", _frozen(mask))
+        set_("mask", frozen_array(mask))
         if self.arrows is not None:
             arrows = tuple(int(n) for n in self.arrows)
             ok = len(arrows) == 4 and min(arrows) >= 0
@@ -229,12 +224,12 @@ class Scheme:
             if axes is None or (axes[0].degree, axes[1].degree) != (p, q):
                 raise SchemeError("degrees", "the B-spline degrees of this mask", self.degrees)
             set_("degrees", (p, q))
-        set_("limit_stencil", _frozen(stencil))
+        set_("limit_stencil", frozen_array(stencil))
         set_("reproduction_degree", sy.sum_rule_order(mask))
         set_("interpolating", _is_interpolating(mask))
         set_("_axes", axes)
         set_("_samples", samples)
-        grid = _frozen(grid)
+        grid = frozen_array(grid)
         set_("_grid_stencil", grid)
         set_("_cache", {})
 

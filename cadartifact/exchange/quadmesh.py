@@ -38,15 +38,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import FileFormatError
+from ..net import frozen_array
 from .obj import Tag
 
 __all__ = ["QuadMesh", "Chart", "build_quadmesh", "find_charts"]
-
-
-def _frozen(a, dtype) -> np.ndarray:
-    arr = np.array(a, dtype=dtype, copy=True)
-    arr.setflags(write=False)
-    return arr
 
 
 @dataclass(frozen=True, eq=False)
@@ -225,11 +220,11 @@ def build_quadmesh(path, vertices: np.ndarray, faces: list[tuple[int, ...]], tag
             crease_edges.append((a, b))
             sharpness.append(s)
     mesh = QuadMesh(
-        vertices=_frozen(vertices, float), faces=tuple(tuple(f) for f in faces), face_sizes=_frozen(sizes, int),
-        regular_faces=_frozen(regular_faces, bool), valence=_frozen(valence, int), boundary=_frozen(boundary, bool),
-        extraordinary=_frozen(sorted(extraordinary), int), irregular=_frozen(irregular, int),
-        crease_edges=_frozen(np.array(crease_edges, dtype=int).reshape(-1, 2), int),
-        crease_sharpness=_frozen(sharpness, float), tags=tuple(tags),
+        vertices=frozen_array(vertices, float), faces=tuple(tuple(f) for f in faces), face_sizes=frozen_array(sizes, int),
+        regular_faces=frozen_array(regular_faces, bool), valence=frozen_array(valence, int), boundary=frozen_array(boundary, bool),
+        extraordinary=frozen_array(sorted(extraordinary), int), irregular=frozen_array(irregular, int),
+        crease_edges=frozen_array(np.array(crease_edges, dtype=int).reshape(-1, 2), int),
+        crease_sharpness=frozen_array(sharpness, float), tags=tuple(tags),
         path=None if path is None else str(path))
     return mesh, {"edge_faces": edge_faces, "faces_at": faces_at}
 
@@ -421,5 +416,5 @@ def find_charts(mesh: QuadMesh, topology: dict) -> list[Chart]:
         if not free[seed]:
             continue
         V, F = _grow(region, seed, free)
-        charts.append(Chart(index=len(charts), vertex_ids=_frozen(V, int), face_ids=_frozen(F, int)))
+        charts.append(Chart(index=len(charts), vertex_ids=frozen_array(V, int), face_ids=frozen_array(F, int)))
     return charts
