@@ -171,10 +171,17 @@ class Intent:
         A = poly_design(x, y, self.spans, self.terms)
         return A @ (self.coef if coef is None else coef)
 
-    def fine_spectrum(self) -> np.ndarray:
-        """The residual spectrum repeated to the fine grid's ``(K Pu, K Pv)`` bins, scaled by ``K^2``."""
-        ku, kv = (a.K for a in self.axes)
-        return np.tile(self.spectrum, (ku, kv, 1)) * (ku * kv)
+    def fine_spectrum(self, half: bool = False) -> np.ndarray:
+        """The residual spectrum repeated to the fine grid's ``(K Pu, K Pv)`` bins, scaled by ``K^2``.
+
+        ``half``: only the ``K Pv // 2 + 1`` non-negative bins of the last axis (for ``irfft2``).
+        """
+        (au, av) = self.axes
+        pu, pv = self.spectrum.shape[:2]
+        B = av.K * pv
+        rows = np.arange(au.K * pu) % pu
+        cols = np.arange(B // 2 + 1 if half else B) % pv
+        return self.spectrum[np.ix_(rows, cols)] * (au.K * av.K)
 
     def baseband_weight(self) -> np.ndarray:
         """``(K Pu, K Pv)`` weights of the band-limited interpolant: 1 inside, 1/2 on a Nyquist line, 0 outside."""
@@ -192,8 +199,9 @@ class Intent:
         """
         au, av = self.axes
         if x is None and y is None:
-            spec = self.fine_spectrum() * self.baseband_weight()[:, :, None]
-            bl = np.fft.ifft2(spec, axes=(0, 1)).real[: au.fine_count, : av.fine_count]
+            A, B = au.K * au.period, av.K * av.period
+            spec = self.fine_spectrum(half=True) * self.baseband_weight()[:, : B // 2 + 1, None]
+            bl = np.fft.irfft2(spec, s=(A, B), axes=(0, 1))[: au.fine_count, : av.fine_count]
             return self.trend(au.x, av.x) + bl
         x = au.x if x is None else np.asarray(x, float)
         y = av.x if y is None else np.asarray(y, float)
@@ -335,11 +343,14 @@ def band_split(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tupl
     dict str -> (a, b, 3) float
         ``signal_error, x1, x2, diagonal, lateral, total``.
     """
-    masks = _band_masks(fu, fv)
     a, b = shape
+    A, B = len(fu), len(fv)
+    # the field is real and every mask is even in (fx, fy): the half spectrum and irfft2 suffice
+    half = spectrum[:, : B // 2 + 1]  # a no-op when given the half already
+    masks = _band_masks(fu, np.abs(fv[: B // 2 + 1]))
     out = {}
     for name, m in masks.items():
-        out[name] = np.fft.ifft2(spectrum * m[:, :, None], axes=(0, 1)).real[:a, :b]
+        out[name] = np.fft.irfft2(half * m[:, :, None], s=(A, B), axes=(0, 1))[:a, :b]
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out
 
@@ -364,11 +375,11 @@ def predicted_fields(intent: Intent, scheme) -> ArtifactFields:
     """
     au, av = intent.axes
     fu, fv = au.freqs(fine=True), av.freqs(fine=True)
-    T = np.asarray(scheme.transfer(fu[:, None], fv[None, :], levels=au.levels))
-    fine = intent.fine_spectrum()
-    surf_spec = fine * T[:, :, None]
-    base_w = intent.baseband_weight()
-    dev_spec = surf_spec - fine * base_w[:, :, None]
+    h = len(fv) // 2 + 1  # real fields: the non-negative bins of the last axis suffice
+    T = np.asarray(scheme.transfer(fu[:, None], np.abs(fv[None, :h]), levels=au.levels))
+    fine = intent.fine_spectrum(half=True)
+    base_w = intent.baseband_weight()[:, :h]
+    dev_spec = fine * (T - base_w)[:, :, None]
     shape = (au.fine_count, av.fine_count)
     bands = band_split(dev_spec, fu, fv, shape)
     trend_limit_coef = _trend_limit_coef(intent, scheme)
@@ -385,8 +396,10 @@ def predicted_surface(intent: Intent, scheme) -> np.ndarray:
     """Only the predicted limit surface on the fine grid, ``(a, b, 3)`` (one inverse FFT)."""
     au, av = intent.axes
     fu, fv = au.freqs(fine=True), av.freqs(fine=True)
-    T = np.asarray(scheme.transfer(fu[:, None], fv[None, :], levels=au.levels))
-    res = np.fft.ifft2(intent.fine_spectrum() * T[:, :, None], axes=(0, 1)).real[: au.fine_count, : av.fine_count]
+    h = len(fv) // 2 + 1
+    T = np.asarray(scheme.transfer(fu[:, None], np.abs(fv[None, :h]), levels=au.levels))
+    res = np.fft.irfft2(intent.fine_spectrum(half=True) * T[:, :, None], s=(len(fu), len(fv)),
+                        axes=(0, 1))[: au.fine_count, : av.fine_count]
     return res + intent.trend(au.x, av.x, _trend_limit_coef(intent, scheme))
 
 
