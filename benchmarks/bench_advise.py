@@ -11,21 +11,14 @@ the default options are shown too). Then per-face advice time for synthetic nets
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
+from timing import best_of  # noqa: E402  (benchmarks/timing.py, beside this script)
 
 REALDATA = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "step"
 
 
-def best(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def occt_read(path):
@@ -49,7 +42,7 @@ def main():
     print(f"{'file':34s} {'faces':>5s} {'OCCT read':>10s} {'advise fast':>12s} {'ratio':>6s} {'advise full':>12s} {'ratio':>6s}")
     if REALDATA.is_dir():
         for path in sorted(REALDATA.iterdir()):
-            base = best(lambda: occt_read(path), args.repeat)
+            base = best_of(lambda: occt_read(path), args.repeat)
             nets = load(path)
 
             def fast():
@@ -60,8 +53,8 @@ def main():
                 for n in load(path):
                     ca.advise(n, 0.05)
 
-            tf = best(fast, args.repeat)
-            tF = best(full, 1)
+            tf = best_of(fast, args.repeat)
+            tF = best_of(full, 1)
             print(f"{path.name:34s} {len(nets):5d} {base:10.3f} {tf:12.3f} {tf / base:6.2f} {tF:12.3f} {tF / base:6.2f}")
     else:
         print(f"(no real data at {REALDATA})")
@@ -73,7 +66,7 @@ def main():
         i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
         z = np.cos(2 * np.pi * (i + 0.5 * j) / (n / 3.0)) + 0.01 * rng.normal(size=i.shape)
         net = ca.ControlNet.from_points(np.stack([i * 1.0, j * 1.0, z], axis=-1), degrees=(3, 3))
-        t = best(lambda: ca.advise(net, 0.05, compare=False, verify=False), args.repeat)
+        t = best_of(lambda: ca.advise(net, 0.05, compare=False, verify=False), args.repeat)
         print(f"{n:4d}x{n:<4d} {t * 1e3:9.1f}")
 
 

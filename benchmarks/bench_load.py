@@ -19,19 +19,13 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from timing import best_of  # noqa: E402  (benchmarks/timing.py, beside this script)
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 REALDATA = ROOT.parent / "shared" / "realdata"
 
 
-def best_of(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def bare_occt(path: Path) -> None:

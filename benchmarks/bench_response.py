@@ -20,22 +20,15 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
 import argparse  # noqa: E402
-import time  # noqa: E402
 
 import numpy as np  # noqa: E402
+from timing import best_of  # noqa: E402  (benchmarks/timing.py, beside this script)
 
 from cadartifact.schemes import SCHEME_NAMES, Scheme, scheme  # noqa: E402
 
 SHIFTS = ((0, 0), (1, 0), (0, 1), (1, 1))
 
 
-def best(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def brute_force_limit(s, wx, wy):
@@ -80,8 +73,8 @@ def main():
     print(f"{'scheme':28s} {'fast':>10s} {'brute force':>12s} {'ratio':>8s}  target")
     for label, s in rows:
         s.response(wx[:, :8], wy[:8], "limit")  # warm caches
-        t_fast = best(lambda: s.response(wx, wy, "limit"), args.repeat)
-        t_brute = best(lambda: brute_force_limit(s, bx, by), 1)
+        t_fast = best_of(lambda: s.response(wx, wy, "limit"), args.repeat)
+        t_brute = best_of(lambda: brute_force_limit(s, bx, by), 1)
         fast = n * n / t_fast / 1e6
         brute = nb * nb / t_brute / 1e6
         target = 5 if label.startswith("user") else 20
@@ -95,8 +88,8 @@ def main():
     print(f"{'scheme':28s} {'continuous':>10s} {'transfer':>10s}")
     for label, s in rows[:5] + rows[5:6]:
         s.response(v[None, :4], v[:4, None], "continuous")  # warm caches (autocorrelation data)
-        t_c = best(lambda: s.response(v[None, :], v[:, None], "continuous"), 1)
-        t_t = best(lambda: s.transfer(f[None, :], f[:, None], 3), args.repeat)
+        t_c = best_of(lambda: s.response(v[None, :], v[:, None], "continuous"), 1)
+        t_t = best_of(lambda: s.transfer(f[None, :], f[:, None], 3), args.repeat)
         print(f"{label:28s} {m * m / t_c / 1e6:10.2f} {n * n / t_t / 1e6:10.1f}")
 
 
