@@ -167,9 +167,26 @@ class Intent:
         return tuple(float(max(a.n - 1, 1)) for a in self.axes)
 
     def trend(self, x: np.ndarray, y: np.ndarray, coef: np.ndarray | None = None) -> np.ndarray:
-        """The polynomial trend on the outer grid ``x x y`` -> ``(a, b, 3)``."""
-        A = poly_design(x, y, self.spans, self.terms)
-        return A @ (self.coef if coef is None else coef)
+        """The polynomial trend on the outer grid ``x x y`` -> ``(a, b, 3)``.
+
+        Evaluated as ``Vx M Vy^T`` with ``M[a, b] = coef[(a, b)]`` (per-axis Legendre matrices, no
+        ``(a, b, terms)`` design array).
+        """
+        from numpy.polynomial import legendre as L
+
+        c = self.coef if coef is None else coef
+        if not self.terms:
+            return np.zeros((len(x), len(y), c.shape[-1]))
+        da = max(t[0] for t in self.terms)
+        db = max(t[1] for t in self.terms)
+        M = np.zeros((da + 1, db + 1, c.shape[-1]))
+        for k, (a, b) in enumerate(self.terms):
+            M[a, b] = c[k]
+        su, sv = self.spans
+        Vx = L.legvander(2 * np.asarray(x, float) / max(su, 1e-300) - 1, da)
+        Vy = L.legvander(2 * np.asarray(y, float) / max(sv, 1e-300) - 1, db)
+        tmp = np.tensordot(Vx, M, axes=(1, 0)).transpose(0, 2, 1)  # (a, 3, db+1)
+        return (tmp @ Vy.T).transpose(0, 2, 1)
 
     def fine_spectrum(self, half: bool = False) -> np.ndarray:
         """The residual spectrum repeated to the fine grid's ``(K Pu, K Pv)`` bins, scaled by ``K^2``.
@@ -314,7 +331,14 @@ def _band_masks(fu: np.ndarray, fv: np.ndarray) -> dict:
     x1 = hu & ~hv
     x2 = ~hu & hv
     dg = hu & hv
-    # the frequency each alias comes from, folded into the base band
+    s1, s2, sd = lateral_factors(fu, fv)
+    lateral = x1 * s1 + x2 * s2 + dg * sd
+    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": lateral}
+
+
+def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """SPEC §3 lateral factors ``(sin phi1, sin phi2, sin phid1 sin phid2)``, each ``(a, b)``, of the
+    frequency each bin aliases (folded into the base band: ``w = f - round(f)``)."""
     wu = (fu - np.round(fu))[:, None]
     wv = (fv - np.round(fv))[None, :]
     r2 = wu ** 2 + wv ** 2
@@ -322,8 +346,7 @@ def _band_masks(fu: np.ndarray, fv: np.ndarray) -> dict:
         s1 = np.where(r2 > 0, np.abs(wv) / np.sqrt(r2), 0.0)
         s2 = np.where(r2 > 0, np.abs(wu) / np.sqrt(r2), 0.0)
         sd = np.where(r2 > 0, np.abs(wu ** 2 - wv ** 2) / (2 * r2), 0.0)
-    lateral = x1 * s1 + x2 * s2 + dg * sd
-    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": lateral}
+    return s1, s2, sd
 
 
 def band_split(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tuple[int, int]) -> dict:
@@ -355,7 +378,7 @@ def band_split(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tupl
     return out
 
 
-def predicted_fields(intent: Intent, scheme) -> ArtifactFields:
+def predicted_fields(intent: Intent, scheme, fast: bool = True) -> ArtifactFields:
     """Artifact fields from the scheme's spectral response (the *predicted* road).
 
     Fine spectrum of the residual's limit surface: ``S(xi) = K^2 T_L(xi) R(xi mod 1)`` with
@@ -368,11 +391,20 @@ def predicted_fields(intent: Intent, scheme) -> ArtifactFields:
     ----------
     intent : Intent
     scheme : Scheme
+    fast : bool
+        For tensor-product schemes, compute the same fields by per-axis factors
+        (:func:`cadartifact.separable.tensor_fields`); False forces the 2-D FFT path (the reference).
 
     Returns
     -------
     ArtifactFields
     """
+    if fast:
+        from .separable import tensor_fields
+
+        out = tensor_fields(intent, scheme, "predicted")
+        if out is not None:
+            return out
     au, av = intent.axes
     fu, fv = au.freqs(fine=True), av.freqs(fine=True)
     h = len(fv) // 2 + 1  # real fields: the non-negative bins of the last axis suffice

@@ -155,7 +155,7 @@ def _evaluator(intent: Intent, scheme, road: str):
     return run
 
 
-def measured_fields(intent: Intent, scheme) -> ArtifactFields:
+def measured_fields(intent: Intent, scheme, fast: bool = True) -> ArtifactFields:
     """Artifact fields of the real surface (the *measured* road).
 
     Parameters
@@ -163,6 +163,10 @@ def measured_fields(intent: Intent, scheme) -> ArtifactFields:
     intent : Intent
         From :func:`cadartifact.fields.design_intent` with the same scheme.
     scheme : Scheme
+    fast : bool
+        When the real surface is a sum of products of per-axis matrices (a non-rational or
+        constant-weight face, a uniform B-spline), band-split the factors
+        (:func:`cadartifact.separable.tensor_fields`); False forces the 2-D FFT path.
 
     Returns
     -------
@@ -172,6 +176,12 @@ def measured_fields(intent: Intent, scheme) -> ArtifactFields:
         on the fine grid and band-split by FFT.
     """
     road, _ = measurement_road(intent.net, scheme)
+    if fast:
+        from .separable import tensor_fields
+
+        out = tensor_fields(intent, scheme, road)
+        if out is not None:
+            return out
     ev = _evaluator(intent, scheme, road)
     au, av = intent.axes
     nu, nv = intent.net.shape
