@@ -103,7 +103,7 @@ def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: In
 
 
 def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int = 3, component: str = "normal",
-                region: str = "face", only: str | None = None) -> dict:
+                region: str = "face", only: str | None = None, fast: bool = True) -> dict:
     """Statistics of ``surface(n') - intent`` split in the bands of the ``n'`` net.
 
     Parameters
@@ -118,6 +118,9 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
 
     only : {"total", "deviation"}, optional
         Compute just that statistic (the search's objective), skipping the other bands.
+    fast : bool
+        Tensor-product schemes: per-axis operators (:func:`cadartifact.separable.resampled_error`);
+        False forces the 2-D FFT path (the reference).
 
     Returns
     -------
@@ -125,8 +128,8 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
         As :attr:`Budget.stats`.
     """
     net = intent.net
-    if only is not None and region == "face" and getattr(scheme, "tensor", False):
-        return _artifact_at_tensor(intent, scheme, shape, levels, component, only)
+    if fast and getattr(scheme, "tensor", False):
+        return _artifact_at_tensor(intent, scheme, shape, levels, component, only, region)
     new = resample(net, shape, scheme, intent=intent)
     it2 = carried_intent(intent, new, levels)
     au, av = it2.axes
@@ -175,10 +178,10 @@ def carried_intent(intent: Intent, new: ControlNet, levels: int) -> Intent:
     return Intent(net=new, axes=axes, terms=intent.terms, coef=intent.coef, residual=residual, spectrum=spectrum)
 
 
-def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only) -> dict:
+def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only, region) -> dict:
     """:func:`artifact_at` for tensor-product schemes by per-axis operators (same numbers, much faster)."""
     from .fields import Axis, trend_caps
-    from .separable import axis_model, tensor_error
+    from .separable import axis_model, resampled_error
 
     net = intent.net
     d = int(scheme.reproduction_degree)
@@ -190,10 +193,35 @@ def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only) 
     scales = [_scale(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic)]
     x_new = tuple(_new_positions(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic))
     x_fine = tuple(a.x * s for a, s in zip(new_axes, scales))
-    err, target = tensor_error(net.points, old, new, x_new, x_fine, levels, ripple=(only == "total"))
+    bands, target = resampled_error(net.points, old, new, x_new, x_fine, levels, only=only)
     normal = None if component == "vector" else intent_normals(target, new_axes[0].K)
-    v = np.abs(project(err, normal, component))
-    return {only: Stat(peak=float(v.max()), rms=float(np.sqrt(np.mean(v ** 2))))}
+    scalars = {name: project(f, normal, component) for name, f in bands.items()}
+    keep = _candidate_region(net, scheme, shape, new_axes, target, region)
+    return _stats(scalars, keep)
+
+
+def _candidate_region(net, scheme, shape, axes, target, region) -> np.ndarray:
+    au, av = axes
+    if region != "interior":
+        return np.ones((au.fine_count, av.fine_count), bool)
+    from .budget import border_margin, region_mask
+    from .fields import ArtifactFields
+
+    new = resample_shell(net, shape)
+    margin = border_margin(new, scheme)
+    return region_mask(new, ArtifactFields(x=au.x, y=av.x, surface=target, intent=target), "interior", margin)
+
+
+def resample_shell(net: ControlNet, shape) -> ControlNet:
+    """A net of the candidate's shape, degrees and periodicity (its points do not matter): for region masks."""
+    degrees = None if net.degrees is None else net.degrees
+    pts = np.zeros(tuple(shape) + (3,))
+    pts[..., 0] = np.arange(shape[0])[:, None]  # not degenerate; positions do not matter for the mask
+    pts[..., 1] = np.arange(shape[1])[None, :]
+    if degrees is None:
+        return ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
+    knots = tuple(_uniform_knots(n, p, 0.0, 1.0, per) for n, p, per in zip(shape, degrees, net.periodic))
+    return ControlNet(points=pts, degrees=degrees, knots=knots, periodic=net.periodic, unit=net.unit)
 
 
 @dataclass(frozen=True, eq=False)

@@ -230,7 +230,8 @@ def _right(lefts: list, rights: list) -> np.ndarray:
     return out.reshape(a, c, -1).transpose(0, 2, 1)
 
 
-def split_terms(terms: list, au: Axis, av: Axis, only: str | None = None, lateral: list | None = None) -> dict:
+def split_terms(terms: list, au: Axis, av: Axis, only: str | None = None, lateral: list | None = None,
+                lows: list | None = None) -> dict:
     """Band split of a field given as a sum of separable terms ``sum_k A_k M_k B_k^T``.
 
     Parameters
@@ -245,6 +246,8 @@ def split_terms(terms: list, au: Axis, av: Axis, only: str | None = None, latera
         bands (possible when every fine frequency comes from one coarse bin, as in the predicted
         road): the lateral field is then ``X1(M1) + X2(M2) + diagonal(Md)`` with no 2-D FFT.
         Without it, the lateral field is one FFT of the ripple.
+    lows : list of (LA, LB), optional
+        Per term, :func:`lowpass` of its factors when already known (cached operators).
 
     Returns
     -------
@@ -254,8 +257,8 @@ def split_terms(terms: list, au: Axis, av: Axis, only: str | None = None, latera
         masks; lateral is not).
     """
     LA, HA, LB, HB = [], [], [], []
-    for A, M, B in terms:
-        la, lb = lowpass(A, au), lowpass(B, av)
+    for k, (A, M, B) in enumerate(terms):
+        la, lb = (lowpass(A, au), lowpass(B, av)) if lows is None else lows[k]
         LA.append(la), HA.append(A - la), LB.append(lb), HB.append(B - lb)
 
     def left(X, M):
@@ -388,3 +391,82 @@ def tensor_fields(intent, scheme, road: str):
     surface = intent_fine + bands["signal_error"] + bands["total"]
     return ArtifactFields(x=au.x, y=av.x, surface=surface, intent=intent_fine, bands=bands,
                           method="predicted" if road == "predicted" else "measured", levels=au.levels)
+
+
+def candidate_operators(old: AxisModel, new: AxisModel, x_new: np.ndarray, x_fine: np.ndarray, levels: int) -> dict:
+    """Per-axis matrices of a resampled net (cached on ``old`` per candidate density and positions).
+
+    Returns
+    -------
+    dict
+        ``res`` ``(A', n)``: today's residual samples -> the candidate's limit surface (band-limited
+        resampling at ``x_new``, then the scheme's synthesis); ``bl`` ``(A', n)``: today's residual ->
+        its band-limited interpolant at ``x_fine``; ``tl`` ``(A', m)``: trend coefficients -> the
+        candidate's limit of the carried trend; ``v`` ``(A', m)``: trend coefficients -> the trend at
+        ``x_fine``; and ``low``: the :func:`lowpass` of each on the candidate's fine axis.
+    """
+    key = ("cand", new.n, levels, hash(x_new.tobytes()), hash(x_fine.tobytes()))
+    got = old._memo.get(key)
+    if got is None:
+        ax = Axis(new.n, new.periodic, levels)
+        got = {
+            "res": new.synthesis(levels) @ old.bandlimited(x_new),
+            "bl": old.bandlimited(x_fine),
+            "tl": new.fine_vander(levels) @ new.limit_coef(),
+            "v": _legvander(x_fine, old.span, old.degree),
+        }
+        got["low"] = {k: lowpass(v, ax) for k, v in list(got.items())}
+        if sum(1 for k in old._memo if k[0] == "cand") > 256:
+            for k in [k for k in old._memo if k[0] == "cand"]:
+                del old._memo[k]
+        old._memo[key] = got
+    return got
+
+
+def resampled_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine: tuple, levels: int,
+                    only: str | None = None) -> tuple[dict, np.ndarray]:
+    """Bands of ``surface(n') - intent`` on a candidate's fine grid, and the intent there.
+
+    The resampled net is today's trend (coefficients carried unchanged) plus today's band-limited
+    residual at the new positions (SPEC §5); its surface is the trend's limit polynomial plus the
+    residual synthesised through the scheme's transfer function. Every step acts per axis, so the
+    error is four separable terms and its band split filters the factors.
+
+    Parameters
+    ----------
+    P : (nu, nv, 3) float
+        Today's control points.
+    old, new : (AxisModel, AxisModel)
+        Today's axes, and the candidate's axes built with TODAY's trend degrees.
+    x_new : ((a,) float, (b,) float)
+        The new control points' positions in today's index space.
+    x_fine : ((A,) float, (B,) float)
+        The new fine grid's positions in today's index space.
+    only : {"total", "deviation"}, optional
+        Just that field.
+
+    Returns
+    -------
+    (bands, target) : (dict str -> (A, B, 3) float, (A, B, 3) float)
+        ``bands`` as :func:`split_terms` plus ``deviation`` (the whole error).
+    """
+    ou, ov = old
+    C = sandwich(ou.Vp, P, ov.Vp)  # trend coefficients (mu, mv, 3)
+    R = P - sandwich(ou.Vn, C, ov.Vn)
+    cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels)
+    cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels)
+    au, av = Axis(new[0].n, new[0].periodic, levels), Axis(new[1].n, new[1].periodic, levels)
+    names = ("tl", "v", "res", "bl")
+    mids = (C, C, R, R)
+    signs = (1.0, -1.0, 1.0, -1.0)
+    terms = [(s * cu[k], M, cv[k]) for k, M, s in zip(names, mids, signs)]
+    target = _right([np.tensordot(cu["v"], C, axes=(1, 0)), np.tensordot(cu["bl"], R, axes=(1, 0))],
+                    [cv["v"], cv["bl"]])
+    if only == "deviation":
+        err = _right([np.tensordot(A, M, axes=(1, 0)) for A, M, _ in terms], [B for _, _, B in terms])
+        return {"deviation": err}, target
+    lows = [(s * cu["low"][k], cv["low"][k]) for k, s in zip(names, signs)]
+    bands = split_terms(terms, au, av, only=only, lows=lows)
+    if only is None:
+        bands["deviation"] = bands["signal_error"] + bands["total"]
+    return bands, target

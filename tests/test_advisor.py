@@ -134,11 +134,17 @@ def test_tensor_fast_path_equals_fft_path(name, shape, levels):
     s = ca.scheme(name)
     net = ridge_net(nu=14, nv=10, angle=0.4)
     it = design_intent(net, s, levels)
-    for only in ("total", "deviation"):
-        fast = artifact_at(it, s, shape, levels=levels, only=only)[only]
-        full = artifact_at(it, s, shape, levels=levels)[only]
-        assert fast.peak == pytest.approx(full.peak, rel=1e-9, abs=1e-12)
-        assert fast.rms == pytest.approx(full.rms, rel=1e-9, abs=1e-12)
+    for region in ("face", "interior"):
+        ref = artifact_at(it, s, shape, levels=levels, region=region, fast=False)
+        every = artifact_at(it, s, shape, levels=levels, region=region)
+        assert set(every) == set(ref)
+        for k in ref:
+            assert every[k].peak == pytest.approx(ref[k].peak, rel=1e-9, abs=1e-12), k
+            assert every[k].rms == pytest.approx(ref[k].rms, rel=1e-9, abs=1e-12), k
+        for only in ("total", "deviation"):
+            one = artifact_at(it, s, shape, levels=levels, region=region, only=only)[only]
+            assert one.peak == pytest.approx(ref[only].peak, rel=1e-9, abs=1e-12)
+            assert one.rms == pytest.approx(ref[only].rms, rel=1e-9, abs=1e-12)
 
 
 REALDATA = __import__("pathlib").Path(__file__).resolve().parents[1].parent / "shared" / "realdata" / "step"
