@@ -14,10 +14,104 @@ from pathlib import Path
 from typing import List, Optional
 
 import typer
+from typer.core import TyperGroup
 
-from .errors import CadArtifactError
+from .errors import CadArtifactError, OptionError, check_option
+
+try:  # typer >= 0.2x vendors click
+    from typer._click.exceptions import UsageError
+except ImportError:  # pragma: no cover - older typer depends on click
+    from click.exceptions import UsageError
+
+
+def _option_name(param) -> str:
+    """``--tol`` for an option (its long name), ``FILES`` for an argument."""
+    opts = list(getattr(param, "opts", None) or [])
+    if getattr(param, "param_type_name", "") == "option" and opts:
+        return max(opts, key=len)
+    return (param.name or "argument").upper()
+
+
+#: What a value of the type was expected to be, by pydantic error type (typer's coercion).
+_EXPECTED = {"float_parsing": "a number", "float_type": "a number", "finite_number": "a finite number",
+             "int_parsing": "an integer", "int_type": "an integer", "int_from_float": "an integer",
+             "bool_parsing": "true or false", "bool_type": "true or false"}
+
+
+def _choices(param):
+    """The valid values of a choice option (an Enum annotation, or a click Choice in older typer), else None."""
+    annotation = getattr(getattr(param, "type_descriptor", None), "annotation", None)
+    if isinstance(annotation, type) and issubclass(annotation, Enum):
+        return [member.value for member in annotation]
+    return getattr(getattr(param, "type", None), "choices", None)
+
+
+def usage_message(exc: UsageError) -> str:
+    """One line for a click/typer usage error: the option, what was expected, what was received.
+
+    Parameters
+    ----------
+    exc : UsageError
+        Raised by typer while parsing (bad type or choice, missing value, unknown option or command).
+
+    Returns
+    -------
+    str
+        ``"--tol: expected a number, received 'abc'"``; the choices for an Enum option, as
+        :func:`~cadartifact.errors.check_option` words them; typer's own words (on one line) otherwise.
+    """
+    param = getattr(exc, "param", None)
+    if param is None:  # no such option / command, extra argument, option without its value
+        ctx = getattr(exc, "ctx", None)
+        hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+        text = " ".join(exc.format_message().split())
+        return (text.rstrip(".") + hint) if hint else text
+    name = _option_name(param)
+    if type(exc).__name__ == "MissingParameter":
+        return f"{name}: expected a value (it is required), received nothing"
+    cause = exc.__cause__
+    errors = cause.errors() if callable(getattr(cause, "errors", None)) else None
+    if errors:  # typer >= 0.2x coerces with pydantic: the error knows the input
+        err = errors[0]
+        choices = _choices(param)
+        if choices:
+            try:
+                check_option(name, err.get("input"), choices)
+            except OptionError as bad:
+                return str(bad)
+        expected = _EXPECTED.get(err.get("type"))
+        if expected is None and "expected" in (err.get("ctx") or {}):
+            expected = "one of " + str(err["ctx"]["expected"]).replace(" or ", ", ")
+        if expected is None:
+            return f"{name}: {err.get('msg', exc.message)}, received {err.get('input')!r}"
+        return str(OptionError(name, expected, err.get("input")))
+    return f"{name}: " + " ".join(str(exc.message).split())
+
+
+class _OneLineUsageErrors(TyperGroup):
+    """The command group: usage errors (bad type, unknown option, missing value) are one line and exit 2."""
+
+    def make_context(self, *args, **kwargs):
+        try:
+            return super().make_context(*args, **kwargs)
+        except UsageError as exc:
+            raise _usage_exit(exc) from None
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except UsageError as exc:
+            raise _usage_exit(exc) from None
+
+
+def _usage_exit(exc: UsageError):
+    if type(exc).__name__ == "NoArgsIsHelpError":  # typer prints the help for these
+        return exc
+    return fail(usage_message(exc), exc.exit_code)
+
 
 app = typer.Typer(
+    cls=_OneLineUsageErrors,
     name="cadartifact",
     help="Measure control-net artifacts (ripples) in NURBS and subdivision surfaces and advise control-point density.",
     no_args_is_help=True,
@@ -45,14 +139,31 @@ def fail(message: str, code: int = 2) -> "typer.Exit":
     return typer.Exit(code)
 
 
-def cli_errors(func):
-    """Turn :class:`CadArtifactError` into a one-line message and its exit code."""
+def cli_errors(func=None, *, aliases: Optional[dict] = None):
+    """Turn :class:`CadArtifactError` into a one-line message and its exit code.
+
+    An :class:`OptionError` about a library parameter is reported under the command's option:
+    ``scheme`` becomes ``--scheme`` when the command has that option; ``aliases`` maps library
+    names that differ from the command's parameter names (``{"tolerance": "tol"}``).
+    """
+    if func is None:
+        return functools.partial(cli_errors, aliases=aliases)
+    import inspect
+
+    options = {}
+    for name, par in inspect.signature(func).parameters.items():
+        decls = [d for d in (getattr(par.default, "param_decls", None) or ()) if d.startswith("--")]
+        if decls:
+            options[name] = max(decls, key=len).split("/")[0]
+    renames = {**options, **{lib: options[name] for lib, name in (aliases or {}).items()}}
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
         try:
             return func(*args, **kwargs)
         except CadArtifactError as exc:
+            if isinstance(exc, OptionError) and exc.parameter in renames:  # name the option, not the library's name
+                exc = OptionError(renames[exc.parameter], exc.expected, exc.received)
             raise fail(str(exc), exc.exit_code) from None
 
     return wrapper
@@ -103,7 +214,7 @@ def schemes_cmd(
 
 
 @app.command("maps")
-@cli_errors
+@cli_errors(aliases={"schemes": "scheme", "out suffix": "out"})
 def maps_cmd(
     scheme: List[str] = typer.Option(["bicubic"], "--scheme", "-s", help="Scheme name; repeat to compare."),
     stage: str = typer.Option("limit", "--stage", help="Which response to map: one-step, limit or continuous."),
@@ -113,13 +224,12 @@ def maps_cmd(
     domain: str = typer.Option("quadrant", "--domain", help="quadrant: [0, 1/2]^2 as the paper; square: [-1/2, 1/2]^2."),
 ):
     """Maps of the responses over the frequency square, like the paper's Figures 8 and 10-17."""
-    from .errors import OptionError
     from .viz.maps import plot_grid, plot_maps
 
-    # Validated here (not by a click Choice/range) so that a bad value is one line and exit 2.
+    # Choices are validated here (not by a click Choice or an Enum) so that a bad value is one line and exit 2.
     stages = [s.value for s in Stage]
     if stage.replace("_", "-") not in stages:
-        raise OptionError("--stage", "one of " + ", ".join(stages), stage)
+        check_option("--stage", stage, stages)
     stage = stage.replace("-", "_")
     if grid:
         path = plot_grid(out, stage=stage, resolution=resolution, domain=domain)
@@ -129,11 +239,6 @@ def maps_cmd(
 
 
 # ---------------------------------------------------------------- advise & demo (the main job)
-class Metric(str, Enum):
-    peak = "peak"
-    rms = "rms"
-
-
 def _write_json(doc: dict) -> None:
     import json
 
@@ -141,11 +246,11 @@ def _write_json(doc: dict) -> None:
 
 
 @app.command("advise")
-@cli_errors
+@cli_errors(aliases={"tolerance": "tol", "faces": "face"})
 def advise_cmd(
     files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
     tol: float = typer.Option(..., "--tol", "-t", help="Tolerance in model units (mm for STEP)."),
-    metric: Metric = typer.Option(Metric.peak, "--metric", help="Compare the peak or the RMS ripple."),
+    metric: str = typer.Option("peak", "--metric", help="Compare the peak or the RMS ripple: peak or rms."),
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s",
                                          help="Scheme (default: each face's own B-spline degrees; Catmull-Clark for OBJ)."),
     include_signal_error: bool = typer.Option(False, "--include-signal-error",
@@ -165,8 +270,10 @@ def advise_cmd(
     Exit 0 when every face meets the tolerance today, 1 when some face needs another density,
     2 on usage or input errors.
     """
+    from .budget import METRICS
     from .report import RichProgress, advise_files, render
 
+    check_option("--metric", metric, METRICS)
     if not (tol > 0) or tol != tol or tol == float("inf"):
         raise fail(f"--tol: expected a positive number of model units, received {tol!r}")
     if scheme is not None:
@@ -178,7 +285,7 @@ def advise_cmd(
     keep = [] if write_resampled else None
     err = _console(stderr=True)
     with RichProgress(err, enabled=err.is_terminal) as progress:
-        doc = advise_files(files, tol, scheme=scheme, metric=metric.value, include_signal_error=include_signal_error,
+        doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
                            verify=verify, progress=progress,
                            keep=keep)
@@ -214,7 +321,7 @@ def _samples_dir() -> Path:
 
 
 @app.command("demo")
-@cli_errors
+@cli_errors(aliases={"tolerance": "tol"})
 def demo_cmd(
     tol: float = typer.Option(0.05, "--tol", "-t", help="Tolerance in mm."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON document instead of tables."),
@@ -271,7 +378,6 @@ def gate_cmd(
     import importlib.util
     import os
 
-    from .errors import OptionError, check_option
     from .gate import build_document, run_gate
     from .gate_policy import base_settings, check_cli, expand_paths, find_policy, load_policy
     from .gate_reports import FORMATS, render_text, summary_line, to_json, to_junit, to_sarif, to_text, write_atomic
@@ -409,7 +515,7 @@ def inspect_cmd(
 
 # ---------------------------------------------------------------- view (3-D heatmaps)
 @app.command("view")
-@cli_errors
+@cli_errors(aliases={"window_size": "size", "faces": "face"})
 def view_cmd(
     file: Path = typer.Argument(..., help="STEP/IGES/BREP/OBJ file.", show_default=False),
     direction: str = typer.Option("total", "--direction", "-d",
@@ -424,7 +530,6 @@ def view_cmd(
 ):
     """Render each face coloured by its ripple (off screen) with the control net on top; optionally export glb."""
     from .dependencies import require
-    from .errors import OptionError
     from .viz.view import view
 
     try:
@@ -432,14 +537,8 @@ def view_cmd(
     except ValueError:
         raise OptionError("--size", "WIDTHxHEIGHT in pixels, e.g. 1200x900", size) from None
     require("pyvista", "3-D heatmaps").OFF_SCREEN = True  # this process never opens a window
-    try:
-        res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
-                   window_size=(width, height), layout=layout)
-    except OptionError as exc:  # name the command-line option, not the library parameter
-        option = {"window_size": "size"}.get(exc.parameter, exc.parameter)
-        if option in ("direction", "tol", "out", "glb", "face", "scheme", "size", "layout"):
-            raise OptionError(f"--{option}", exc.expected, exc.received) from None
-        raise
+    res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
+               window_size=(width, height), layout=layout)  # cli_errors names the options in its errors
     con = _console()
     con.print(f"wrote {res.png} ({len(res.faces)} face(s), {res.direction} peak {res.peak:.4g})", soft_wrap=True)
     if res.glb is not None:

@@ -89,7 +89,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     scheme, metric, include_signal_error
         As :func:`cadartifact.advise`.
     faces : set of int, optional
-        Only these face indices (per file).
+        Only these face indices (per file); an index that no file has raises :class:`OptionError`.
     progress : callable, optional
         ``progress(kind, total_or_None, label)``: "files" once with the count, "face" per face.
     keep : list, optional
@@ -121,6 +121,13 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             why = next((w for w in res.warnings if re.search(r"#\d+: ", w)), "")
             m = re.search(r"#(\d+): (.*)", why)
             raise FileFormatError(p, f"face {m.group(1)}: {m.group(2)}" if m else "a face has invalid control points")
+    if faces is not None:  # a face index no file has is a usage error, not an empty (passing) report
+        have = sorted({n.origin.face for r in loaded for n in r.nets})
+        missing = sorted(set(faces) - set(have))
+        if missing:
+            where = paths[0].name if len(paths) == 1 else f"any of the {len(paths)} files"
+            shown = ", ".join(map(str, have[:20])) + (", ..." if len(have) > 20 else "") if have else "none"
+            raise OptionError("faces", f"an analysable face index of {where} ({shown})", missing[0])
     total_faces = sum(len([n for n in r.nets if faces is None or n.origin.face in faces]) for r in loaded)
     if progress:
         progress("files", total_faces, "")
