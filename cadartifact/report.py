@@ -19,7 +19,8 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
           "meets_tolerance": bool,
           "advice": {"net": [n'u, n'v], "points": int, "budget": {...}, "share": {...},
                      "meets_tolerance": bool, "binding": "u" | "v" | null,
-                     "verification": {"method", "levels", "value", "meets", "coarser": {...}} | null,
+                     "verification": {"method", "levels", "value", "meets", "coarser": {...},
+                                      OCCT only: "uniform_match", "clamped_ends", "value_clamped"} | null,
                      "comparison": {scheme: {"net", "points", "meets_tolerance"}}}
         }]
       }],
