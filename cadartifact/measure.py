@@ -23,7 +23,7 @@ from .errors import OptionError
 from .fields import ArtifactFields, Axis, Intent, band_split
 from .splines import basis_matrix, evaluate, index_to_param, periodic_greville
 
-__all__ = ["measured_fields", "measurement_road", "subdivide", "apply_stencil"]
+__all__ = ["measured_fields", "measurement_road", "subdivide", "apply_stencil", "cardinal_operator"]
 
 
 def measurement_road(net, scheme) -> tuple[str, str]:
@@ -124,6 +124,19 @@ def _param_axis(net, axis: int, x: np.ndarray) -> np.ndarray:
     return index_to_param(net.greville()[axis], x)
 
 
+def cardinal_operator(n: int, degree: int, x: np.ndarray, periodic: bool) -> np.ndarray:
+    """``(len(x), n)``: control points -> the uniform cardinal B-spline of degree ``degree`` at index ``x``.
+
+    Pole ``J`` is centred at ``J`` (knots ``J - (p+1)/2 + k``); the net is extended past its
+    ends like the intent (even reflection, or wrap-around when periodic).
+    """
+    r = degree // 2 + 2
+    m = n + 2 * r
+    t = -r - (degree + 1) / 2 + np.arange(m + degree + 1, dtype=float)
+    fold = np.pad(np.eye(n), ((r, r), (0, 0)), mode="wrap" if periodic else "reflect")
+    return basis_matrix(t, degree, x, n=m) @ fold
+
+
 def _evaluator(intent: Intent, scheme, road: str):
     """A function mapping control points ``(nu, nv, 3)`` to the surface on the fine grid."""
     net = intent.net
@@ -133,15 +146,10 @@ def _evaluator(intent: Intent, scheme, road: str):
         v = _param_axis(net, 1, av.x)
         return lambda pts: evaluate(net, u, v, points=pts)
     if road == "uniform-bspline":
-        p, q = scheme.degrees
-        r = max(p, q) // 2 + 2
-        mats = []
-        for ax, deg in ((au, p), (av, q)):
-            m = ax.n + 2 * r
-            # cardinal B-spline of pole J centred at J: knots J - (deg+1)/2 + k
-            t = -r - (deg + 1) / 2 + np.arange(m + deg + 1, dtype=float)
-            mats.append(basis_matrix(t, deg, ax.x, n=m))
-        return lambda pts: np.einsum("ai,ijk,bj->abk", mats[0], _pad(pts, r, net.periodic), mats[1], optimize=True)
+        from .separable import sandwich
+
+        mats = [cardinal_operator(ax.n, deg, ax.x, per) for ax, deg, per in zip((au, av), scheme.degrees, net.periodic)]
+        return lambda pts: sandwich(mats[0], np.asarray(pts, float), mats[1])
     # numerical subdivision
     mask = np.asarray(scheme.mask, float)
     stencil = np.asarray(scheme.limit_stencil, float)

@@ -319,13 +319,9 @@ def _road_operators(intent, scheme, road: str):
         ops = [basis_matrix(net.knots[k], net.degrees[k], _param_axis(net, k, a.x), a.n, net.periodic[k])
                for k, a in enumerate(axes)]
     elif road == "uniform-bspline":
-        r = max(scheme.degrees) // 2 + 2
-        ops = []
-        for k, (a, deg) in enumerate(zip(axes, scheme.degrees)):
-            m = a.n + 2 * r
-            t = -r - (deg + 1) / 2 + np.arange(m + deg + 1, dtype=float)
-            pad = np.pad(np.eye(a.n), ((r, r), (0, 0)), mode="wrap" if a.periodic else "reflect")
-            ops.append(basis_matrix(t, deg, a.x, n=m) @ pad)
+        from .measure import cardinal_operator
+
+        ops = [cardinal_operator(a.n, deg, a.x, a.periodic) for a, deg in zip(axes, scheme.degrees)]
     else:
         return None
     caps = trend_caps(int(scheme.reproduction_degree), axes)

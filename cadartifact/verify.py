@@ -129,6 +129,7 @@ def _clamped_spans(net, au: Axis, av: Axis, u: np.ndarray, v: np.ndarray):
         uniform cardinal basis on the net extended by even reflection (as the intent and
         :func:`cadartifact.measure._evaluator`); the other directions keep the real basis.
     """
+    from .measure import cardinal_operator
     from .separable import sandwich
     from .splines import basis_matrix
 
@@ -141,8 +142,5 @@ def _clamped_spans(net, au: Axis, av: Axis, u: np.ndarray, v: np.ndarray):
             continue
         inside = (ax.x >= p) & (ax.x <= n - 1 - p)
         mask |= ~inside[:, None] if axis == 0 else ~inside[None, :]
-        r = p // 2 + 2
-        t = -r - (p + 1) / 2 + np.arange(n + 2 * r + p + 1, dtype=float)  # cardinal: pole J centred at J
-        fold = np.pad(np.eye(n), ((r, r), (0, 0)), mode="reflect")  # padded pole -> net pole
-        mats.append(basis_matrix(t, p, ax.x, n=n + 2 * r) @ fold)
+        mats.append(cardinal_operator(n, p, ax.x, False))
     return mask, lambda pts: sandwich(mats[0], np.asarray(pts, float), mats[1])
