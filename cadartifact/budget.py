@@ -187,8 +187,9 @@ def _scalars(fields: ArtifactFields, component: str) -> dict:
 
 def _stats(scalars: dict, keep: np.ndarray) -> dict:
     res = {}
+    everywhere = bool(keep.all())
     for name, f in scalars.items():
-        v = np.abs(f[keep])
+        v = np.abs(f if everywhere else f[keep])
         res[name] = Stat(peak=float(v.max()) if v.size else 0.0, rms=float(np.sqrt(np.mean(v ** 2))) if v.size else 0.0)
     return res
 

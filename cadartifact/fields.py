@@ -479,20 +479,41 @@ def _trend_limit_coef(intent: Intent, scheme) -> np.ndarray:
 def project(vec: np.ndarray, normal: np.ndarray | None, component: str) -> np.ndarray:
     """Reduce a vector field ``(a, b, 3)`` to the reported scalar: signed normal part or Euclidean norm."""
     check_option("component", component, COMPONENTS)
-    norm = np.linalg.norm(vec, axis=-1)
+    x, y, z = vec[..., 0], vec[..., 1], vec[..., 2]
     if component == "vector" or normal is None:
-        return norm
+        return np.sqrt(x * x + y * y + z * z)
+    dot = x * normal[..., 0] + y * normal[..., 1] + z * normal[..., 2]
     # where the intent has no normal (collapsed edge, pole) the whole displacement counts
-    has_normal = np.any(normal != 0.0, axis=-1)
-    return np.where(has_normal, np.einsum("abk,abk->ab", vec, normal), norm)
+    has_normal = _has_normal(normal)
+    if has_normal is True:
+        return dot
+    return np.where(has_normal, dot, np.sqrt(x * x + y * y + z * z))
+
+
+def _has_normal(normal: np.ndarray):
+    """``True`` when every point has a normal, else the ``(a, b)`` mask of those that do."""
+    mask = (normal[..., 0] != 0.0) | (normal[..., 1] != 0.0) | (normal[..., 2] != 0.0)
+    return True if mask.all() else mask
 
 
 def intent_normals(intent_fine: np.ndarray, K: int) -> np.ndarray:
-    """Unit normals ``(a, b, 3)`` of the intent surface on the fine grid (zeros where degenerate)."""
+    """Unit normals ``(a, b, 3)`` of the intent surface on the fine grid (zeros where degenerate).
+
+    ``n = du x dv / |du x dv|`` with ``du, dv`` the central differences of ``numpy.gradient``;
+    points where ``|du x dv| <= 1e-9 |du| |dv|`` (a collapsed edge or pole) get ``0``.
+    """
     du = np.gradient(intent_fine, 1.0 / K, axis=0)
     dv = np.gradient(intent_fine, 1.0 / K, axis=1)
-    n = np.cross(du, dv)
-    norm = np.linalg.norm(n, axis=-1, keepdims=True)
-    scale = np.linalg.norm(du, axis=-1, keepdims=True) * np.linalg.norm(dv, axis=-1, keepdims=True)
+    a0, a1, a2 = du[..., 0], du[..., 1], du[..., 2]
+    b0, b1, b2 = dv[..., 0], dv[..., 1], dv[..., 2]
+    n = np.empty_like(du)
+    n[..., 0] = a1 * b2 - a2 * b1
+    n[..., 1] = a2 * b0 - a0 * b2
+    n[..., 2] = a0 * b1 - a1 * b0
+    norm = np.sqrt(n[..., 0] ** 2 + n[..., 1] ** 2 + n[..., 2] ** 2)
+    scale = np.sqrt((a0 * a0 + a1 * a1 + a2 * a2) * (b0 * b0 + b1 * b1 + b2 * b2))
     ok = norm > 1e-9 * np.maximum(scale, 1e-300)
-    return np.where(ok, n / np.where(ok, norm, 1.0), 0.0)
+    if ok.all():
+        n /= norm[..., None]
+        return n
+    return np.where(ok[..., None], n / np.where(ok, norm, 1.0)[..., None], 0.0)
