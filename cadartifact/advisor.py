@@ -181,7 +181,7 @@ def carried_intent(intent: Intent, new: ControlNet, levels: int) -> Intent:
 def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only, region) -> dict:
     """:func:`artifact_at` for tensor-product schemes by per-axis operators (same numbers, much faster)."""
     from .fields import Axis, trend_caps
-    from .separable import axis_model, resampled_error
+    from .separable import axis_model, resampled_error, ripple_and_intent
 
     net = intent.net
     d = int(scheme.reproduction_degree)
@@ -193,7 +193,11 @@ def _artifact_at_tensor(intent: Intent, scheme, shape, levels, component, only, 
     scales = [_scale(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic)]
     x_new = tuple(_new_positions(n, m, per) for n, m, per in zip(net.shape, shape, net.periodic))
     x_fine = tuple(a.x * s for a, s in zip(new_axes, scales))
-    bands, target = resampled_error(net.points, old, new, x_new, x_fine, levels, only=only)
+    if only == "total":
+        ripple, target = ripple_and_intent(net.points, old, new, x_new, x_fine, levels)
+        bands = {"total": ripple}
+    else:
+        bands, target = resampled_error(net.points, old, new, x_new, x_fine, levels, only=only)
     normal = None if component == "vector" else intent_normals(target, new_axes[0].K)
     scalars = {name: project(f, normal, component) for name, f in bands.items()}
     keep = _candidate_region(net, scheme, shape, new_axes, target, region)

@@ -411,12 +411,49 @@ def candidate_operators(old: AxisModel, new: AxisModel, x_new: np.ndarray, x_fin
             "tl": new.fine_vander(levels) @ new.limit_coef(),
             "v": _legvander(x_fine, old.span, old.degree),
         }
-        got["low"] = {k: lowpass(v, ax) for k, v in list(got.items())}
+        got["low"] = low = {k: lowpass(v, ax) for k, v in list(got.items())}
+        # stacked blocks for the search objective (see ripple_and_intent): u-side with signs, rows
+        # [surface - intent - low-pass(surface - intent), intent]; v-side plain, side by side
+        got["uC"] = np.concatenate([got["tl"], -got["v"], -low["tl"], low["v"], got["v"]], axis=0)
+        got["uR"] = np.concatenate([got["res"], -got["bl"], -low["res"], low["bl"], got["bl"]], axis=0)
+        got["vC"] = np.concatenate([got["tl"], got["v"], low["tl"], low["v"]], axis=1)
+        got["vR"] = np.concatenate([got["res"], got["bl"], low["res"], low["bl"]], axis=1)
         if sum(1 for k in old._memo if k[0] == "cand") > 256:
             for k in [k for k in old._memo if k[0] == "cand"]:
                 del old._memo[k]
         old._memo[key] = got
     return got
+
+
+def ripple_and_intent(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine: tuple,
+                      levels: int) -> tuple[np.ndarray, np.ndarray]:
+    """The search objective's fields: the whole ripple of ``surface(n') - intent`` and the intent.
+
+    Same numbers as ``resampled_error(..., only="total")``, in four matrix products: the eight
+    signed terms (four of the error, four of its low-pass) are stacked per axis (cached per
+    density), so a candidate costs two left and two right products whatever its size.
+
+    Returns
+    -------
+    (ripple, target) : ((A, B, 3) float, (A, B, 3) float)
+    """
+    ou, ov = old
+    C = sandwich(ou.Vp, P, ov.Vp)
+    R = P - sandwich(ou.Vn, C, ov.Vn)
+    cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels)
+    cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels)
+    A, B = cu["v"].shape[0], cv["v"].shape[0]
+    mc, nc = C.shape[1], R.shape[1]
+    XC = (cu["uC"] @ C.reshape(C.shape[0], -1)).reshape(5, A, mc, 3)
+    XR = (cu["uR"] @ R.reshape(R.shape[0], -1)).reshape(5, A, nc, 3)
+    # (A, 3, blocks * m): the four error blocks side by side, matching vC / vR
+    left = np.concatenate([XC[:4].transpose(1, 3, 0, 2).reshape(A, 3, 4 * mc),
+                           XR[:4].transpose(1, 3, 0, 2).reshape(A, 3, 4 * nc)], axis=2)
+    right = np.concatenate([cv["vC"], cv["vR"]], axis=1)  # (B, 4 mc + 4 nc)
+    ripple = (left.reshape(A * 3, -1) @ right.T).reshape(A, 3, B).transpose(0, 2, 1)
+    tl = np.concatenate([XC[4].transpose(0, 2, 1), XR[4].transpose(0, 2, 1)], axis=2)  # (A, 3, mc + nc)
+    target = (tl.reshape(A * 3, -1) @ np.concatenate([cv["v"], cv["bl"]], axis=1).T).reshape(A, 3, B)
+    return ripple, target.transpose(0, 2, 1)
 
 
 def resampled_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine: tuple, levels: int,
