@@ -288,10 +288,19 @@ def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
     caps = trend_caps(d, axes)
     terms = legendre_terms(d, caps, tensor=bool(getattr(scheme, "tensor", False)))
     spans = tuple(float(max(a.n - 1, 1)) for a in axes)
-    A = poly_design(np.arange(nu), np.arange(nv), spans, terms).reshape(nu * nv, len(terms))
-    P = net.points.reshape(nu * nv, 3)
-    coef, *_ = np.linalg.lstsq(A, P, rcond=None)
-    residual = (P - A @ coef).reshape(nu, nv, 3)
+    if terms == legendre_terms(d, caps, tensor=True):
+        # a full tensor basis: the least-squares fit is separable, pinv(Vu (x) Vv) = pinv(Vu) (x) pinv(Vv)
+        from numpy.polynomial import legendre as L
+
+        V = [L.legvander(2 * np.arange(a.n) / s - 1, c) for a, s, c in zip(axes, spans, caps)]
+        C = np.einsum("ai,ijc,bj->abc", np.linalg.pinv(V[0]), net.points, np.linalg.pinv(V[1]), optimize=True)
+        coef = np.stack([C[a, b] for a, b in terms])
+        residual = net.points - np.einsum("ia,abc,jb->ijc", V[0], C, V[1], optimize=True)
+    else:
+        A = poly_design(np.arange(nu), np.arange(nv), spans, terms).reshape(nu * nv, len(terms))
+        P = net.points.reshape(nu * nv, 3)
+        coef, *_ = np.linalg.lstsq(A, P, rcond=None)
+        residual = (P - A @ coef).reshape(nu, nv, 3)
     ext = axes[1].extend(axes[0].extend(residual, 0), 1)
     spectrum = np.fft.fft2(ext, axes=(0, 1))
     return Intent(net=net, axes=axes, terms=terms, coef=coef, residual=residual, spectrum=spectrum)
