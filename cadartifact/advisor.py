@@ -141,7 +141,12 @@ def artifact_at(intent: Intent, scheme, shape: tuple[int, int], *, levels: int =
     err = surface - target
     normal = None if component == "vector" else intent_normals(target, au.K)
     scalars = {}
-    if only != "deviation":
+    if only is None and fast:
+        from .separable import split_field
+
+        bands = split_field(err, au, av)
+        scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
+    elif only != "deviation":
         spec = np.fft.fft2(av.extend(au.extend(err, 0), 1), axes=(0, 1))
         fu, fv, shp = au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count)
         if only == "total":

@@ -199,8 +199,13 @@ def measured_fields(intent: Intent, scheme, fast: bool = True) -> ArtifactFields
     intent_fine = intent.evaluate()
     trend_fine = intent.trend(au.x, av.x)
     dev = s_res - (intent_fine - trend_fine)
-    spec = np.fft.fft2(av.extend(au.extend(dev, 0), 1), axes=(0, 1))
-    bands = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
+    if fast:
+        from .separable import split_field
+
+        bands = split_field(dev, au, av)
+    else:
+        spec = np.fft.fft2(av.extend(au.extend(dev, 0), 1), axes=(0, 1))
+        bands = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
     bands["signal_error"] = bands["signal_error"] + (s_trend - trend_fine)
     return ArtifactFields(x=au.x, y=av.x, surface=s_trend + s_res, intent=intent_fine, bands=bands,
                           method="measured", levels=au.levels)

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .budget import _stats
-from .fields import FIELD_NAMES, ArtifactFields, Axis, band_split, intent_normals, project
+from .fields import FIELD_NAMES, ArtifactFields, Axis, intent_normals, project
 
 __all__ = ["measure_resampled", "VERIFY_LEVELS"]
 
@@ -112,8 +112,9 @@ def measure_resampled(net, scheme, shape, intent, *, metric="peak", include_sign
 
 
 def _split(field: np.ndarray, au: Axis, av: Axis) -> dict:
-    spec = np.fft.fft2(av.extend(au.extend(field, 0), 1), axes=(0, 1))
-    return band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
+    from .separable import split_field
+
+    return split_field(field, au, av)
 
 
 def _clamped_spans(net, au: Axis, av: Axis, u: np.ndarray, v: np.ndarray):

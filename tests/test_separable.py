@@ -66,3 +66,19 @@ def test_non_separable_roads_fall_back():
     rational = ControlNet(points=net.points, weights=w, degrees=(3, 3),
                           knots=(clamped_uniform_knots(11, 3, 0, 1), clamped_uniform_knots(8, 3, 0, 1)))
     assert tensor_fields(design_intent(rational, ca.bspline(3, 3), 2), ca.bspline(3, 3), "face") is None
+
+
+@pytest.mark.parametrize("periodic", [(False, False), (True, False), (False, True)])
+@pytest.mark.parametrize("levels", [1, 3])
+def test_split_field_equals_band_split(periodic, levels):
+    from cadartifact.fields import Axis, band_split
+    from cadartifact.separable import split_field
+
+    rng = np.random.default_rng(7)
+    au, av = Axis(9, periodic[0], levels), Axis(6, periodic[1], levels)
+    field = rng.normal(size=(au.fine_count, av.fine_count, 3))
+    spec = np.fft.fft2(av.extend(au.extend(field, 0), 1), axes=(0, 1))
+    ref = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), field.shape[:2])
+    got = split_field(field, au, av)
+    for k in ref:
+        np.testing.assert_allclose(got[k], ref[k], rtol=0, atol=1e-12, err_msg=k)
