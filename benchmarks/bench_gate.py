@@ -61,6 +61,12 @@ def main():
     print(f"jobs={args.jobs}:            {t_pool:7.2f} s   speed-up {t_serial / t_pool:4.2f}x")
     print(f"identical documents: {same}")
     if not same:
+        a = json.dumps(build_document(serial, base, policy), indent=1).splitlines()
+        b = json.dumps(build_document(pooled, base, policy), indent=1).splitlines()
+        import difflib
+
+        print("\n".join(list(difflib.unified_diff(a, b, "jobs=1", f"jobs={args.jobs}", n=2))[:40]))
+    if not same:
         raise SystemExit(1)
 
 

@@ -123,7 +123,7 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
     try:
         # numpy overflow warnings (e.g. 1e300 coordinates) would only add noise: the non-finite
         # result is turned into an error below
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
+        with warnings.catch_warnings(), np.errstate(all="ignore"), _one_blas_thread():
             warnings.simplefilter("ignore")
             return _gate_file(path, settings, verify)
     except CadArtifactError as exc:
@@ -133,6 +133,18 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
         return _error_entry(path, settings, message)
     except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
         return _error_entry(path, settings, f"{path}: analysis failed ({type(exc).__name__}: {exc})")
+
+
+def _one_blas_thread():
+    """One BLAS thread while a file is gated, in this process or a worker.
+
+    Workers already fill the cores (nested BLAS threads oversubscribe them: two workers with two
+    threads each ran slower than one process), and the same thread count everywhere keeps the
+    floating-point summation order, hence the document, identical for every ``--jobs``.
+    """
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
