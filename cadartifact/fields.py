@@ -227,8 +227,12 @@ class Intent:
 
 def _bandlimited_at(spectrum: np.ndarray, au: Axis, av: Axis, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Band-limited interpolant of a periodic spectrum at arbitrary outer-grid points (direct DFT sums)."""
-    mats = [bandlimited_basis(pts, ax.freqs(fine=False)) for ax, pts in ((au, x), (av, y))]
-    return np.einsum("ak,klc,bl->abc", mats[0], spectrum, mats[1], optimize=True).real
+    from .separable import sandwich
+
+    (Cu, Su), (Cv, Sv) = (bandlimited_basis_real(pts, ax.freqs(fine=False)) for ax, pts in ((au, x), (av, y)))
+    # real part of (Cu + i Su) X (Cv + i Sv)^T with X = Xr + i Xi
+    Xr, Xi = np.ascontiguousarray(spectrum.real), np.ascontiguousarray(spectrum.imag)
+    return (sandwich(Cu, Xr, Cv) - sandwich(Su, Xr, Sv) - sandwich(Cu, Xi, Sv) - sandwich(Su, Xi, Cv))
 
 
 def bandlimited_basis(x: np.ndarray, f: np.ndarray) -> np.ndarray:
@@ -293,9 +297,11 @@ def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
         from numpy.polynomial import legendre as L
 
         V = [L.legvander(2 * np.arange(a.n) / s - 1, c) for a, s, c in zip(axes, spans, caps)]
-        C = np.einsum("ai,ijc,bj->abc", np.linalg.pinv(V[0]), net.points, np.linalg.pinv(V[1]), optimize=True)
-        coef = np.stack([C[a, b] for a, b in terms])
-        residual = net.points - np.einsum("ia,abc,jb->ijc", V[0], C, V[1], optimize=True)
+        from .separable import sandwich
+
+        C = sandwich(np.linalg.pinv(V[0]), net.points, np.linalg.pinv(V[1]))
+        coef = C.reshape(-1, C.shape[-1])  # row-major (a, b): the order of legendre_terms
+        residual = net.points - sandwich(V[0], C, V[1])
     else:
         A = poly_design(np.arange(nu), np.arange(nv), spans, terms).reshape(nu * nv, len(terms))
         P = net.points.reshape(nu * nv, 3)

@@ -119,10 +119,12 @@ def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray |
     Bu = basis_matrix(ku, p, u, nu, pu)
     Bv = basis_matrix(kv, q, v, nv, pv)
     P = net.points if points is None else np.asarray(points, float)
+    from .separable import sandwich
+
     if net.weights is None:
-        return np.einsum("ai,ijk,bj->abk", Bu, P, Bv, optimize=True)
+        return sandwich(Bu, P, Bv)
     w = net.weights
-    num = np.einsum("ai,ijk,bj->abk", Bu, P * w[:, :, None], Bv, optimize=True)
+    num = sandwich(Bu, P * w[:, :, None], Bv)
     den = Bu @ w @ Bv.T
     return num / den[:, :, None]
 
