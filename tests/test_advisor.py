@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import cadartifact as ca
 from cadartifact.advisor import advise, artifact_at, resample
@@ -196,3 +197,34 @@ def test_hull_advice_verifies_on_the_real_surface():
         predicted = artifact_at(it, s, shape, levels=2, region="interior")["total"].peak
         measured = measure_resampled(net, s, shape, it)["value"]
         assert measured == pytest.approx(predicted, rel=0.1, abs=1e-3)
+
+
+class _FakeSearch:
+    """A monotone feasibility predicate on densities (what _frontier sees of a _Search)."""
+
+    def __init__(self, ok):
+        self._ok, self.calls = ok, 0
+
+    def ok(self, a, b):
+        self.calls += 1
+        return self._ok(a, b)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(2, 40), st.integers(2, 40), st.floats(0.2, 5.0), st.integers(50, 900))
+def test_frontier_walk_finds_the_fewest_points(a0, b0, power, budget_):
+    """On any monotone predicate the frontier walk returns a fewest-points feasible density within its box
+    (brute force over the box spanned by the first feasible corner)."""
+    from cadartifact.advisor import _frontier
+
+    ok = lambda a, b: (a - 1) * (b - 1) ** power >= budget_ or (a >= 40 and b >= 40)  # noqa: E731
+    lo, hi = (2, 2), (40, 40)
+    s = _FakeSearch(ok)
+    (a, b), reachable = _frontier(s, lo, hi, (a0, b0))
+    # the walk's box: the first feasible corner of the doubling from the start (WALK_REACH = 1)
+    ca_, cb_ = a0, b0
+    while not ok(ca_, cb_):
+        ca_, cb_ = min(hi[0], 2 * ca_), min(hi[1], 2 * cb_)
+    feasible = [(x * y, x, y) for x in range(lo[0], ca_ + 1) for y in range(lo[1], cb_ + 1) if ok(x, y)]
+    assert reachable and ok(a, b)
+    assert a * b == min(feasible)[0]
