@@ -362,6 +362,17 @@ def _first_true(lo: int, hi: int, pred) -> int:
     return lo
 
 
+def _gallop_up(pred, lo: int, hi: int) -> int:
+    """Smallest x in [lo, hi] with pred(x) (monotone, pred(hi) True): steps 1, 2, 4... from ``lo``, then bisection."""
+    step = 1
+    while lo < hi and not pred(lo):
+        nxt = min(hi, lo + step)
+        if nxt == hi or pred(nxt):
+            return _first_true(lo + 1, nxt, pred)
+        lo, step = nxt + 1, 2 * step
+    return lo
+
+
 def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
               start: tuple[int, int]) -> tuple[tuple[int, int], bool]:
     """Fewest-points feasible density by walking the whole frontier ``n'v(n'u)``; ``(shape, reachable)``.
@@ -384,7 +395,8 @@ def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
     hi = (min(hi[0], WALK_REACH * a), min(hi[1], WALK_REACH * b))
     a_min = _first_true(lo[0], a, lambda x: search.ok(x, hi[1]))
     b_floor = _first_true(lo[1], b, lambda y: search.ok(hi[0], y))
-    a, b = a_min, hi[1]
+    # the first frontier point: galloping up from the smallest n'v (often just above it), then small steps
+    a, b = a_min, _gallop_up(lambda y: search.ok(a_min, y), b_floor, hi[1])
     while True:
         if b > b_floor and search.ok(a, b - 1):
             # gallop down, then bisect: b(a) is the smallest feasible n'v at this n'u

@@ -16,7 +16,7 @@ import numpy as np
 from .fields import Axis, bandlimited_basis_real
 
 __all__ = ["AxisModel", "axis_model", "ripple_part", "sandwich", "tensor_error", "lowpass", "split_terms",
-           "lateral_field", "tensor_fields", "split_field"]
+           "lateral_field", "tensor_fields", "split_field", "clear_caches"]
 
 
 def sandwich(A: np.ndarray, P: np.ndarray, B: np.ndarray) -> np.ndarray:
@@ -443,40 +443,98 @@ def tensor_fields(intent, scheme, road: str):
                           method="predicted" if road == "predicted" else "measured", levels=au.levels)
 
 
-def candidate_operators(old: AxisModel, new: AxisModel, x_new: np.ndarray, x_fine: np.ndarray, levels: int) -> dict:
-    """Per-axis matrices of a resampled net (cached on ``old`` per candidate density and positions).
+def candidate_operators(old: AxisModel, new: AxisModel, x_new: np.ndarray, x_fine: np.ndarray, levels: int,
+                        side: str) -> dict:
+    """Per-axis matrices of a resampled net (cached per axis, density and positions).
+
+    The four factors are ``tl`` ``(A', m)``: trend coefficients -> the candidate's limit of the carried
+    trend; ``v`` ``(A', m)``: trend coefficients -> the trend at ``x_fine``; ``res`` ``(A', n)``: today's
+    residual samples -> the candidate's limit surface (band-limited resampling at ``x_new``, then the
+    scheme's synthesis); ``bl`` ``(A', n)``: today's residual -> its band-limited interpolant at
+    ``x_fine``; each also low-passed (``L``) on the candidate's fine axis. They are stored once, in the
+    layout their side multiplies with, and read as views:
+
+    * ``side="u"``: rows ``uC = [tl; -v; -L tl; L v]`` and ``uR = [res; -bl; -L res; L bl]`` (the error's
+      signed terms, then minus their low-pass: the ripple's eight terms);
+    * ``side="v"``: columns ``vCR = [tl, v, L tl, L v, res, bl, L res, L bl]``.
 
     Returns
     -------
     dict
-        ``res`` ``(A', n)``: today's residual samples -> the candidate's limit surface (band-limited
-        resampling at ``x_new``, then the scheme's synthesis); ``bl`` ``(A', n)``: today's residual ->
-        its band-limited interpolant at ``x_fine``; ``tl`` ``(A', m)``: trend coefficients -> the
-        candidate's limit of the carried trend; ``v`` ``(A', m)``: trend coefficients -> the trend at
-        ``x_fine``; and ``low``: the :func:`lowpass` of each on the candidate's fine axis.
+        ``uC``, ``uR`` (side u) or ``vCR`` (side v), and ``A``, ``m``, ``n``.
     """
-    key = ("cand", new.n, levels, hash(x_new.tobytes()), hash(x_fine.tobytes()))
-    got = old._memo.get(key)
+    key = (id(old), side, new.n, levels, hash(x_new.tobytes()), hash(x_fine.tobytes()))
+    got = _CANDIDATES.get(key)
     if got is None:
         ax = Axis(new.n, new.periodic, levels)
-        got = {
-            "res": new.synthesize(old.bandlimited(x_new), levels),
-            "bl": old.bandlimited(x_fine),
-            "tl": new.fine_vander(levels) @ new.limit_coef(),
-            "v": _legvander(x_fine, old.span, old.degree),
-        }
-        got["low"] = low = {k: lowpass(v, ax) for k, v in list(got.items())}
-        # stacked blocks for the search objective (see ripple_and_intent): u-side with signs, rows
-        # [surface - intent - low-pass(surface - intent), intent]; v-side plain, side by side
-        got["uC"] = np.concatenate([got["tl"], -got["v"], -low["tl"], low["v"], got["v"]], axis=0)
-        got["uR"] = np.concatenate([got["res"], -got["bl"], -low["res"], low["bl"], got["bl"]], axis=0)
-        got["vC"] = np.concatenate([got["tl"], got["v"], low["tl"], low["v"]], axis=1)
-        got["vR"] = np.concatenate([got["res"], got["bl"], low["res"], low["bl"]], axis=1)
-        if sum(1 for k in old._memo if k[0] == "cand") > 256:
-            for k in [k for k in old._memo if k[0] == "cand"]:
-                del old._memo[k]
-        old._memo[key] = got
+        tl = new.fine_vander(levels) @ new.limit_coef()
+        v = _legvander(x_fine, old.span, old.degree)
+        res = new.synthesize(old.bandlimited(x_new), levels)
+        bl = old.bandlimited(x_fine)
+        got = {"A": len(x_fine), "m": v.shape[1], "n": bl.shape[1]}
+        if side == "u":
+            got["uC"] = np.concatenate([tl, -v, -lowpass(tl, ax), lowpass(v, ax)], axis=0)
+            got["uR"] = np.concatenate([res, -bl, -lowpass(res, ax), lowpass(bl, ax)], axis=0)
+        else:
+            got["vCR"] = np.concatenate([tl, v, lowpass(tl, ax), lowpass(v, ax),
+                                         res, bl, lowpass(res, ax), lowpass(bl, ax)], axis=1)
+        _CANDIDATES.put(key, got, old)
     return got
+
+
+def _u_factors(cu: dict) -> tuple[list, list]:
+    """Side u: the error's four signed factors ``[tl, -v, res, -bl]`` and their low-passes."""
+    A = cu["A"]
+    C, R = cu["uC"], cu["uR"]
+    err = [C[:A], C[A:2 * A], R[:A], R[A:2 * A]]
+    low = [-C[2 * A:3 * A], -C[3 * A:], -R[2 * A:3 * A], -R[3 * A:]]
+    return err, low
+
+
+def _v_factors(cv: dict) -> tuple[list, list]:
+    """Side v: the four factors ``[tl, v, res, bl]`` and their low-passes (column views)."""
+    m, n, M = cv["m"], cv["n"], cv["vCR"]
+    err = [M[:, :m], M[:, m:2 * m], M[:, 4 * m:4 * m + n], M[:, 4 * m + n:4 * m + 2 * n]]
+    low = [M[:, 2 * m:3 * m], M[:, 3 * m:4 * m], M[:, 4 * m + 2 * n:4 * m + 3 * n], M[:, 4 * m + 3 * n:]]
+    return err, low
+
+
+class _ByteLRU:
+    """Least-recently-used cache bounded by the bytes of the arrays it holds.
+
+    Long axes make large operators (a 2000-point candidate on a 286-point axis: ~40 MB with its
+    low-passes), so a count bound is not enough; entries also keep their axis model alive so that
+    ``id(model)`` keys stay unique.
+    """
+
+    def __init__(self, max_bytes: int):
+        from collections import OrderedDict
+
+        self.max_bytes, self.bytes, self.items = max_bytes, 0, OrderedDict()
+
+    def get(self, key):
+        item = self.items.get(key)
+        if item is None:
+            return None
+        self.items.move_to_end(key)
+        return item[0]
+
+    def put(self, key, value: dict, owner) -> None:
+        size = sum(v.nbytes for v in value.values() if isinstance(v, np.ndarray))
+        self.items[key] = (value, owner, size)
+        self.bytes += size
+        while self.bytes > self.max_bytes and len(self.items) > 1:
+            _, (_, _, old_size) = self.items.popitem(last=False)
+            self.bytes -= old_size
+
+    def clear(self) -> None:
+        self.items.clear()
+        self.bytes = 0
+
+
+#: Cached candidate operators (all axes), at most this many bytes.
+CANDIDATE_CACHE_BYTES = 256 * 2 ** 20
+_CANDIDATES = _ByteLRU(CANDIDATE_CACHE_BYTES)
 
 
 def ripple_and_intent(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine: tuple,
@@ -494,20 +552,20 @@ def ripple_and_intent(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fin
     ou, ov = old
     C = sandwich(ou.Vp, P, ov.Vp)
     R = P - sandwich(ou.Vn, C, ov.Vn)
-    cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels)
-    cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels)
-    A, B = cu["v"].shape[0], cv["v"].shape[0]
+    cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels, "u")
+    cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels, "v")
+    A, B, M = cu["A"], cv["A"], cv["vCR"]
     mc, nc = C.shape[1], R.shape[1]
-    XC = (cu["uC"] @ C.reshape(C.shape[0], -1)).reshape(5, A, mc, 3)
-    XR = (cu["uR"] @ R.reshape(R.shape[0], -1)).reshape(5, A, nc, 3)
-    # (A, 3, blocks * m): the four error blocks side by side, matching vC / vR
-    left = np.concatenate([XC[:4].transpose(1, 3, 0, 2).reshape(A, 3, 4 * mc),
-                           XR[:4].transpose(1, 3, 0, 2).reshape(A, 3, 4 * nc)], axis=2)
-    right = np.concatenate([cv["vC"], cv["vR"]], axis=1)  # (B, 4 mc + 4 nc)
-    ripple = (left.reshape(A * 3, -1) @ right.T).reshape(A, 3, B).transpose(0, 2, 1)
-    tl = np.concatenate([XC[4].transpose(0, 2, 1), XR[4].transpose(0, 2, 1)], axis=2)  # (A, 3, mc + nc)
-    target = (tl.reshape(A * 3, -1) @ np.concatenate([cv["v"], cv["bl"]], axis=1).T).reshape(A, 3, B)
-    return ripple, target.transpose(0, 2, 1)
+    XC = (cu["uC"] @ C.reshape(C.shape[0], -1)).reshape(4, A, mc, 3)
+    XR = (cu["uR"] @ R.reshape(R.shape[0], -1)).reshape(4, A, nc, 3)
+    # (A, 3, 4 mc + 4 nc): the eight signed blocks side by side, in vCR's column order
+    left = np.concatenate([XC.transpose(1, 3, 0, 2).reshape(A, 3, 4 * mc),
+                           XR.transpose(1, 3, 0, 2).reshape(A, 3, 4 * nc)], axis=2)
+    ripple = (left.reshape(A * 3, -1) @ M.T).reshape(A, 3, B).transpose(0, 2, 1)
+    # the intent: trend (v C v^T) + band-limited residual (bl R bl^T); the u blocks hold -v and -bl
+    _, v_v, _, bl_v = _v_factors(cv)[0]
+    target = -(_right([XC[1]], [v_v]) + _right([XR[1]], [bl_v]))
+    return ripple, target
 
 
 def resampled_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine: tuple, levels: int,
@@ -540,20 +598,24 @@ def resampled_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine:
     ou, ov = old
     C = sandwich(ou.Vp, P, ov.Vp)  # trend coefficients (mu, mv, 3)
     R = P - sandwich(ou.Vn, C, ov.Vn)
-    cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels)
-    cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels)
+    cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels, "u")
+    cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels, "v")
     au, av = Axis(new[0].n, new[0].periodic, levels), Axis(new[1].n, new[1].periodic, levels)
-    names = ("tl", "v", "res", "bl")
+    (eu, lu), (ev, lv) = _u_factors(cu), _v_factors(cv)
     mids = (C, C, R, R)
-    signs = (1.0, -1.0, 1.0, -1.0)
-    terms = [(s * cu[k], M, cv[k]) for k, M, s in zip(names, mids, signs)]
-    target = _right([np.tensordot(cu["v"], C, axes=(1, 0)), np.tensordot(cu["bl"], R, axes=(1, 0))],
-                    [cv["v"], cv["bl"]])
+    terms = list(zip(eu, mids, ev))
+    # the u factors of v and bl carry the error's minus sign
+    target = -_right([np.tensordot(eu[1], C, axes=(1, 0)), np.tensordot(eu[3], R, axes=(1, 0))], [ev[1], ev[3]])
     if only == "deviation":
         err = _right([np.tensordot(A, M, axes=(1, 0)) for A, M, _ in terms], [B for _, _, B in terms])
         return {"deviation": err}, target
-    lows = [(s * cu["low"][k], cv["low"][k]) for k, s in zip(names, signs)]
-    bands = split_terms(terms, au, av, only=only, lows=lows)
+    bands = split_terms(terms, au, av, only=only, lows=list(zip(lu, lv)))
     if only is None:
         bands["deviation"] = bands["signal_error"] + bands["total"]
     return bands, target
+
+
+def clear_caches() -> None:
+    """Forget every cached axis model and candidate operator (benchmarks measure cold runs with it)."""
+    _MODELS.clear()
+    _CANDIDATES.clear()
