@@ -20,7 +20,8 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
           "advice": {"net": [n'u, n'v], "points": int, "budget": {...}, "share": {...},
                      "meets_tolerance": bool, "binding": "u" | "v" | null,
                      "verification": {"method", "levels", "value", "meets", "coarser": {...},
-                                      OCCT only: "uniform_match", "clamped_ends", "value_clamped"} | null,
+                                      OCCT only: "uniform_match", "clamped_ends", "value_clamped";
+                                      "note" when one step coarser also meets on the interior} | null,
                      "comparison": {scheme: {"net", "points", "meets_tolerance"}}}
         }]
       }],

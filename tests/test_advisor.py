@@ -191,6 +191,8 @@ def test_hull_advice_verifies_on_the_real_surface():
     assert v["method"] == "occt" and v["meets"] is True
     assert v["uniform_match"] < 1e-9  # OCCT's surface == the uniform spline past the clamped spans
     assert v["value_clamped"] > 0.05  # the leaky split of the raw clamped field (the old symptom)
+    # the search sees the whole face, verification the interior: the report says when coarser passes there
+    assert v["coarser"]["meets"] is ("note" in v)
     s = ca.bspline(3, 3)
     it = design_intent(net, s, 2)
     for shape in [(27, 9), (40, 12)]:
