@@ -1,12 +1,15 @@
-"""Fast artifact of a resampled net for tensor-product schemes: per-axis linear operators.
+"""Per-axis (separable) computation of artifact fields: today's budget and every candidate density.
 
-For a tensor-product scheme every step of :func:`cadartifact.advisor.artifact_at` is linear
-and acts on each axis separately: the (tensor-degree) trend fit, the band-limited interpolant
-of the residual (even reflection / wrap), resampling, the limit surface of the new net (trend
-through the limit stencil, residual through the 1-D transfer function) and the low-pass of the
-band split. So the error field is a short sum of ``A P B^T`` products of small real matrices,
-computed with BLAS instead of large complex FFTs. The FFT path in :mod:`cadartifact.fields` is
-the reference; a test keeps the two equal.
+For a tensor-product scheme every step of the analysis is linear and acts on each axis
+separately: the (tensor-degree) trend fit, the band-limited interpolant of the residual (even
+reflection / wrap), resampling, the limit surface (trend through the limit stencil, residual
+through the 1-D transfer function; or a face's own B-spline basis on the measured road) and the
+band split, whose masks are products of per-axis masks. So a field is a short sum of ``A M B^T``
+products of small real matrices, and its bands come from filtering the factors
+(:func:`split_terms`), computed with BLAS instead of large complex FFTs. Only the lateral field
+is not separable: on the predicted road it comes from the residual spectrum pre-weighted by the
+lateral factors, otherwise from one 2-D FFT. The FFT paths (:func:`cadartifact.fields.band_split`,
+``fast=False``) are the reference; tests keep them equal (1e-10).
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import numpy as np
 
 from .fields import Axis, bandlimited_basis_real
 
-__all__ = ["AxisModel", "axis_model", "ripple_part", "sandwich", "tensor_error", "lowpass", "split_terms",
+__all__ = ["AxisModel", "axis_model", "sandwich", "resampled_error", "ripple_and_intent", "lowpass", "split_terms",
            "lateral_field", "tensor_fields", "split_field", "clear_caches"]
 
 
@@ -84,10 +87,6 @@ class AxisModel:
             return X
         return np.concatenate([X, X[1:self.n - 1][::-1]], axis=0)
 
-    def trend(self, x) -> np.ndarray:
-        """``(len(x), n)``: samples -> trend polynomial at ``x``."""
-        return _legvander(x, self.span, self.degree) @ self.Vp
-
     def bandlimited(self, x) -> np.ndarray:
         """``(len(x), n)``: residual samples -> their band-limited interpolant at ``x``."""
         C, S = bandlimited_basis_real(x, self.f)
@@ -99,10 +98,6 @@ class AxisModel:
         if key not in self._memo:
             self._memo[key] = self.bandlimited(Axis(self.n, self.periodic, levels).x)
         return self._memo[key]
-
-    def intent(self, x) -> tuple[np.ndarray, np.ndarray]:
-        """The two factors ``(Tx, Bx)`` with intent = ``Tx P Ty^T + Bx R By^T``, ``R`` the residual."""
-        return self.trend(x), self.bandlimited(x)
 
     def limit_coef(self) -> np.ndarray:
         """``(m, m)``: Legendre coefficients of a trend -> those of its limit surface (exact: degree kept).
@@ -153,22 +148,6 @@ class AxisModel:
 
 
 
-def ripple_part(err: np.ndarray, au: Axis, av: Axis) -> np.ndarray:
-    """``err`` minus its base band (``|fx|, |fy| < 1/2``): the band split's low-pass, one axis at a time.
-
-    The base-band mask is a product of per-axis masks, so two passes of 1-D FFTs (after the same
-    extension as the band split: even reflection or wrap) equal the 2-D masked FFT.
-    """
-    low = err
-    for axis, ax in ((0, au), (1, av)):
-        n = low.shape[axis]
-        f = ax.freqs(fine=True)
-        keep = (np.abs(f) < 0.5 - 1e-12).reshape((-1, 1, 1) if axis == 0 else (1, -1, 1))
-        spec = np.fft.fft(ax.extend(low, axis), axis=axis) * keep
-        low = np.take(np.fft.ifft(spec, axis=axis).real, np.arange(n), axis=axis)
-    return err - low
-
-
 _MODELS: dict = {}
 
 
@@ -187,46 +166,6 @@ def axis_model(scheme, axis: int, n: int, periodic: bool, degree: int) -> AxisMo
             _MODELS.clear()
         model = _MODELS[key] = AxisModel(n, periodic, degree, transfer, stencil)
     return model
-
-
-def tensor_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine_old: tuple, levels: int,
-                 ripple: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Error ``surface(n') - intent`` (and its ripple) on the new net's fine grid, by per-axis operators.
-
-    The resampled net is today's trend plus today's band-limited residual at the new positions
-    (SPEC §5); its surface is the trend's limit polynomial plus the residual synthesised through the
-    scheme's transfer function.
-
-    Parameters
-    ----------
-    P : (nu, nv, 3) float
-        Today's control points.
-    old, new : (AxisModel, AxisModel)
-        Today's axes, and the candidate's axes built with TODAY's trend degrees.
-    x_new : ((a,) float, (b,) float)
-        The new control points' positions in today's index space.
-    x_fine_old : ((A,) float, (B,) float)
-        The new fine grid's positions in today's index space.
-
-    Returns
-    -------
-    (err, target) : ((A, B, 3) float, (A, B, 3) float)
-        ``err`` is the ripple part when ``ripple`` (else the whole error); ``target`` today's intent.
-    """
-    ou, ov = old
-    nu_, nv_ = new
-    C = sandwich(ou.Vp, P, ov.Vp)  # trend coefficients (mu, mv, 3)
-    R = P - sandwich(ou.Vn, C, ov.Vn)
-    N_res = sandwich(ou.bandlimited(x_new[0]), R, ov.bandlimited(x_new[1]))
-    surf = sandwich(nu_.fine_vander(levels) @ nu_.limit_coef(), C, nv_.fine_vander(levels) @ nv_.limit_coef()) + \
-        sandwich(nu_.synthesis(levels), N_res, nv_.synthesis(levels))
-    Fu, Gu = ou.intent(x_fine_old[0])
-    Fv, Gv = ov.intent(x_fine_old[1])
-    target = sandwich(Fu, P, Fv) + sandwich(Gu, R, Gv)
-    err = surf - target
-    if ripple:
-        err = ripple_part(err, Axis(nu_.n, nu_.periodic, levels), Axis(nv_.n, nv_.periodic, levels))
-    return err, target
 
 
 # ---------------------------------------------------------------- band split on per-axis factors
