@@ -202,31 +202,52 @@ def test_hull_advice_verifies_on_the_real_surface():
 
 
 class _FakeSearch:
-    """A monotone feasibility predicate on densities (what _frontier sees of a _Search)."""
+    """A falling artifact over densities and its tolerance (what _frontier sees of a _Search)."""
 
-    def __init__(self, ok):
-        self._ok, self.calls = ok, 0
+    def __init__(self, value, t=1.0):
+        self._value, self.t = value, t
+
+    def value(self, a, b):
+        return self._value(a, b)
 
     def ok(self, a, b):
-        self.calls += 1
-        return self._ok(a, b)
+        return self.value(a, b) <= self.t
 
 
-@settings(max_examples=60, deadline=None)
-@given(st.integers(2, 40), st.integers(2, 40), st.floats(0.2, 5.0), st.integers(50, 900))
-def test_frontier_walk_finds_the_fewest_points(a0, b0, power, budget_):
-    """On any monotone predicate the frontier walk returns a fewest-points feasible density within its box
+@settings(max_examples=80, deadline=None)
+@given(st.integers(2, 40), st.integers(2, 40), st.floats(0.2, 5.0), st.floats(0.3, 4.0), st.integers(20, 900))
+def test_frontier_walk_finds_the_fewest_points(a0, b0, pu, pv, budget_):
+    """On any monotone artifact the frontier walk returns a fewest-points feasible density within its box
     (brute force over the box spanned by the first feasible corner)."""
     from cadartifact.advisor import _frontier
 
-    ok = lambda a, b: (a - 1) * (b - 1) ** power >= budget_ or (a >= 40 and b >= 40)  # noqa: E731
+    value = lambda a, b: budget_ / ((a - 1) ** pu * (b - 1) ** pv)  # noqa: E731
+    s = _FakeSearch(value)
     lo, hi = (2, 2), (40, 40)
-    s = _FakeSearch(ok)
     (a, b), reachable = _frontier(s, lo, hi, (a0, b0))
+    if not reachable:
+        assert not s.ok(*hi)
+        return
     # the walk's box: the first feasible corner of the doubling from the start (WALK_REACH = 1)
     ca_, cb_ = a0, b0
-    while not ok(ca_, cb_):
+    while not s.ok(ca_, cb_):
         ca_, cb_ = min(hi[0], 2 * ca_), min(hi[1], 2 * cb_)
-    feasible = [(x * y, x, y) for x in range(lo[0], ca_ + 1) for y in range(lo[1], cb_ + 1) if ok(x, y)]
-    assert reachable and ok(a, b)
-    assert a * b == min(feasible)[0]
+    feasible = [x * y for x in range(lo[0], ca_ + 1) for y in range(lo[1], cb_ + 1) if s.ok(x, y)]
+    assert s.ok(a, b)
+    assert a * b == min(feasible)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 60), st.integers(0, 60), st.floats(0.3, 6.0), st.floats(1e-3, 1e3), st.floats(0.0, 1.0))
+def test_first_within_equals_linear_scan(lo, span, power, scale, frac):
+    """The interpolating search returns what a linear scan does, in O(log) evaluations."""
+    from cadartifact.advisor import _first_within
+
+    hi = lo + span
+    value = lambda n: scale / n ** power * (1 + 0.3 * np.sin(n) / n)  # noqa: E731  (not a pure power law)
+    value_mono = lambda n: max(value(m) for m in range(n, hi + 1))  # noqa: E731  (made monotone)
+    t = value_mono(hi) + frac * (value_mono(lo) - value_mono(hi))
+    calls = []
+    got = _first_within(lo, hi, lambda n: calls.append(n) or value_mono(n), t)
+    assert got == next(n for n in range(lo, hi + 1) if value_mono(n) <= t)
+    assert len(calls) <= 2 * max(1, span).bit_length() + 4
