@@ -362,52 +362,24 @@ def _first_true(lo: int, hi: int, pred) -> int:
     return lo
 
 
-def _first_within(lo: int, hi: int, value, t: float) -> int:
-    """Smallest n in [lo, hi] with ``value(n) <= t`` (value falling with n, ``value(hi) <= t``).
+def _gallop(pred, lo: int, hi: int, hint: int) -> int:
+    """Smallest x in [lo, hi] with pred(x) (pred monotone, pred(hi) True), searched from a hint.
 
-    Ripple falls about as a power of the density, so a guess from the power law through the
-    bracket's ends, checked by its neighbour, usually ends the search in two evaluations;
-    interpolation steps alternate with bisection steps, which bounds the worst case at about twice
-    bisection's.
+    Steps of 1, 2, 4... away from ``hint`` (down if pred(hint), else up), then bisection: about
+    ``2 log2 |answer - hint|`` evaluations, so an answer near today's density costs two or three.
     """
-    if lo >= hi:
-        return hi
-    f_hi = value(hi)
-    f_lo = value(lo)
-    if f_lo <= t:
-        return lo
-    interpolate = True
-    while hi - lo > 1:
-        g = (lo + hi) // 2
-        if interpolate and lo > 0 and f_lo > t >= f_hi > 0:
-            slope = math.log(f_hi / f_lo) / math.log(hi / lo)
-            if slope < 0:
-                guess = math.exp(math.log(lo) + math.log(t / f_lo) / slope)
-                g = min(hi - 1, max(lo + 1, math.ceil(guess - 1e-9)))
-        f = value(g)
-        if f <= t:
-            hi, f_hi, probe = g, f, g - 1
-        else:
-            lo, f_lo, probe = g, f, g + 1
-        if interpolate and lo < probe < hi:
-            f = value(probe)
-            if f <= t:
-                hi, f_hi = probe, f
-            else:
-                lo, f_lo = probe, f
-        interpolate = not interpolate
-    return hi
-
-
-def _gallop_up(pred, lo: int, hi: int) -> int:
-    """Smallest x in [lo, hi] with pred(x) (monotone, pred(hi) True): steps 1, 2, 4... from ``lo``, then bisection."""
-    step = 1
-    while lo < hi and not pred(lo):
-        nxt = min(hi, lo + step)
+    h = min(hi, max(lo, hint))
+    if pred(h):
+        top, step = h, 1
+        while top - step >= lo and pred(top - step):
+            top, step = top - step, 2 * step
+        return _first_true(max(lo, top - step + 1), top, pred)
+    bottom, step = h, 1
+    while True:
+        nxt = min(hi, bottom + step)
         if nxt == hi or pred(nxt):
-            return _first_true(lo + 1, nxt, pred)
-        lo, step = nxt + 1, 2 * step
-    return lo
+            return _first_true(bottom + 1, nxt, pred)
+        bottom, step = nxt, 2 * step
 
 
 def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
@@ -430,17 +402,14 @@ def _frontier(search: _Search, lo: tuple[int, int], hi: tuple[int, int],
     # past the feasible corner a direction would have to shrink in proportion to save points: the
     # walk stays in the box WALK_REACH times the corner (far corners cost large candidates)
     hi = (min(hi[0], WALK_REACH * a), min(hi[1], WALK_REACH * b))
-    a_min = _first_within(lo[0], a, lambda x: search.value(x, hi[1]), search.t)
-    b_floor = _first_within(lo[1], b, lambda y: search.value(hi[0], y), search.t)
-    # the first frontier point: galloping up from the smallest n'v (often just above it), then small steps
-    a, b = a_min, _gallop_up(lambda y: search.ok(a_min, y), b_floor, hi[1])
+    # the frontier's ends, searched from today's density (the answer is often near it)
+    a_min = _gallop(lambda x: search.ok(x, hi[1]), lo[0], a, start[0])
+    b_floor = _gallop(lambda y: search.ok(hi[0], y), lo[1], b, start[1])
+    # the first frontier point: up from the smallest n'v (often just above it), then small steps
+    a, b = a_min, _gallop(lambda y: search.ok(a_min, y), b_floor, hi[1], b_floor)
     while True:
         if b > b_floor and search.ok(a, b - 1):
-            # gallop down, then bisect: b(a) is the smallest feasible n'v at this n'u
-            step, top = 1, b - 1
-            while top - 2 * step >= b_floor and search.ok(a, top - 2 * step):
-                top, step = top - 2 * step, 2 * step
-            b = _first_true(max(b_floor, top - 2 * step + 1), top, lambda y: search.ok(a, y))
+            b = _gallop(lambda y, x=a: search.ok(x, y), b_floor, b - 1, b - 1)
         if a * b < best[0] * best[1]:
             best = (a, b)
         if a >= hi[0] or (a + 1) * b_floor >= best[0] * best[1]:
@@ -564,15 +533,15 @@ def _advise_shape(net, sch, tolerance, metric, include_signal_error, levels, com
     while not fine.ok(a, b) and (a < high[0] or b < high[1]):
         grow_u = a < high[0] and (b >= high[1] or fine.value(a + 1, b) <= fine.value(a, min(b + 1, high[1])))
         a, b = (a + 1, b) if grow_u else (a, b + 1)
-    # and it may be pessimistic: per direction, the fewest points the fine grid still accepts (an
-    # interpolating search, not single steps: the two grids can disagree by tens of points)
+    # and it may be pessimistic: per direction, the fewest points the fine grid still accepts
+    # (galloping, not single steps: the two grids can disagree by tens of points)
     changed = fine.ok(a, b)
     while changed:
         changed = False
         if a > low[0] and fine.ok(a - 1, b):
-            a, changed = _first_within(low[0], a - 1, lambda x, y=b: fine.value(x, y), fine.t), True
+            a, changed = _gallop(lambda x, y=b: fine.ok(x, y), low[0], a - 1, a - 1), True
         if b > low[1] and fine.ok(a, b - 1):
-            b, changed = _first_within(low[1], b - 1, lambda y, x=a: fine.value(x, y), fine.t), True
+            b, changed = _gallop(lambda y, x=a: fine.ok(x, y), low[1], b - 1, b - 1), True
     return (a, b), fine.ok(a, b), fine
 
 
