@@ -151,9 +151,19 @@ class AxisModel:
 _MODELS: dict = {}
 
 
+#: Cached axis models are dropped when their arrays exceed this many bytes (a long axis's
+#: synthesis and DFT matrices reach tens of MB at K = 8).
+MODEL_CACHE_BYTES = 256 * 2 ** 20
+
+
+def _models_bytes() -> int:
+    return sum(v.nbytes for m in _MODELS.values() for v in m._memo.values() if isinstance(v, np.ndarray))
+
+
 def axis_model(scheme, axis: int, n: int, periodic: bool, degree: int) -> AxisModel:
     """The (cached) :class:`AxisModel` of one axis of a tensor-product scheme."""
-    key = (scheme.name, axis, n, periodic, degree)
+    # the mask too: two user schemes may share a name
+    key = (scheme.name, hash(np.asarray(scheme.mask, float).tobytes()), axis, n, periodic, degree)
     model = _MODELS.get(key)
     if model is None:
         st = np.asarray(scheme.limit_stencil, float).sum(axis=1 - axis)
@@ -162,7 +172,7 @@ def axis_model(scheme, axis: int, n: int, periodic: bool, degree: int) -> AxisMo
             transfer = lambda xi, L: np.asarray(scheme.transfer(xi, np.zeros_like(xi), L), float)  # noqa: E731
         else:
             transfer = lambda xi, L: np.asarray(scheme.transfer(np.zeros_like(xi), xi, L), float)  # noqa: E731
-        if len(_MODELS) > 512:
+        if len(_MODELS) > 512 or (len(_MODELS) % 16 == 0 and _models_bytes() > MODEL_CACHE_BYTES):
             _MODELS.clear()
         model = _MODELS[key] = AxisModel(n, periodic, degree, transfer, stencil)
     return model
