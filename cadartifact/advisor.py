@@ -225,14 +225,14 @@ def _candidate_region(net, scheme, shape, axes, target, region) -> np.ndarray:
     from .budget import border_margin, region_mask
     from .fields import ArtifactFields
 
-    new = resample_shell(net, shape)
+    new = _resample_shell(net, shape)
     margin = border_margin(new, scheme)
     return region_mask(new, ArtifactFields(x=au.x, y=av.x, surface=target, intent=target), "interior", margin)
 
 
-def resample_shell(net: ControlNet, shape) -> ControlNet:
+def _resample_shell(net: ControlNet, shape) -> ControlNet:
     """A net of the candidate's shape, degrees and periodicity (its points do not matter): for region masks."""
-    degrees = None if net.degrees is None else net.degrees
+    degrees = net.degrees
     pts = np.zeros(tuple(shape) + (3,))
     pts[..., 0] = np.arange(shape[0])[:, None]  # not degenerate; positions do not matter for the mask
     pts[..., 1] = np.arange(shape[1])[None, :]
@@ -575,6 +575,6 @@ def _verify(net, sch, shape, binding, search, tolerance, metric, include_signal_
         if out["coarser"]["meets"]:
             # the search sees the whole face; verification the interior: what binds lies near a border
             out["note"] = (f"one step coarser ({coarser[0]}x{coarser[1]}) also meets the tolerance on the interior: "
-                           f"what binds the advice lies within {border_margin(resample_shell(net, coarser), sch)} "
+                           f"what binds the advice lies within {border_margin(_resample_shell(net, coarser), sch)} "
                            "spans of a clamped border, which the interior leaves out")
     return out
