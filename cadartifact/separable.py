@@ -350,22 +350,16 @@ def tensor_fields(intent, scheme, road: str):
     ArtifactFields or None
         None when the road is not separable (the caller uses the FFT path).
     """
-    from .fields import ArtifactFields, _trend_limit_coef, bandlimited_basis_real
+    from .fields import ArtifactFields, _trend_limit_coef
 
     got = _road_operators(intent, scheme, road)
     if got is None:
         return None
     ops, models = got
     au, av = intent.axes
-    if models is not None:
-        G = [m.bandlimited_fine(a.levels) for m, a in zip(models, intent.axes)]
-    else:
-        G = []
-        for a in intent.axes:
-            C, S = bandlimited_basis_real(a.x, a.freqs(fine=False))
-            ext = np.eye(a.n) if a.periodic else np.concatenate([np.eye(a.n), np.eye(a.n)[1:a.n - 1][::-1]], axis=0)
-            F = np.fft.fft(ext, axis=0)
-            G.append(C @ F.real - S @ F.imag)
+    if models is None:  # the intent's interpolant needs no scheme: a bare model of each axis
+        models = [AxisModel(a.n, a.periodic, 0, None, None) for a in intent.axes]
+    G = [m.bandlimited_fine(a.levels) for m, a in zip(models, intent.axes)]
     R = intent.residual
     lateral = None
     if road == "predicted":

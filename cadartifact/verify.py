@@ -52,6 +52,7 @@ def measure_resampled(net, scheme, shape, intent, *, metric="peak", include_sign
     from .advisor import _scale, carried_intent, resample
     from .budget import border_margin, region_mask
     from .measure import _evaluator, _param_axis, measurement_road
+    from .separable import split_field
 
     new = resample(net, shape, scheme, intent=intent)
     au = Axis(new.shape[0], new.periodic[0], levels)
@@ -94,10 +95,10 @@ def measure_resampled(net, scheme, shape, intent, *, metric="peak", include_sign
     keep = region_mask(new.replace(uv_bounds=None),
                        ArtifactFields(x=au.x, y=av.x, surface=surface, intent=target), "interior", margin)
     if "clamped_ends" in extra:
-        raw = _split(dev_res, au, av)["total"]
+        raw = split_field(dev_res, au, av)["total"]
         extra["value_clamped"] = float(_stats({"total": project(raw, normal, component)}, keep)["total"].get(metric))
         dev_res = res_split - (target - target_trend)
-    bands = _split(dev_res, au, av)
+    bands = split_field(dev_res, au, av)
     bands["signal_error"] = bands["signal_error"] + (s_trend - target_trend)
     scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
     scalars["deviation"] = project(err, normal, component)
@@ -109,12 +110,6 @@ def measure_resampled(net, scheme, shape, intent, *, metric="peak", include_sign
         extra.pop("value_clamped", None)  # the deviation is pointwise: no split, nothing leaks
     out.update(extra)
     return out
-
-
-def _split(field: np.ndarray, au: Axis, av: Axis) -> dict:
-    from .separable import split_field
-
-    return split_field(field, au, av)
 
 
 def _clamped_spans(net, au: Axis, av: Axis, u: np.ndarray, v: np.ndarray):
