@@ -296,9 +296,9 @@ def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
         # a full tensor basis: the least-squares fit is separable, pinv(Vu (x) Vv) = pinv(Vu) (x) pinv(Vv)
         from numpy.polynomial import legendre as L
 
-        V = [L.legvander(2 * np.arange(a.n) / s - 1, c) for a, s, c in zip(axes, spans, caps)]
         from .separable import sandwich
 
+        V = [L.legvander(2 * np.arange(a.n) / s - 1, c) for a, s, c in zip(axes, spans, caps)]
         C = sandwich(np.linalg.pinv(V[0]), net.points, np.linalg.pinv(V[1]))
         coef = C.reshape(-1, C.shape[-1])  # row-major (a, b): the order of legendre_terms
         residual = net.points - sandwich(V[0], C, V[1])
