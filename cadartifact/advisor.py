@@ -451,11 +451,12 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     Notes
     -----
     The search assumes the artifact falls as density rises in each direction (true for the band
-    structure; resonances are caught by verification). On the refined vertices (K = 2) it bisects
-    each direction with the other at its maximum, then walks the whole frontier ``n'v(n'u)`` to the
-    fewest points ``n'u n'v``; at ``levels`` it confirms the answer, and where the finer grid finds
-    higher peaks it lowers the coarse tolerance by the ratio of the two grids, walks again, and
-    steps to the nearest density the finer grid accepts.
+    structure; resonances are caught by verification). On the refined vertices (K = 2) it finds each
+    direction's smallest feasible count with the other at its maximum (galloping from today's
+    density), then walks the whole frontier ``n'v(n'u)`` to the fewest points ``n'u n'v``; at
+    ``levels`` it confirms the answer, and where the finer grid finds higher peaks it lowers the
+    coarse tolerance by the ratio of the two grids, walks again, and steps to the nearest density
+    the finer grid accepts.
     """
     from .schemes import Scheme, scheme as get_scheme
 

@@ -141,8 +141,6 @@ class AxisModel:
         ax = Axis(self.n, self.periodic, levels)
         K = ax.K
         spec = np.fft.fft(self._extend(np.asarray(X, float)), axis=0)
-        if spec.shape[0] != self.N:  # n < 3 open: the period is 2(n-1), shorter than the samples
-            spec = np.fft.fft(np.asarray(X, float)[: self.N], axis=0)
         w = K * self.transfer(ax.freqs(fine=True), levels)
         return np.fft.ifft(np.tile(spec, (K, 1)) * w[:, None], axis=0).real[: ax.fine_count]
 
@@ -310,11 +308,13 @@ def _road_operators(intent, scheme, road: str):
 
     net = intent.net
     axes = intent.axes
-    if road == "predicted":
-        if not getattr(scheme, "tensor", False):
-            return None
+    models = None
+    if getattr(scheme, "tensor", False):
         caps = trend_caps(int(scheme.reproduction_degree), axes)
         models = [axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(axes, caps))]
+    if road == "predicted":
+        if models is None:
+            return None
         return [m.synthesis(a.levels) for m, a in zip(models, axes)], models
     if road == "face":
         if net.weights_vary:
@@ -327,9 +327,6 @@ def _road_operators(intent, scheme, road: str):
         ops = [cardinal_operator(a.n, deg, a.x, a.periodic) for a, deg in zip(axes, scheme.degrees)]
     else:
         return None
-    caps = trend_caps(int(scheme.reproduction_degree), axes)
-    models = [axis_model(scheme, k, a.n, a.periodic, c) for k, (a, c) in enumerate(zip(axes, caps))] \
-        if getattr(scheme, "tensor", False) else None
     return ops, models
 
 
@@ -480,6 +477,12 @@ CANDIDATE_CACHE_BYTES = 256 * 2 ** 20
 _CANDIDATES = _ByteLRU(CANDIDATE_CACHE_BYTES)
 
 
+def _trend_split(P: np.ndarray, ou: AxisModel, ov: AxisModel) -> tuple[np.ndarray, np.ndarray]:
+    """Today's tensor trend coefficients ``C (mu, mv, 3)`` and residual ``R (nu, nv, 3)``."""
+    C = sandwich(ou.Vp, P, ov.Vp)
+    return C, P - sandwich(ou.Vn, C, ov.Vn)
+
+
 def ripple_and_intent(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine: tuple,
                       levels: int) -> tuple[np.ndarray, np.ndarray]:
     """The search objective's fields: the whole ripple of ``surface(n') - intent`` and the intent.
@@ -493,8 +496,7 @@ def ripple_and_intent(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fin
     (ripple, target) : ((A, B, 3) float, (A, B, 3) float)
     """
     ou, ov = old
-    C = sandwich(ou.Vp, P, ov.Vp)
-    R = P - sandwich(ou.Vn, C, ov.Vn)
+    C, R = _trend_split(P, ou, ov)
     cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels, "u")
     cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels, "v")
     A, B, M = cu["A"], cv["A"], cv["vCR"]
@@ -539,8 +541,7 @@ def resampled_error(P: np.ndarray, old: tuple, new: tuple, x_new: tuple, x_fine:
         ``bands`` as :func:`split_terms` plus ``deviation`` (the whole error).
     """
     ou, ov = old
-    C = sandwich(ou.Vp, P, ov.Vp)  # trend coefficients (mu, mv, 3)
-    R = P - sandwich(ou.Vn, C, ov.Vn)
+    C, R = _trend_split(P, ou, ov)
     cu = candidate_operators(ou, new[0], x_new[0], x_fine[0], levels, "u")
     cv = candidate_operators(ov, new[1], x_new[1], x_fine[1], levels, "v")
     au, av = Axis(new[0].n, new[0].periodic, levels), Axis(new[1].n, new[1].periodic, levels)

@@ -94,20 +94,20 @@ def measure_resampled(net, scheme, shape, intent, *, metric="peak", include_sign
     margin = border_margin(new, scheme)
     keep = region_mask(new.replace(uv_bounds=None),
                        ArtifactFields(x=au.x, y=av.x, surface=surface, intent=target), "interior", margin)
+    key = "deviation" if include_signal_error else "total"
     if "clamped_ends" in extra:
-        raw = split_field(dev_res, au, av)["total"]
-        extra["value_clamped"] = float(_stats({"total": project(raw, normal, component)}, keep)["total"].get(metric))
+        if key == "total":  # the deviation is pointwise: no split, nothing leaks
+            raw = split_field(dev_res, au, av)["total"]
+            extra["value_clamped"] = float(_stats({"total": project(raw, normal, component)}, keep)["total"]
+                                           .get(metric))
         dev_res = res_split - (target - target_trend)
     bands = split_field(dev_res, au, av)
     bands["signal_error"] = bands["signal_error"] + (s_trend - target_trend)
     scalars = {name: project(bands[name], normal, component) for name in FIELD_NAMES}
     scalars["deviation"] = project(err, normal, component)
     stats = _stats(scalars, keep)
-    key = "deviation" if include_signal_error else "total"
     out = {"method": method, "levels": levels, "value": float(stats[key].get(metric)),
            "stats": {k: {"peak": s.peak, "rms": s.rms} for k, s in stats.items()}}
-    if key == "deviation":
-        extra.pop("value_clamped", None)  # the deviation is pointwise: no split, nothing leaks
     out.update(extra)
     return out
 
