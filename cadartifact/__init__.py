@@ -23,8 +23,8 @@ __version__ = "0.1.0"
 # package attribute to the module, so the function must be bound after it.
 from .schemes import Scheme, box, bspline, scheme, schemes  # noqa: E402
 from .spectral import Response  # noqa: E402
-from .budget import Budget, budget  # noqa: E402
-from .advisor import Advice, advise, resample  # noqa: E402
+from .artifact_budget import Budget, budget  # noqa: E402
+from .advice import Advice, advise, resample  # noqa: E402
 
 # public name -> (module, attribute) loaded on first use (OCP, cadquery); attribute None: the module
 _LAZY = {

@@ -98,8 +98,8 @@ def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak"
         method, reason, budget {direction: {peak, rms}}, share, meets_tolerance, advice``.
         Without ``tol``: ``share``, ``meets_tolerance`` and ``advice`` are None.
     """
-    from .advisor import advise
-    from .budget import budget
+    from .advice import advise
+    from .artifact_budget import budget
     from .report import face_record
 
     check_option("metric", metric, _METRICS)
@@ -172,8 +172,8 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
 
     # Workplane.invoke reads the arity from __code__, so this must be a plain one-argument function.
     def artifact_check(workplane):
-        from .advisor import advise
-        from .budget import budget
+        from .advice import advise
+        from .artifact_budget import budget
 
         key = "deviation" if include_signal_error else "total"
         rows = []

@@ -270,7 +270,7 @@ def advise_cmd(
     Exit 0 when every face meets the tolerance today, 1 when some face needs another density,
     2 on usage or input errors.
     """
-    from .budget import METRICS
+    from .artifact_budget import METRICS
     from .report import RichProgress, advise_files, render
 
     check_option("--metric", metric, METRICS)

@@ -1,23 +1,26 @@
-"""Design intent and artifact fields of a real control net (SPEC §4).
+"""Artifact fields of a control net: its surface minus its intent, split by frequency (SPEC §4).
 
-A net is analysed in index space (control point ``(i, j)`` at ``(i, j)``). Its
-*design intent* is the polynomial part the scheme reproduces plus the
-band-limited interpolant of the residual (even reflection at open borders,
-wrap-around in periodic directions). Artifact fields are the surface minus the
-intent on a grid ``K = 2**levels`` times finer than the net, split by frequency
-(cycles per control point) into
+On a grid ``K = 2**levels`` times finer than the net, the deviation of the surface from the
+intent of the ``net`` reading (:mod:`cadartifact.intent`) is split by frequency in cycles per
+control point into
 
 * base band ``|fx|, |fy| < 1/2`` -> signal error (attenuation),
 * ``|fx| >= 1/2`` only -> X1 ripple, ``|fy| >= 1/2`` only -> X2 ripple, both -> diagonal ripple,
 * lateral: each ripple component weighted by the lateral factor of the frequency it aliases
-  (SPEC §3: ``sin phi1 = |wy|/|W|`` for X1, ``sin phi2 = |wx|/|W|`` for X2,
-  ``|wx^2 - wy^2| / (2|W|^2)`` for diagonal).
+  (SPEC §3).
 
-Two independent roads produce the surface: *predicted* (the residual's spectrum
-times the scheme's transfer function, :meth:`Scheme.transfer`) and *measured*
-(the real surface: exact NURBS evaluation of the face, or numerical subdivision
-of the net, see :mod:`cadartifact.measure`). Their agreement is the product's
-self-check.
+The ``surface`` reading (the default for CAD work) takes the surface less its ripple as the
+intent: the same ripple fields, no signal error.
+
+Two independent roads produce the surface:
+
+* *predicted*: the residual's lattice spectrum (one period ``T`` of the smoothly extended
+  intent) times the scheme's transfer function to the fine grid, ``Scheme.transfer``: exact, no
+  alias truncation; the trend goes through the limit stencil (a polynomial of the same degree);
+* *measured*: the real surface (:mod:`cadartifact.measure`: exact NURBS evaluation of the face,
+  a uniform B-spline, or numerical subdivision). Outside the net's domain the predicted deviation
+  continues it, plus the measured-minus-predicted difference mirrored evenly at each border (so
+  the split sees no jump): equal to the predicted road where the real surface is the uniform one.
 
 References
 ----------
@@ -31,13 +34,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import OptionError, check_option
-from .net import ControlNet
+from .errors import check_option
+from .frames import AxisFrame
+from .intent import READINGS, Intent, design_intent
+from .tensor import sandwich
 
-__all__ = ["Axis", "Intent", "ArtifactFields", "FIELD_NAMES", "design_intent", "predicted_fields",
-           "band_split", "legendre_terms", "poly_design",
-           "predicted_surface", "ripple_only", "bandlimited_basis",
-           "bandlimited_basis_real"]
+__all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "predicted_fields", "measured_fields",
+           "artifact_fields", "band_split", "lateral_factors", "project", "intent_normals", "trend_image_coef",
+           "baseband_at"]
 
 #: The fields a budget reports, in report order.
 FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
@@ -45,274 +49,6 @@ FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
 COMPONENTS = ("normal", "vector")
 
 
-@dataclass(frozen=True)
-class Axis:
-    """One direction of the analysis grid.
-
-    Attributes
-    ----------
-    n : int
-        Control points along the axis.
-    periodic : bool
-    levels : int
-        ``K = 2**levels`` fine samples per control spacing.
-    """
-
-    n: int
-    periodic: bool
-    levels: int
-
-    @property
-    def K(self) -> int:
-        return 2 ** self.levels
-
-    @property
-    def period(self) -> int:
-        """Period of the extended data in control spacings: ``n`` (periodic) or ``2(n-1)`` (even reflection)."""
-        return self.n if self.periodic else 2 * (self.n - 1)
-
-    @property
-    def fine_count(self) -> int:
-        """Fine samples over the net's own domain (``[0, n)`` periodic, ``[0, n-1]`` open)."""
-        return self.K * self.n if self.periodic else self.K * (self.n - 1) + 1
-
-    @property
-    def x(self) -> np.ndarray:
-        """Index coordinates of the fine samples, ``(fine_count,)``."""
-        return np.arange(self.fine_count) / self.K
-
-    def extend(self, a: np.ndarray, axis: int) -> np.ndarray:
-        """Extend samples on ``[0, n-1]`` to one period (whole-sample even reflection); identity if periodic."""
-        return a if self.periodic else _reflect(a, axis)
-
-    def freqs(self, fine: bool) -> np.ndarray:
-        """Frequencies in cycles per control point of the FFT bins (fine: ``K*period`` bins)."""
-        m = self.K * self.period if fine else self.period
-        return np.fft.fftfreq(m, d=1.0 / (self.K if fine else 1))
-
-
-def _reflect(a: np.ndarray, axis: int) -> np.ndarray:
-    """Whole-sample symmetric extension ``a0 a1 .. a_{n-1} a_{n-2} .. a1`` along ``axis``."""
-    n = a.shape[axis]
-    if n < 2:
-        return a
-    back = np.flip(np.take(a, np.arange(1, n - 1), axis=axis), axis=axis)
-    return np.concatenate([a, back], axis=axis)
-
-
-# ---------------------------------------------------------------- polynomial trend
-def legendre_terms(degree: int, caps: tuple[int, int], tensor: bool = False) -> list[tuple[int, int]]:
-    """Exponent pairs ``(a, b)`` with ``a <= caps[0]``, ``b <= caps[1]`` and, unless ``tensor``, ``a + b <= degree``.
-
-    A tensor-product scheme whose factors generate degree ``d`` generates every ``x^a y^b`` with
-    ``a, b <= d``; other schemes are only known to generate total degree ``<= d``.
-    """
-    return [(a, b) for a in range(caps[0] + 1) for b in range(caps[1] + 1) if tensor or a + b <= degree]
-
-
-def poly_design(x: np.ndarray, y: np.ndarray, spans: tuple[float, float],
-                terms: list[tuple[int, int]]) -> np.ndarray:
-    """Tensor Legendre design matrix on the outer grid ``x x y``.
-
-    Parameters
-    ----------
-    x : (a,) float, y : (b,) float
-        Index coordinates.
-    spans : (float, float)
-        Domain lengths; coordinates are scaled to ``[-1, 1]`` for conditioning.
-    terms : list of (int, int)
-
-    Returns
-    -------
-    A : (a, b, len(terms)) float
-    """
-    from numpy.polynomial import legendre as L
-
-    sx = 2 * np.asarray(x, float) / max(spans[0], 1e-300) - 1
-    sy = 2 * np.asarray(y, float) / max(spans[1], 1e-300) - 1
-    da = max((t[0] for t in terms), default=0)
-    db = max((t[1] for t in terms), default=0)
-    Vx = L.legvander(sx, da)
-    Vy = L.legvander(sy, db)
-    return np.stack([Vx[:, a][:, None] * Vy[:, b][None, :] for a, b in terms], axis=-1)
-
-
-# ---------------------------------------------------------------- intent
-@dataclass(frozen=True, eq=False)
-class Intent:
-    """The design intent of a net under a scheme (SPEC §4).
-
-    Attributes
-    ----------
-    axes : (Axis, Axis)
-    terms : list of (int, int)
-        Legendre exponents of the polynomial trend (total degree <= the scheme's reproduction degree).
-    coef : (len(terms), 3) float
-        Trend coefficients (least squares on the control points).
-    residual : (nu, nv, 3) float
-        Control points minus trend.
-    spectrum : (Pu, Pv, 3) complex
-        FFT of the residual extended to one period (even reflection / wrap).
-    """
-
-    net: ControlNet
-    axes: tuple[Axis, Axis]
-    terms: list
-    coef: np.ndarray
-    residual: np.ndarray
-    spectrum: np.ndarray
-
-    @property
-    def spans(self) -> tuple[float, float]:
-        return tuple(float(max(a.n - 1, 1)) for a in self.axes)
-
-    def trend(self, x: np.ndarray, y: np.ndarray, coef: np.ndarray | None = None) -> np.ndarray:
-        """The polynomial trend on the outer grid ``x x y`` -> ``(a, b, 3)``.
-
-        Evaluated as ``Vx M Vy^T`` with ``M[a, b] = coef[(a, b)]`` (per-axis Legendre matrices, no
-        ``(a, b, terms)`` design array).
-        """
-        from numpy.polynomial import legendre as L
-
-        c = self.coef if coef is None else coef
-        if not self.terms:
-            return np.zeros((len(x), len(y), c.shape[-1]))
-        da = max(t[0] for t in self.terms)
-        db = max(t[1] for t in self.terms)
-        M = np.zeros((da + 1, db + 1, c.shape[-1]))
-        for k, (a, b) in enumerate(self.terms):
-            M[a, b] = c[k]
-        su, sv = self.spans
-        Vx = L.legvander(2 * np.asarray(x, float) / max(su, 1e-300) - 1, da)
-        Vy = L.legvander(2 * np.asarray(y, float) / max(sv, 1e-300) - 1, db)
-        tmp = np.tensordot(Vx, M, axes=(1, 0)).transpose(0, 2, 1)  # (a, 3, db+1)
-        return (tmp @ Vy.T).transpose(0, 2, 1)
-
-    def fine_spectrum(self, half: bool = False) -> np.ndarray:
-        """The residual spectrum repeated to the fine grid's ``(K Pu, K Pv)`` bins, scaled by ``K^2``.
-
-        ``half``: only the ``K Pv // 2 + 1`` non-negative bins of the last axis (for ``irfft2``).
-        """
-        (au, av) = self.axes
-        pu, pv = self.spectrum.shape[:2]
-        B = av.K * pv
-        rows = np.arange(au.K * pu) % pu
-        cols = np.arange(B // 2 + 1 if half else B) % pv
-        return self.spectrum[np.ix_(rows, cols)] * (au.K * av.K)
-
-    def baseband_weight(self) -> np.ndarray:
-        """``(K Pu, K Pv)`` weights of the band-limited interpolant: 1 inside, 1/2 on a Nyquist line, 0 outside."""
-        w = [np.where(np.abs(f) < 0.5, 1.0, np.where(np.isclose(np.abs(f), 0.5), 0.5, 0.0))
-             for f in (a.freqs(fine=True) for a in self.axes)]
-        return w[0][:, None] * w[1][None, :]
-
-    def evaluate(self, x: np.ndarray | None = None, y: np.ndarray | None = None) -> np.ndarray:
-        """The intent surface on the fine grid (default) or at arbitrary index coordinates.
-
-        Returns
-        -------
-        I : (a, b, 3) float
-            Trend plus band-limited interpolant of the residual.
-        """
-        au, av = self.axes
-        if x is None and y is None:
-            A, B = au.K * au.period, av.K * av.period
-            spec = self.fine_spectrum(half=True) * self.baseband_weight()[:, : B // 2 + 1, None]
-            bl = np.fft.irfft2(spec, s=(A, B), axes=(0, 1))[: au.fine_count, : av.fine_count]
-            return self.trend(au.x, av.x) + bl
-        x = au.x if x is None else np.asarray(x, float)
-        y = av.x if y is None else np.asarray(y, float)
-        return self.trend(x, y) + _bandlimited_at(self.spectrum, au, av, x, y)
-
-
-def _bandlimited_at(spectrum: np.ndarray, au: Axis, av: Axis, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Band-limited interpolant of a periodic spectrum at arbitrary outer-grid points (direct DFT sums)."""
-    from .separable import sandwich
-
-    (Cu, Su), (Cv, Sv) = (bandlimited_basis_real(pts, ax.freqs(fine=False)) for ax, pts in ((au, x), (av, y)))
-    # real part of (Cu + i Su) X (Cv + i Sv)^T with X = Xr + i Xi
-    Xr, Xi = np.ascontiguousarray(spectrum.real), np.ascontiguousarray(spectrum.imag)
-    return (sandwich(Cu, Xr, Cv) - sandwich(Su, Xr, Sv) - sandwich(Cu, Xi, Sv) - sandwich(Su, Xi, Cv))
-
-
-def bandlimited_basis(x: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """``(len(x), N)`` synthesis matrix of the band-limited interpolant from an N-bin DFT.
-
-    Bins with ``|f| < 1/2`` contribute ``exp(2 pi i f x) / N``; the single Nyquist bin of an even
-    N stands for the pair ``+-1/2`` and contributes ``cos(pi x) / N`` (the even split the zero-padded
-    fine spectrum makes), so the interpolant is real and passes through the samples.
-    """
-    C, S = bandlimited_basis_real(x, f)
-    return C + 1j * S
-
-
-def bandlimited_basis_real(x: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Real and imaginary parts ``(C, S)`` of :func:`bandlimited_basis` (for real matrix products)."""
-    f = np.asarray(f, float)
-    inside = np.abs(f) < 0.5
-    nyq = np.abs(np.abs(f) - 0.5) < 1e-12
-    ph = (2 * np.pi) * np.outer(np.asarray(x, float), f)
-    C = np.cos(ph) * (inside | nyq)  # the Nyquist bin: cos(pi x), full weight
-    S = np.sin(ph) * inside
-    return C / len(f), S / len(f)
-
-
-def trend_caps(degree: int, axes) -> tuple[int, int]:
-    """Trend degree per axis: ``min(d, n-1)`` on open axes, 0 on periodic ones."""
-    return tuple(0 if a.periodic else min(degree, a.n - 1) for a in axes)
-
-
-def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
-    """Split a net into its polynomial trend and the spectrum of the residual.
-
-    Parameters
-    ----------
-    net : ControlNet
-    scheme : Scheme
-        Its ``reproduction_degree`` d sets the trend: total degree <= d in the open directions
-        (capped at ``n - 1``), none in periodic ones.
-    levels : int
-        Fine grid ``K = 2**levels`` samples per control spacing.
-
-    Returns
-    -------
-    Intent
-
-    Notes
-    -----
-    The trend is fitted by least squares in a Legendre basis; the residual is extended by
-    whole-sample even reflection (period ``2(n-1)``) at open borders so that borders add no jumps,
-    and taken as periodic (period ``n``) in periodic directions (SPEC §4).
-    """
-    if levels < 1 or levels > 6:
-        raise OptionError("levels", "an integer from 1 to 6 (K = 2..64)", levels)
-    nu, nv = net.shape
-    axes = (Axis(nu, net.periodic[0], levels), Axis(nv, net.periodic[1], levels))
-    d = int(scheme.reproduction_degree)
-    caps = trend_caps(d, axes)
-    terms = legendre_terms(d, caps, tensor=bool(getattr(scheme, "tensor", False)))
-    spans = tuple(float(max(a.n - 1, 1)) for a in axes)
-    if terms == legendre_terms(d, caps, tensor=True):
-        # a full tensor basis: the least-squares fit is separable, pinv(Vu (x) Vv) = pinv(Vu) (x) pinv(Vv)
-        from numpy.polynomial import legendre as L
-
-        from .separable import sandwich
-
-        V = [L.legvander(2 * np.arange(a.n) / s - 1, c) for a, s, c in zip(axes, spans, caps)]
-        C = sandwich(np.linalg.pinv(V[0]), net.points, np.linalg.pinv(V[1]))
-        coef = C.reshape(-1, C.shape[-1])  # row-major (a, b): the order of legendre_terms
-        residual = net.points - sandwich(V[0], C, V[1])
-    else:
-        A = poly_design(np.arange(nu), np.arange(nv), spans, terms).reshape(nu * nv, len(terms))
-        P = net.points.reshape(nu * nv, 3)
-        coef, *_ = np.linalg.lstsq(A, P, rcond=None)
-        residual = (P - A @ coef).reshape(nu, nv, 3)
-    ext = axes[1].extend(axes[0].extend(residual, 0), 1)
-    spectrum = np.fft.fft2(ext, axes=(0, 1))
-    return Intent(net=net, axes=axes, terms=terms, coef=coef, residual=residual, spectrum=spectrum)
-
-
-# ---------------------------------------------------------------- fields
 @dataclass(frozen=True, eq=False)
 class ArtifactFields:
     """Surface, intent and band-split deviation fields on the fine grid.
@@ -320,14 +56,18 @@ class ArtifactFields:
     Attributes
     ----------
     x : (a,) float, y : (b,) float
-        Index coordinates of the fine grid.
+        Analysis coordinates of the fine grid (span units).
     surface, intent : (a, b, 3) float
-        The limit surface and the design intent.
+        The surface and the intent of the fields' reading.
     bands : dict str -> (a, b, 3) float
-        Vector deviation per band: ``signal_error``, ``x1``, ``x2``, ``diagonal``, ``lateral``, ``total``
-        (``total`` = x1 + x2 + diagonal, the whole ripple).
+        ``signal_error``, ``x1``, ``x2``, ``diagonal``, ``lateral``, ``total`` (= x1 + x2 + diagonal).
     method : str
         ``"predicted"`` or ``"measured"``.
+    reading : str
+        ``"surface"`` or ``"net"``.
+    baseband : dict or None
+        ``surface`` reading: the signal error's base-band bins and polynomial part, so that the
+        intent can be evaluated anywhere (:func:`baseband_at`).
     """
 
     x: np.ndarray
@@ -337,18 +77,13 @@ class ArtifactFields:
     bands: dict = field(default_factory=dict)
     method: str = "predicted"
     levels: int = 3
+    reading: str = "surface"
+    baseband: object = None
 
 
-def _band_masks(fu: np.ndarray, fv: np.ndarray) -> dict:
-    """Boolean masks and lateral weights over a grid of frequencies ``fu (a,)``, ``fv (b,)``."""
-    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None]
-    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :]
-    x1 = hu & ~hv
-    x2 = ~hu & hv
-    dg = hu & hv
-    s1, s2, sd = lateral_factors(fu, fv)
-    lateral = x1 * s1 + x2 * s2 + dg * sd
-    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": lateral}
+# ---------------------------------------------------------------- band split on the periodic fine grid
+def _fine_freqs(frame: AxisFrame) -> np.ndarray:
+    return np.fft.fftfreq(frame.K * frame.period, d=1.0 / frame.K)
 
 
 def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -364,133 +99,315 @@ def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndar
     return s1, s2, sd
 
 
-def band_split(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tuple[int, int]) -> dict:
-    """Split a deviation field, given by its fine-grid spectrum, into bands.
+def _band_masks(fu: np.ndarray, fv: np.ndarray) -> dict:
+    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None]
+    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :]
+    x1, x2, dg = hu & ~hv, ~hu & hv, hu & hv
+    s1, s2, sd = lateral_factors(fu, fv)
+    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": x1 * s1 + x2 * s2 + dg * sd}
+
+
+def _crop(a: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
+    """The domain part of a periodic fine-grid array (``x = 0`` first)."""
+    iu = (fu.shift + np.arange(fu.fine_count)) % a.shape[0]
+    iv = (fv.shift + np.arange(fv.fine_count)) % a.shape[1]
+    return a[np.ix_(iu, iv)]
+
+
+def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> dict:
+    """Split a periodic fine-grid deviation, given by its half spectrum, into bands over the domain.
 
     Parameters
     ----------
-    spectrum : (A, B, 3) complex
-        FFT of the (extended) deviation on the fine grid.
-    fu : (A,) float, fv : (B,) float
-        Bin frequencies in cycles per control point.
-    shape : (a, b)
-        The domain part of the fine grid to return.
+    spectrum : (K Tu, K Tv // 2 + 1, 3) complex
+        ``rfft2`` of the deviation on the lattice-aligned periodic fine grid.
+    fu, fv : AxisFrame
 
     Returns
     -------
-    dict str -> (a, b, 3) float
+    dict str -> (fu.fine_count, fv.fine_count, 3) float
         ``signal_error, x1, x2, diagonal, lateral, total``.
     """
-    a, b = shape
-    A, B = len(fu), len(fv)
-    # the field is real and every mask is even in (fx, fy): the half spectrum and irfft2 suffice
-    half = spectrum[:, : B // 2 + 1]  # a no-op when given the half already
-    masks = _band_masks(fu, np.abs(fv[: B // 2 + 1]))
-    out = {}
-    for name, m in masks.items():
-        out[name] = np.fft.irfft2(half * m[:, :, None], s=(A, B), axes=(0, 1))[:a, :b]
+    A, B = fu.K * fu.period, fv.K * fv.period
+    masks = _band_masks(_fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1]))
+    out = {name: _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
+           for name, m in masks.items()}
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out
 
 
-def predicted_fields(intent: Intent, scheme, fast: bool = True) -> ArtifactFields:
+def baseband_at(fields: "ArtifactFields", x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The ``surface`` reading's intent (the surface less its ripple) at analysis coordinates ``x x y``.
+
+    A polynomial (tensor Legendre coefficients) plus ``sum_kl X_kl exp(2 pi i (f_k z + g_l w)) / N``
+    over the base-band bins of the fine-grid spectrum (lattice coordinates ``z = x - offset``;
+    direct DFT sums, no FFT grid).
+    """
+    bb = fields.baseband
+    mats = []
+    for frame, f, pts in zip(bb["frames"], bb["freqs"], (x, y)):
+        z = np.asarray(pts, float) - frame.offset
+        ph = 2 * np.pi * np.outer(z, f)
+        N = frame.K * frame.period
+        mats.append((np.cos(ph) / N, np.sin(ph) / N))
+    (Cu, Su), (Cv, Sv) = mats
+    spec = bb["spec"]
+    Xr, Xi = np.ascontiguousarray(spec.real), np.ascontiguousarray(spec.imag)
+    out = sandwich(Cu, Xr, Cv) - sandwich(Su, Xr, Sv) - sandwich(Cu, Xi, Sv) - sandwich(Su, Xi, Cv)
+    M = bb["poly"]
+    fu, fv = bb["frames"]
+    return out + sandwich(_legendre(x, fu.spans, M.shape[0] - 1), M, _legendre(y, fv.spans, M.shape[1] - 1))
+
+
+def _legendre(x, spans, degree):
+    from numpy.polynomial import legendre as L
+
+    return L.legvander(2.0 * np.asarray(x, float) / spans - 1.0, degree)
+
+
+def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:
+    """The base-band bins of a half fine-grid spectrum, with a polynomial, for :func:`baseband_at`."""
+    A, B = fu.K * fu.period, fv.K * fv.period
+    # back to the full spectrum along v (the half spectrum's symmetry is 2-D, not per row)
+    full = np.fft.fft(np.fft.irfft(np.fft.ifft(half_spec, axis=0), n=B, axis=1), axis=1)
+    full = np.fft.fft(full, axis=0)
+    idx, freqs = [], []
+    for frame in (fu, fv):
+        f = _fine_freqs(frame)
+        k = np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        idx.append(k)
+        freqs.append(f[k])
+    return {"spec": full[np.ix_(idx[0], idx[1])], "freqs": freqs, "frames": (fu, fv), "poly": poly}
+
+
+def _coef_matrix(intent: Intent, coef: np.ndarray) -> np.ndarray:
+    """Trend-term coefficients ``(terms, 3)`` as a tensor Legendre array ``(du+1, dv+1, 3)``."""
+    du = max(t[0] for t in intent.terms)
+    dv = max(t[1] for t in intent.terms)
+    M = np.zeros((du + 1, dv + 1, coef.shape[-1]))
+    for k, (a, b) in enumerate(intent.terms):
+        M[a, b] = coef[k]
+    return M
+
+
+# ---------------------------------------------------------------- the trend through the scheme
+def trend_image_coef(intent: Intent, scheme) -> np.ndarray:
+    """Coefficients (same Legendre terms) of the scheme's limit surface of the intent's trend.
+
+    The limit of a net sampling a polynomial of degree <= the scheme's reproduction degree is a
+    polynomial of the same degree; at the lattice points it is the limit stencil applied to the
+    polynomial's lattice samples, which determine it.
+    """
+    L = np.asarray(scheme.limit_stencil, float)
+    if not intent.terms or intent.terms == [(0, 0)] or L.shape[0] % 2 == 0 or L.shape[1] % 2 == 0:
+        return intent.coef.copy()
+    fu, fv = intent.frames
+    ru, rv = L.shape[0] // 2, L.shape[1] // 2
+    mu = max(fu.spans + 1, max(t[0] for t in intent.terms) + 2)
+    mv = max(fv.spans + 1, max(t[1] for t in intent.terms) + 2)
+    xs = np.arange(-ru, mu + ru) + fu.offset
+    ys = np.arange(-rv, mv + rv) + fv.offset
+    padded = intent.trend(xs, ys)
+    lim = np.zeros((mu, mv, 3))
+    for a in range(L.shape[0]):
+        for b in range(L.shape[1]):
+            if L[a, b] != 0.0:
+                lim += L[a, b] * padded[2 * ru - a: 2 * ru - a + mu, 2 * rv - b: 2 * rv - b + mv]
+    from numpy.polynomial import legendre as Lg
+
+    Vx = Lg.legvander(2 * (np.arange(mu) + fu.offset) / fu.spans - 1, max(t[0] for t in intent.terms))
+    Vy = Lg.legvander(2 * (np.arange(mv) + fv.offset) / fv.spans - 1, max(t[1] for t in intent.terms))
+    A = np.stack([Vx[:, a][:, None] * Vy[:, b][None, :] for a, b in intent.terms], axis=-1).reshape(mu * mv, -1)
+    coef, *_ = np.linalg.lstsq(A, lim.reshape(mu * mv, 3), rcond=None)
+    return coef
+
+
+# ---------------------------------------------------------------- the two roads
+def _fine_spectrum(intent: Intent) -> np.ndarray:
+    """The lattice spectrum repeated to the fine grid's half spectrum, scaled by ``K^2``."""
+    fu, fv = intent.frames
+    pu, pv = intent.spectrum.shape[:2]
+    B = fv.K * pv
+    rows = np.arange(fu.K * pu) % pu
+    cols = np.arange(B // 2 + 1) % pv
+    return intent.spectrum[np.ix_(rows, cols)] * (fu.K * fv.K)
+
+
+def predicted_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFields:
     """Artifact fields from the scheme's spectral response (the *predicted* road).
 
-    Fine spectrum of the residual's limit surface: ``S(xi) = K^2 T_L(xi) R(xi mod 1)`` with
-    ``T_L`` the scheme's transfer to the ``K = 2^L`` grid (SPEC §4: L steps of the symbol followed by
-    the limit stencil, exact without alias truncation). The trend's limit is a polynomial of the same
-    degree (sum rules), obtained exactly from the limit stencil at the integers; its difference from
-    the trend is signal error.
+    Fine spectrum of the residual's limit surface: ``S(xi) = K^2 T_L(xi) R(xi mod 1)``, ``T_L`` the
+    scheme's transfer to the ``K = 2^L`` grid (SPEC §4), ``R`` the lattice spectrum of the residual's
+    intent; the trend's limit is a polynomial (:func:`trend_image_coef`). Ripple: the limit's bins
+    above 1/2; the surface less its ripple: the base band plus the trend's limit.
 
     Parameters
     ----------
     intent : Intent
     scheme : Scheme
-    fast : bool
-        For tensor-product schemes, compute the same fields by per-axis factors
-        (:func:`cadartifact.separable.tensor_fields`); False forces the 2-D FFT path (the reference).
+    reading : {"net", "surface"}
 
     Returns
     -------
     ArtifactFields
     """
-    if fast:
-        from .separable import tensor_fields
-
-        out = tensor_fields(intent, scheme, "predicted")
-        if out is not None:
-            return out
-    au, av = intent.axes
-    fu, fv = au.freqs(fine=True), av.freqs(fine=True)
-    h = len(fv) // 2 + 1  # real fields: the non-negative bins of the last axis suffice
-    T = np.asarray(scheme.transfer(fu[:, None], np.abs(fv[None, :h]), levels=au.levels))
-    fine = intent.fine_spectrum(half=True)
-    base_w = intent.baseband_weight()[:, :h]
-    dev_spec = fine * (T - base_w)[:, :, None]
-    shape = (au.fine_count, av.fine_count)
-    bands = band_split(dev_spec, fu, fv, shape)
-    trend_limit_coef = _trend_limit_coef(intent, scheme)
-    x, y = au.x, av.x
-    poly_err = intent.trend(x, y, trend_limit_coef - intent.coef)
-    bands["signal_error"] = bands["signal_error"] + poly_err
-    intent_fine = intent.evaluate()
-    surface = intent_fine + bands["signal_error"] + bands["total"]
-    return ArtifactFields(x=x, y=y, surface=surface, intent=intent_fine, bands=bands,
-                          method="predicted", levels=au.levels)
+    fu, fv = intent.frames
+    B = fv.K * fv.period
+    h = B // 2 + 1
+    T = np.asarray(scheme.transfer(_fine_freqs(fu)[:, None], np.abs(_fine_freqs(fv)[:h])[None, :], fu.levels))
+    limit_spec = _fine_spectrum(intent) * T[:, :, None]
+    poly = _coef_matrix(intent, trend_image_coef(intent, scheme))
+    return _finish(intent, limit_spec, poly, None, "predicted", reading)
 
 
-def predicted_surface(intent: Intent, scheme) -> np.ndarray:
-    """Only the predicted limit surface on the fine grid, ``(a, b, 3)`` (one inverse FFT)."""
-    au, av = intent.axes
-    fu, fv = au.freqs(fine=True), av.freqs(fine=True)
-    h = len(fv) // 2 + 1
-    T = np.asarray(scheme.transfer(fu[:, None], np.abs(fv[None, :h]), levels=au.levels))
-    res = np.fft.irfft2(intent.fine_spectrum(half=True) * T[:, :, None], s=(len(fu), len(fv)),
-                        axes=(0, 1))[: au.fine_count, : av.fine_count]
-    return res + intent.trend(au.x, av.x, _trend_limit_coef(intent, scheme))
+#: The measured road's period, in multiples of the net's points: a longer bridge is a smoother one.
+MEASURED_EXTENSION = 4
 
 
-def ripple_only(spectrum: np.ndarray, fu: np.ndarray, fv: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
-    """The whole ripple (x1 + x2 + diagonal) of a fine-grid spectrum, one inverse FFT."""
-    base = (np.abs(fu) < 0.5 - 1e-12)[:, None] & (np.abs(fv) < 0.5 - 1e-12)[None, :]
-    a, b = shape
-    return np.fft.ifft2(spectrum * (~base)[:, :, None], axes=(0, 1)).real[:a, :b]
+def measured_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFields:
+    """Artifact fields of the real surface (the *measured* road).
 
-
-def _trend_limit_coef(intent: Intent, scheme) -> np.ndarray:
-    """Coefficients of the limit surface of the polynomial trend (a polynomial of the same degree).
-
-    The limit at the integers is the limit stencil applied to the trend extended as a polynomial
-    beyond the net; a polynomial of degree <= d is determined by those samples.
+    The real surface (:func:`cadartifact.measure.real_surface`: exact NURBS evaluation of a face,
+    numerical subdivision or the uniform B-spline of a cage) less a polynomial fit is continued past
+    each open border by a degree-7 Hermite bridge (:func:`_bridge`: value and three derivatives
+    continuous, exact for a B-spline's end span) and band-split by FFT (:func:`_bridged_bands`).
+    The net's points never enter the split, so how they sit near a clamped border cannot leak into
+    the ripple; periodic directions wrap, and there the road equals the predicted one to rounding.
     """
-    if not intent.terms or intent.terms == [(0, 0)]:
-        return intent.coef.copy()
-    L = np.asarray(scheme.limit_stencil, float)
-    ru, rv = (L.shape[0] - 1) / 2, (L.shape[1] - 1) / 2
-    nu, nv = intent.net.shape
-    if ru != int(ru) or rv != int(rv):
-        # an even-size stencil (dual scheme) has no vertex at the integers: evaluate through the
-        # transfer function's polynomial behaviour instead (the trend is reproduced up to the
-        # stencil's moments); fall back to the trend itself, i.e. no polynomial signal error.
-        return intent.coef.copy()
-    ru, rv = int(ru), int(rv)
-    # sample on enough integers to determine the limit polynomial (the trend extends past the net)
-    nu = max(nu, max(t[0] for t in intent.terms) + 2)
-    nv = max(nv, max(t[1] for t in intent.terms) + 2)
-    xs = np.arange(-ru, nu + ru)
-    ys = np.arange(-rv, nv + rv)
-    padded = intent.trend(xs, ys)
-    lim = np.zeros((nu, nv, 3))
-    # the limit point at J is sum_n L_n P_{J-n}; L is symmetric for the catalogue, kept general here
-    for a in range(L.shape[0]):
-        for b in range(L.shape[1]):
-            if L[a, b] != 0.0:
-                lim += L[a, b] * padded[2 * ru - a: 2 * ru - a + nu, 2 * rv - b: 2 * rv - b + nv]
-    A = poly_design(np.arange(nu), np.arange(nv), intent.spans, intent.terms).reshape(nu * nv, -1)
-    coef, *_ = np.linalg.lstsq(A, lim.reshape(nu * nv, 3), rcond=None)
-    return coef
+    from .measure import real_surface
+
+    fu, fv = intent.frames
+    real = real_surface(intent, scheme)
+    wide = tuple(f.with_extension(MEASURED_EXTENSION) for f in (fu, fv))
+    bands, smooth, baseband = _bridged_bands(real, wide, scheme)
+    return _assemble(intent, bands, smooth, real, "measured", reading, baseband)
 
 
+def _bridged_bands(field: np.ndarray, frames, scheme) -> tuple[dict, np.ndarray, dict]:
+    """Bands of a field on the domain, split after a polynomial fit and a smooth periodic bridge.
+
+    A tensor Legendre polynomial (:func:`_poly_fit`) is fitted and kept out of the split; the rest is
+    continued past each open border by :func:`_bridge` and band-split by FFT.
+
+    Returns
+    -------
+    (bands, smooth, baseband) : (dict, (a, b, 3) float, dict)
+        The ripple bands (``signal_error`` zero), the smooth part (base band plus polynomial), and
+        the smooth part in the form :func:`baseband_at` evaluates anywhere.
+    """
+    fu, fv = frames
+    own = scheme.degrees or (int(scheme.reproduction_degree),) * 2
+    V, poly = _poly_fit(field, frames, own)
+    rest = field - sandwich(V[0], poly, V[1])
+    ext = _bridge(_bridge(rest, fu, 0, own[0]), fv, 1, own[1])
+    ext = np.roll(ext, (fu.shift, fv.shift), axis=(0, 1))  # x = 0 at fine index `shift`
+    spec = np.fft.rfft2(ext, axes=(0, 1))
+    bands = band_split(spec, fu, fv)
+    smooth = bands["signal_error"] + sandwich(V[0], poly, V[1])
+    bands["signal_error"] = np.zeros_like(smooth)
+    return bands, smooth, _baseband(spec, fu, fv, poly)
+
+
+def _poly_fit(field: np.ndarray, frames, degrees) -> tuple[list, np.ndarray]:
+    """Least-squares tensor Legendre fit of a fine-grid field: ``(V, coefficients)``.
+
+    Degree per open direction: the scheme's (polynomials it reproduces are intent by definition),
+    or up to half the spans (at most 6: well below 1/2 cycle per span); 0 when periodic.
+    """
+    degrees = degrees or (3, 3)
+    degs = [0 if f.periodic else int(min(f.n - 1, max(d, min(f.spans // 2, 6)))) for f, d in zip(frames, degrees)]
+    V = [_legendre(f.x, f.spans, d) for f, d in zip(frames, degs)]
+    return V, sandwich(np.linalg.pinv(V[0]), field, np.linalg.pinv(V[1]))
+
+
+def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.ndarray:
+    """A domain field extended to one period: wrapped (periodic), or bridged across the gap from its
+    end back to its start by a degree-7 Hermite polynomial matching value and first three derivatives
+    at both borders.
+
+    The derivatives come from a least-squares polynomial of degree ``min(degree, K, 5)`` over the
+    first (last) span's ``K + 1`` samples: exact for a B-spline face of that degree, whose end span
+    is one polynomial piece. The extension is then as smooth at the border as the surface is
+    inside, so the split sees no border beyond the surface's own knots.
+    """
+    if frame.periodic:
+        return a
+    m, N, K = a.shape[axis], frame.K * frame.period, frame.K
+    G = N - m
+    a0 = np.moveaxis(a, axis, 0)
+    flat = a0.reshape(m, -1)
+    w = min(m, K + 1)
+    d = int(min(max(degree, 3), w - 1, 5))
+    s_ = np.arange(w, dtype=float)
+    fact = np.array([1.0, 1.0, 2.0, 6.0, 24.0, 120.0])[: d + 1]
+    Vq = s_[:, None] ** np.arange(d + 1)[None, :] / fact[None, :]  # Taylor basis at s = 0
+    Pq = np.linalg.pinv(Vq)[:4]  # value and derivatives 1..3 (per fine step)
+    if Pq.shape[0] < 4:
+        Pq = np.vstack([Pq, np.zeros((4 - Pq.shape[0], w))])
+    start = Pq @ flat[:w]
+    end = Pq @ flat[::-1][:w]
+    end[1] *= -1.0  # odd derivatives along +index at the end
+    end[3] *= -1.0
+    Lg = float(G + 1)
+    t = np.arange(1, G + 1, dtype=float) / Lg
+    H = _septic_hermite(t)  # (8, G)
+    scale = Lg ** np.arange(4)
+    coeffs = np.concatenate([end * scale[:, None], start * scale[:, None]], axis=0)  # (8, cols)
+    gap = H.T @ coeffs
+    out = np.concatenate([flat, gap], axis=0).reshape((N,) + a0.shape[1:])
+    return np.moveaxis(out, 0, axis)
+
+
+_SEPTIC = None
+
+
+def _septic_hermite(t: np.ndarray) -> np.ndarray:
+    """``(8, len(t))``: degree-7 Hermite basis on [0, 1]: value and derivatives 1-3 at 0, then at 1."""
+    global _SEPTIC
+    if _SEPTIC is None:
+        from math import factorial
+
+        rows = []
+        for at in (0.0, 1.0):
+            for k in range(4):
+                rows.append([0.0 if j < k else factorial(j) / factorial(j - k) * at ** (j - k) for j in range(8)])
+        _SEPTIC = np.linalg.inv(np.array(rows))  # monomial coefficients: column c is basis function c
+    T = t[None, :] ** np.arange(8)[:, None]  # (8, G)
+    return _SEPTIC.T @ T
+
+
+def _assemble(intent: Intent, bands: dict, smooth: np.ndarray, surface, method, reading, baseband) -> ArtifactFields:
+    check_option("intent", reading, READINGS)
+    fu, fv = intent.frames
+    if reading == "surface":
+        bands["signal_error"] = np.zeros_like(smooth)
+        intent_out = smooth
+    else:
+        intent_out = intent.evaluate()
+        bands["signal_error"] = smooth - intent_out
+        baseband = None
+    return ArtifactFields(x=fu.x, y=fv.x, surface=surface, intent=intent_out, bands=bands, method=method,
+                          levels=fu.levels, reading=reading, baseband=baseband)
+
+
+def _finish(intent: Intent, spec, poly, surface, method: str, reading: str) -> ArtifactFields:
+    """Fields from the half spectrum of a surface's non-polynomial part and its polynomial part."""
+    fu, fv = intent.frames
+    bands = band_split(spec, fu, fv)
+    smooth = bands["signal_error"] + sandwich(_legendre(fu.x, fu.spans, poly.shape[0] - 1), poly,
+                                              _legendre(fv.x, fv.spans, poly.shape[1] - 1))
+    if surface is None:
+        surface = smooth + bands["total"]
+    return _assemble(intent, bands, smooth, surface, method, reading, _baseband(spec, fu, fv, poly))
+
+
+def artifact_fields(intent: Intent, scheme, method: str = "predicted", reading: str = "surface") -> ArtifactFields:
+    """:func:`predicted_fields` or :func:`measured_fields` by name."""
+    check_option("method", method, ("predicted", "measured"))
+    return (predicted_fields if method == "predicted" else measured_fields)(intent, scheme, reading)
+
+
+# ---------------------------------------------------------------- scalars
 def project(vec: np.ndarray, normal: np.ndarray | None, component: str) -> np.ndarray:
     """Reduce a vector field ``(a, b, 3)`` to the reported scalar: signed normal part or Euclidean norm."""
     check_option("component", component, COMPONENTS)
@@ -498,37 +415,25 @@ def project(vec: np.ndarray, normal: np.ndarray | None, component: str) -> np.nd
     if component == "vector" or normal is None:
         return np.sqrt(x * x + y * y + z * z)
     dot = x * normal[..., 0] + y * normal[..., 1] + z * normal[..., 2]
-    # where the intent has no normal (collapsed edge, pole) the whole displacement counts
-    has_normal = _has_normal(normal)
-    if has_normal is True:
+    has = (normal[..., 0] != 0.0) | (normal[..., 1] != 0.0) | (normal[..., 2] != 0.0)
+    if has.all():
         return dot
-    return np.where(has_normal, dot, np.sqrt(x * x + y * y + z * z))
+    # where the intent has no normal (collapsed edge, pole) the whole displacement counts
+    return np.where(has, dot, np.sqrt(x * x + y * y + z * z))
 
 
-def _has_normal(normal: np.ndarray):
-    """``True`` when every point has a normal, else the ``(a, b)`` mask of those that do."""
-    mask = (normal[..., 0] != 0.0) | (normal[..., 1] != 0.0) | (normal[..., 2] != 0.0)
-    return True if mask.all() else mask
+def intent_normals(intent_fine: np.ndarray, K: float = 1.0, spacing: tuple[float, float] | None = None) -> np.ndarray:
+    """Unit normals ``(a, b, 3)`` of a surface sampled on a grid (zeros where degenerate).
 
-
-def intent_normals(intent_fine: np.ndarray, K: int) -> np.ndarray:
-    """Unit normals ``(a, b, 3)`` of the intent surface on the fine grid (zeros where degenerate).
-
-    ``n = du x dv / |du x dv|`` with ``du, dv`` the central differences of ``numpy.gradient``;
-    points where ``|du x dv| <= 1e-9 |du| |dv|`` (a collapsed edge or pole) get ``0``.
+    ``n = du x dv / |du x dv|`` with central differences (``numpy.gradient``; grid spacing
+    ``1/K`` or ``spacing``); points where ``|du x dv| <= 1e-9 |du| |dv|`` (a collapsed edge or
+    pole) get ``0``.
     """
-    du = np.gradient(intent_fine, 1.0 / K, axis=0)
-    dv = np.gradient(intent_fine, 1.0 / K, axis=1)
-    a0, a1, a2 = du[..., 0], du[..., 1], du[..., 2]
-    b0, b1, b2 = dv[..., 0], dv[..., 1], dv[..., 2]
-    n = np.empty_like(du)
-    n[..., 0] = a1 * b2 - a2 * b1
-    n[..., 1] = a2 * b0 - a0 * b2
-    n[..., 2] = a0 * b1 - a1 * b0
-    norm = np.sqrt(n[..., 0] ** 2 + n[..., 1] ** 2 + n[..., 2] ** 2)
-    scale = np.sqrt((a0 * a0 + a1 * a1 + a2 * a2) * (b0 * b0 + b1 * b1 + b2 * b2))
+    su, sv = spacing if spacing is not None else (1.0 / K, 1.0 / K)
+    du = np.gradient(intent_fine, su, axis=0) if intent_fine.shape[0] > 1 else np.zeros_like(intent_fine)
+    dv = np.gradient(intent_fine, sv, axis=1) if intent_fine.shape[1] > 1 else np.zeros_like(intent_fine)
+    n = np.cross(du, dv)
+    norm = np.linalg.norm(n, axis=-1)
+    scale = np.linalg.norm(du, axis=-1) * np.linalg.norm(dv, axis=-1)
     ok = norm > 1e-9 * np.maximum(scale, 1e-300)
-    if ok.all():
-        n /= norm[..., None]
-        return n
     return np.where(ok[..., None], n / np.where(ok, norm, 1.0)[..., None], 0.0)

@@ -150,8 +150,8 @@ def _one_blas_thread():
 def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
     import numpy as np
 
-    from .advisor import advise
-    from .budget import budget
+    from .advice import advise
+    from .artifact_budget import budget
     from .exchange import read
     from .report import face_record
 

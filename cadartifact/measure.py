@@ -1,18 +1,14 @@
-"""The *measured* road: the real surface evaluated on the fine grid, then band-split.
+"""The *measured* road's real surfaces, evaluated on the fine grid.
 
 Independent of the spectral formulas, the surface comes from
 
 * ``"face"``: exact NURBS evaluation of the face's own knots, degrees and weights
   (:func:`cadartifact.splines.evaluate`, checked against OCCT's evaluator in the tests),
-  parameters from index space through the Greville abscissae;
+  parameters affine in the analysis coordinates (:mod:`cadartifact.frames`);
 * ``"uniform-bspline"``: a B-spline scheme applied to a net that is not that face (an OBJ
-  cage, or another degree): uniform cardinal B-splines on the net extended like the intent;
+  cage): uniform cardinal B-splines on the net extended by even reflection;
 * ``"subdivision"``: ``L`` steps of numerical subdivision with the scheme's mask, then its
   limit stencil (4-3, 4-8, Kobbelt, user masks).
-
-The surface is linear in the control points (for fixed weights), so the trend and the
-residual are evaluated separately: the trend's deviation is a polynomial-like, low-frequency
-signal error; the residual's deviation is band-split exactly as the predicted road's.
 """
 
 from __future__ import annotations
@@ -20,10 +16,10 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import OptionError
-from .fields import ArtifactFields, Axis, Intent, band_split
-from .splines import basis_matrix, evaluate, index_to_param, periodic_greville
+from .splines import basis_matrix, evaluate
+from .tensor import sandwich
 
-__all__ = ["measured_fields", "measurement_road", "subdivide", "apply_stencil", "cardinal_operator"]
+__all__ = ["real_surface", "measurement_road", "subdivide", "apply_stencil", "cardinal_operator"]
 
 
 def measurement_road(net, scheme) -> tuple[str, str]:
@@ -115,15 +111,6 @@ def apply_stencil(a: np.ndarray, stencil: np.ndarray) -> np.ndarray:
     return _convolve(np.asarray(a, float), np.asarray(stencil, float))
 
 
-def _param_axis(net, axis: int, x: np.ndarray) -> np.ndarray:
-    """Parameters of index coordinates ``x`` along one direction of a B-spline face."""
-    knots, p, n, per = net.knots[axis], net.degrees[axis], net.shape[axis], net.periodic[axis]
-    if per:
-        period = knots[len(knots) - p - 1] - knots[p]
-        return index_to_param(periodic_greville(knots, p, n), x, periodic=True, period=period)
-    return index_to_param(net.greville()[axis], x)
-
-
 def cardinal_operator(n: int, degree: int, x: np.ndarray, periodic: bool) -> np.ndarray:
     """``(len(x), n)``: control points -> the uniform cardinal B-spline of degree ``degree`` at index ``x``.
 
@@ -137,75 +124,24 @@ def cardinal_operator(n: int, degree: int, x: np.ndarray, periodic: bool) -> np.
     return basis_matrix(t, degree, x, n=m) @ fold
 
 
-def _evaluator(intent: Intent, scheme, road: str):
-    """A function mapping control points ``(nu, nv, 3)`` to the surface on the fine grid."""
-    net = intent.net
-    au, av = intent.axes
-    if road == "face":
-        u = _param_axis(net, 0, au.x)
-        v = _param_axis(net, 1, av.x)
-        return lambda pts: evaluate(net, u, v, points=pts)
-    if road == "uniform-bspline":
-        from .separable import sandwich
+def real_surface(intent, scheme) -> np.ndarray:
+    """The real surface of the intent's net on its fine grid, ``(a, b, 3)``.
 
-        mats = [cardinal_operator(ax.n, deg, ax.x, per) for ax, deg, per in zip((au, av), scheme.degrees, net.periodic)]
-        return lambda pts: sandwich(mats[0], np.asarray(pts, float), mats[1])
-    # numerical subdivision
+    ``face``: the face's own NURBS (knots, degrees, weights) at the parameters of the fine grid;
+    ``uniform-bspline``: the uniform cardinal B-spline of the net (extended by even reflection, or
+    wrapped); ``subdivision``: ``levels`` steps of the scheme's mask and its limit stencil.
+    """
+    net = intent.net
+    fu, fv = intent.frames
+    road, _ = measurement_road(net, scheme)
+    if road == "face":
+        return evaluate(net, fu.param(fu.x), fv.param(fv.x))
+    if road == "uniform-bspline":
+        mats = [cardinal_operator(f.n, deg, f.x, f.periodic) for f, deg in zip((fu, fv), scheme.degrees)]
+        return sandwich(mats[0], net.points, mats[1])
     mask = np.asarray(scheme.mask, float)
     stencil = np.asarray(scheme.limit_stencil, float)
     r = max(mask.shape) // 2 + max(stencil.shape) // 2 + 2
-    K = au.K
-
-    def run(pts):
-        fine = apply_stencil(subdivide(_pad(pts, r, net.periodic), mask, au.levels), stencil)
-        return fine[r * K: r * K + au.fine_count, r * K: r * K + av.fine_count]
-
-    return run
-
-
-def measured_fields(intent: Intent, scheme, fast: bool = True) -> ArtifactFields:
-    """Artifact fields of the real surface (the *measured* road).
-
-    Parameters
-    ----------
-    intent : Intent
-        From :func:`cadartifact.fields.design_intent` with the same scheme.
-    scheme : Scheme
-    fast : bool
-        When the real surface is a sum of products of per-axis matrices (a non-rational or
-        constant-weight face, a uniform B-spline), band-split the factors
-        (:func:`cadartifact.separable.tensor_fields`); False forces the 2-D FFT path.
-
-    Returns
-    -------
-    ArtifactFields
-        ``method == "measured"``; bands as in the predicted road. The trend's deviation is
-        counted as signal error; the residual's deviation is extended (even reflection / wrap)
-        on the fine grid and band-split by FFT.
-    """
-    road, _ = measurement_road(intent.net, scheme)
-    if fast:
-        from .separable import tensor_fields
-
-        out = tensor_fields(intent, scheme, road)
-        if out is not None:
-            return out
-    ev = _evaluator(intent, scheme, road)
-    au, av = intent.axes
-    nu, nv = intent.net.shape
-    trend_pts = intent.trend(np.arange(nu), np.arange(nv))
-    s_trend = ev(trend_pts)
-    s_res = ev(intent.residual)
-    intent_fine = intent.evaluate()
-    trend_fine = intent.trend(au.x, av.x)
-    dev = s_res - (intent_fine - trend_fine)
-    if fast:
-        from .separable import split_field
-
-        bands = split_field(dev, au, av)
-    else:
-        spec = np.fft.fft2(av.extend(au.extend(dev, 0), 1), axes=(0, 1))
-        bands = band_split(spec, au.freqs(fine=True), av.freqs(fine=True), (au.fine_count, av.fine_count))
-    bands["signal_error"] = bands["signal_error"] + (s_trend - trend_fine)
-    return ArtifactFields(x=au.x, y=av.x, surface=s_trend + s_res, intent=intent_fine, bands=bands,
-                          method="measured", levels=au.levels)
+    K = fu.K
+    fine = apply_stencil(subdivide(_pad(net.points, r, net.periodic), mask, fu.levels), stencil)
+    return fine[r * K: r * K + fu.fine_count, r * K: r * K + fv.fine_count]

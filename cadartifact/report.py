@@ -39,7 +39,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .budget import METRICS
+from .artifact_budget import METRICS
 from .errors import FileFormatError, OptionError, check_option
 
 __all__ = ["advise_files", "budget_record", "face_record", "render", "SCHEMA"]
@@ -107,7 +107,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     CadArtifactError
         For the first file that cannot be read: nothing is returned (fail closed, no partial document).
     """
-    from .advisor import advise
+    from .advice import advise
     from .exchange import read
 
     check_option("metric", metric, METRICS)

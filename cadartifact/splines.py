@@ -119,7 +119,7 @@ def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray |
     Bu = basis_matrix(ku, p, u, nu, pu)
     Bv = basis_matrix(kv, q, v, nv, pv)
     P = net.points if points is None else np.asarray(points, float)
-    from .separable import sandwich
+    from .tensor import sandwich
 
     if net.weights is None:
         return sandwich(Bu, P, Bv)

@@ -134,7 +134,7 @@ def face_maps(nets, direction: str = "total", scheme=None, *, levels: int = 3, c
         (the budget's region: the trimmed face, its interior when measured), so
         ``peak == budget.stats[direction].peak``.
     """
-    from ..budget import budget
+    from ..artifact_budget import budget
 
     check_option("direction", direction, DIRECTIONS)
     out = []

@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import OptionError, check_option
-from .fields import COMPONENTS, FIELD_NAMES, ArtifactFields, design_intent, intent_normals, predicted_fields, project
+from .fields import COMPONENTS, FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals, project
+from .intent import READINGS, design_intent
 from .net import ControlNet
 
 __all__ = ["Budget", "Stat", "budget", "default_scheme", "METHODS", "METRICS", "REGIONS"]
@@ -66,6 +67,13 @@ class Budget:
         ``"peak"`` or ``"rms"``: what :meth:`share` divides by the tolerance.
     component : str
         ``"normal"`` (signed displacement along the intent's normal) or ``"vector"`` (its length).
+    intent : str
+        The reading of the design intent: ``"surface"`` (the surface less its ripple; no signal
+        error) or ``"net"`` (the shape the control points sample).
+    undersampled : float
+        Share of the net intent's RMS above 0.4 cycles per control point (above
+        :data:`cadartifact.intent.UNDERSAMPLED_SHARE` the net under-samples its intent and
+        :attr:`notes` says so).
     levels : int
         The fine grid has ``2**levels`` samples per control spacing.
     stats : dict str -> Stat
@@ -92,9 +100,22 @@ class Budget:
     levels: int
     stats: dict
     check: dict | None = None
+    intent: str = "surface"
+    undersampled: float = 0.0
     fields: ArtifactFields | None = field(default=None, repr=False)
     scalar_fields: dict | None = field(default=None, repr=False)
     region: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def notes(self) -> list[str]:
+        """Plain-language caveats about these numbers."""
+        from .intent import UNDERSAMPLED_SHARE
+
+        out = []
+        if self.undersampled > UNDERSAMPLED_SHARE:
+            out.append(f"the net under-samples its intent: {self.undersampled:.0%} of its content lies above "
+                       "0.4 cycles per control point, which no net of this density can tell from ripple")
+        return out
 
     def share(self, name: str) -> float | None:
         """``stats[name].<metric> / tolerance`` (None without a tolerance)."""
@@ -121,6 +142,9 @@ class Budget:
             "metric": self.metric,
             "component": self.component,
             "levels": self.levels,
+            "intent": self.intent,
+            "undersampled": _num(self.undersampled),
+            "notes": self.notes,
         }
         d.update({name: {"peak": _num(s.peak), "rms": _num(s.rms)} for name, s in self.stats.items()})
         if self.tolerance is not None:
@@ -135,7 +159,7 @@ def _num(x):
 
 
 def border_margin(net: ControlNet, scheme) -> int:
-    """Control spacings from an open border that the *interior* leaves out.
+    """Spans from an open border that the *interior* leaves out.
 
     A clamped B-spline's first ``p`` spans have uneven Greville abscissae, and their effect on the
     surface decays by about ``2 - sqrt(3)`` per span (cubic): ``p + 1`` spans keep it below a few
@@ -146,35 +170,36 @@ def border_margin(net: ControlNet, scheme) -> int:
     return max(scheme.mask.shape) // 2
 
 
-def region_mask(net: ControlNet, fields: ArtifactFields, region: str, margin: int) -> np.ndarray:
-    """Fine-grid points that count: inside the trimmed face's uv bounds, and away from open borders
-    by ``margin`` control spacings for ``region="interior"``."""
-    x, y = fields.x, fields.y
+def trim_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Points of the grid ``x x y`` (analysis coordinates) inside the trimmed face's uv bounds."""
     keep = np.ones((len(x), len(y)), bool)
-    if region == "interior":
-        for axis, (coord, n) in enumerate(((x, net.shape[0]), (y, net.shape[1]))):
-            if net.periodic[axis]:
-                continue
-            inside = (coord >= margin) & (coord <= n - 1 - margin)
-            if not inside.any():  # a net too small for the margin: use its centre line
-                inside = np.abs(coord - (n - 1) / 2) <= 0.5
-            keep &= inside[:, None] if axis == 0 else inside[None, :]
-    if net.uv_bounds is not None and net.knots is not None:
-        from .measure import _param_axis
+    if net.uv_bounds is None or net.knots is None:
+        return keep
+    u0, u1, v0, v1 = net.uv_bounds
+    masks = []
+    for frame, pts, (lo, hi) in zip(frames, (x, y), ((u0, u1), (v0, v1))):
+        par = frame.param(pts)
+        if frame.periodic:
+            per = frame.h * frame.spans
+            par = lo + np.mod(par - lo, per)
+        tol = 1e-9 * max(1.0, abs(hi - lo))
+        masks.append((par >= lo - tol) & (par <= hi + tol))
+    trim = masks[0][:, None] & masks[1][None, :]
+    return trim if trim.any() else keep
 
-        u0, u1, v0, v1 = net.uv_bounds
-        u = _param_axis(net, 0, x)
-        v = _param_axis(net, 1, y)
-        if net.periodic[0]:
-            per = net.knots[0][len(net.knots[0]) - net.degrees[0] - 1] - net.knots[0][net.degrees[0]]
-            u = u0 + np.mod(u - u0, per)
-        if net.periodic[1]:
-            per = net.knots[1][len(net.knots[1]) - net.degrees[1] - 1] - net.knots[1][net.degrees[1]]
-            v = v0 + np.mod(v - v0, per)
-        tol_u, tol_v = 1e-9 * max(1.0, abs(u1 - u0)), 1e-9 * max(1.0, abs(v1 - v0))
-        trim = ((u >= u0 - tol_u) & (u <= u1 + tol_u))[:, None] & ((v >= v0 - tol_v) & (v <= v1 + tol_v))[None, :]
-        if (keep & trim).any():
-            keep &= trim
+
+def region_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray, region: str, margin: int) -> np.ndarray:
+    """Points that count: inside the trimmed face's uv bounds, and ``margin`` spans away from open
+    borders for ``region="interior"``."""
+    keep = trim_mask(net, frames, x, y)
+    if region == "interior":
+        for axis, (coord, frame) in enumerate(zip((x, y), frames)):
+            if frame.periodic:
+                continue
+            inside = (coord >= margin) & (coord <= frame.spans - margin)
+            if not inside.any():  # a net too small for the margin: its centre line
+                inside = np.abs(coord - frame.spans / 2) <= 0.5
+            keep = keep & (inside[:, None] if axis == 0 else inside[None, :])
     return keep
 
 
@@ -194,9 +219,18 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
     return res
 
 
+def analysis_net(net: ControlNet, scheme) -> ControlNet:
+    """The net as the scheme reads it: a face under its own degrees keeps its knots and weights;
+    under another scheme its points are a cage (uniform parametrisation of that scheme)."""
+    own = net.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(net.degrees)
+    if own or net.knots is None:
+        return net
+    return ControlNet(points=net.points, periodic=net.periodic, unit=net.unit, origin=net.origin)
+
+
 def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metric: str = "peak",
            method: str = "auto", levels: int = 3, component: str = "normal", region: str = "auto",
-           keep_fields: bool = False) -> Budget:
+           intent: str = "surface", keep_fields: bool = False) -> Budget:
     """Per-direction artifact budget of a control net.
 
     Parameters
@@ -209,9 +243,9 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     metric : {"peak", "rms"}
         What shares and :meth:`Budget.meets` use.
     method : {"auto", "predicted", "measured", "both"}
-        ``auto``: predicted where the uniform theory applies (uniform knots, constant weights, or a
-        cage), measured otherwise; ``both``: predicted stats (measured for non-uniform faces) plus the
-        other road's agreement in :attr:`Budget.check`.
+        ``auto``: measured (the real surface) for a face under its own degrees, predicted (the
+        spectral road) for cages and other schemes; ``both``: the primary road's stats plus the
+        other road's agreement on the interior in :attr:`Budget.check`.
     levels : int
         Fine grid ``K = 2**levels`` per control spacing (3: K = 8, close to the continuous surface;
         1: the paper's refined vertices).
@@ -219,9 +253,11 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         Report the displacement along the intent's normal (what a profile tolerance measures;
         tangential motion only re-parametrises) or its full length.
     region : {"auto", "face", "interior"}
-        ``interior`` leaves out ``max(p, q) + 1`` control spacings at open borders (clamped ends are
-        outside the uniform model); ``auto``: the whole face when predicted, the interior when a face
-        is measured.
+        ``interior`` leaves out ``max(p, q) + 1`` spans at open borders; ``auto`` and ``face``: the
+        whole (trimmed) face.
+    intent : {"surface", "net"}
+        The reading of the design intent (SPEC §4): the surface less its ripple (no signal error),
+        or the shape the control points sample.
     keep_fields : bool
         Keep the fine-grid fields for pictures.
 
@@ -241,46 +277,50 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     check_option("method", method, METHODS)
     check_option("component", component, COMPONENTS)
     check_option("region", region, REGIONS)
+    check_option("intent", intent, READINGS)
     if tolerance is not None:
-        tolerance = float(tolerance)
+        try:
+            tolerance = float(tolerance)
+        except (TypeError, ValueError):
+            raise OptionError("tolerance", "a positive number of model units", tolerance) from None
         if not math.isfinite(tolerance) or tolerance <= 0:
             raise OptionError("tolerance", "a positive number of model units", tolerance)
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
-
-    intent = design_intent(net, sch, levels)
-    own = net.knots is not None and sch.degrees is not None and tuple(sch.degrees) == tuple(net.degrees)
-    uniform = net.uniform or not own
-    if not uniform:
-        why = []
-        if not all(net.knots_uniform):
-            why.append("knots are not uniform")
-        if net.weights_vary:
-            why.append("weights vary")
-        primary, reason = "measured", " and ".join(why) + ": outside the uniform theory, measured on the real surface"
-    elif method == "measured":
-        primary, reason = "measured", "measured on request"
+    work = analysis_net(net, sch)
+    it = design_intent(work, sch, levels)
+    face = work.knots is not None
+    if method in ("auto", "both"):
+        primary = "measured" if face else "predicted"
     else:
-        primary, reason = "predicted", "uniform: spectral prediction"
-    if method == "predicted" and not uniform:
-        primary, reason = "predicted", "predicted on request although " + reason.split(":")[0]
-
-    main = _road(primary, intent, sch)
-    margin = border_margin(net, sch)
+        primary = method
+    if primary == "measured":
+        reason = ("the real surface (exact NURBS evaluation of the face)" if face else
+                  "the real surface (numerical subdivision / uniform B-spline of the net)")
+        why = []
+        if face and not all(net.knots_uniform):
+            why.append("knots are not uniform")
+        if face and net.weights_vary:
+            why.append("weights vary")
+        if why:
+            reason += "; " + " and ".join(why) + ": outside the uniform theory"
+    else:
+        reason = "spectral prediction (the scheme's responses)"
+    main = artifact_fields(it, sch, primary, intent)
+    frames = it.frames
+    margin = border_margin(work, sch)
     if region == "auto":
-        region = "interior" if primary == "measured" and net.knots is not None else "face"
-        if region == "interior":
-            reason += f"; stats leave out {margin} spans at clamped borders (outside the uniform model)"
+        region = "face"
     scalars = _scalars(main, component)
-    keep = region_mask(net, main, region, margin)
+    keep = region_mask(work, frames, main.x, main.y, region, margin)
     stats = _stats(scalars, keep)
 
     check = None
     if method == "both":
         other_name = "measured" if primary == "predicted" else "predicted"
-        other = _road(other_name, intent, sch)
-        interior = region_mask(net, main, "interior", margin)
+        other = artifact_fields(it, sch, other_name, intent)
+        interior = region_mask(work, frames, main.x, main.y, "interior", margin)
         diff = np.linalg.norm(main.bands["total"] - other.bands["total"], axis=-1)[interior]
         scale = np.linalg.norm(main.bands["total"], axis=-1)[interior]
         mad = float(diff.max()) if diff.size else 0.0
@@ -288,14 +328,7 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         check = {"method": other_name, "max_abs_diff": mad, "relative": mad / peak if peak > 0 else 0.0}
 
     return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=tolerance, metric=metric,
-                  component=component, levels=levels, stats=stats, check=check,
+                  component=component, levels=levels, stats=stats, check=check, intent=intent,
+                  undersampled=it.undersampled(),
                   fields=main if keep_fields else None, scalar_fields=scalars if keep_fields else None,
                   region=keep if keep_fields else None)
-
-
-def _road(name: str, intent, scheme) -> ArtifactFields:
-    if name == "predicted":
-        return predicted_fields(intent, scheme)
-    from .measure import measured_fields
-
-    return measured_fields(intent, scheme)
