@@ -24,15 +24,21 @@ def measure_on_occt(scorer, net, x: np.ndarray, y: np.ndarray) -> dict:
     return scorer._measure(S - I, normal, keep)
 
 
-def verify_advice(scorer, shape, binding, tolerance: float, advised) -> dict:
+def verify_advice(scorer, shape, binding, tolerance: float, advised, target: float | None = None) -> dict:
     """Measure the advised net (and one step coarser in the binding direction) on OCCT's surface.
+
+    ``meets`` compares with the tolerance; the coarser net is compared with the search's ``target``
+    (the tolerance less the intent's reserve), which it must exceed.
 
     Returns
     -------
     dict
         ``{"method": "occt", "levels", "value", "meets", "region": "face"}`` and, with a binding
-        direction, ``"coarser": {"shape", "value", "meets"}``.
+        direction, ``"coarser": {"shape", "value", "meets"}``; for the ``net`` reading also
+        ``"samples"``: the largest distance of OCCT's surface from today's control points at their
+        Greville abscissae (the points are samples of the shape: a check that needs no intent).
     """
+    target = tolerance if target is None else target
     from .fitting import candidate_net
 
     metric = scorer.metric
@@ -45,5 +51,24 @@ def verify_advice(scorer, shape, binding, tolerance: float, advised) -> dict:
         coarser = (shape[0] - 1, shape[1]) if binding == "u" else (shape[0], shape[1] - 1)
         Q, S, I, normal, keep, (au, av) = scorer.fit(*coarser)
         c = measure_on_occt(scorer, candidate_net(scorer.net, Q, au, av), au.x, av.x)
-        out["coarser"] = {"shape": list(coarser), "value": c[metric], "meets": bool(c[metric] <= tolerance)}
+        out["coarser"] = {"shape": list(coarser), "value": c[metric], "meets": bool(c[metric] <= target)}
+    if scorer.reading == "net" and scorer.work.knots is not None and scorer.work is scorer.net:
+        out["samples"] = _sample_distance(scorer.net, advised)
     return out
+
+
+def _sample_distance(net, advised) -> float:
+    """Largest distance of OCCT's evaluation of ``advised`` from ``net``'s points at their Greville parameters."""
+    from .exchange import evaluate_grid
+    from .splines import periodic_greville
+
+    pars = []
+    for k in range(2):
+        t, p, n = net.knots[k], net.degrees[k], net.shape[k]
+        if net.periodic[k]:
+            lo, hi = t[p], t[len(t) - p - 1]
+            pars.append(lo + np.mod(periodic_greville(t, p, n) - lo, hi - lo))
+        else:
+            pars.append(net.greville()[k])
+    S = evaluate_grid(advised, pars[0], pars[1])
+    return float(np.linalg.norm(S - net.points, axis=-1).max())
