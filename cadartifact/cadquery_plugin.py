@@ -70,7 +70,7 @@ def _record(net, b, include_signal_error: bool) -> dict:
 
 def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak", scheme=None,
            include_signal_error: bool = False, compare: bool = False, verify: bool = False,
-           convert: bool = False, name: str | None = None) -> list[dict]:
+           convert: bool = False, name: str | None = None, intent: str = "surface") -> list[dict]:
     """Per-face artifact budgets (and density advice when a tolerance is given) of a CadQuery model.
 
     Parameters
@@ -83,6 +83,9 @@ def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak"
         Default: each face's own B-spline degrees.
     include_signal_error : bool
         Let the tolerance cover the whole deviation from intent, not only the ripple.
+    intent : {"surface", "net"}
+        The reading of the design intent (SPEC §4): the surface less its ripple, or the shape the
+        control points sample.
     compare, verify : bool
         As :func:`cadartifact.advise` (off by default: the hook runs inside a modelling script).
     convert : bool
@@ -103,13 +106,14 @@ def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak"
     from .report import face_record
 
     check_option("metric", metric, _METRICS)
+    check_option("intent", intent, ("surface", "net"))
     t = None if tol is None else _tolerance(tol)
     rows = []
     for net in _nets(shape_or_workplane, convert, name):
         if t is None:
-            rows.append(_record(net, budget(net, scheme, metric=metric), include_signal_error))
+            rows.append(_record(net, budget(net, scheme, metric=metric, intent=intent), include_signal_error))
         else:
-            adv = advise(net, t, scheme, metric=metric, include_signal_error=include_signal_error,
+            adv = advise(net, t, scheme, metric=metric, intent=intent, include_signal_error=include_signal_error,
                          compare=compare, verify=verify)
             rows.append(face_record(net, adv))
     return rows
@@ -133,7 +137,7 @@ def _describe(row: dict, metric: str, t: float, include_signal_error: bool, unit
 
 
 def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", scheme=None,
-          include_signal_error: bool = False, convert: bool = False):
+          include_signal_error: bool = False, convert: bool = False, intent: str = "surface"):
     """A function for ``Workplane.invoke`` that checks every B-spline face against a tolerance.
 
     Parameters
@@ -149,6 +153,8 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
         Default: each face's own B-spline degrees.
     include_signal_error : bool
         Compare the whole deviation from intent instead of the ripple.
+    intent : {"surface", "net"}
+        As :func:`report`.
     convert : bool
         Also analyse revolution/extrusion/offset faces converted to B-splines.
 
@@ -165,6 +171,7 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
     t = _tolerance(tol)
     check_option("mode", mode, MODES)
     check_option("metric", metric, _METRICS)
+    check_option("intent", intent, ("surface", "net"))
     if scheme is not None:
         from .schemes import scheme as get_scheme
 
@@ -178,14 +185,14 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
         key = "deviation" if include_signal_error else "total"
         rows = []
         for net in _nets(workplane, convert, None):
-            b = budget(net, scheme, t, metric=metric)
+            b = budget(net, scheme, t, metric=metric, intent=intent)
             if not b.meets(include_signal_error):
                 rows.append((b.stats[key].get(metric), net, _record(net, b, include_signal_error)))
         if not rows:
             return workplane
         rows.sort(key=lambda r: -r[0])
         _, worst_net, worst = rows[0]
-        adv = advise(worst_net, t, scheme, metric=metric, include_signal_error=include_signal_error,
+        adv = advise(worst_net, t, scheme, metric=metric, intent=intent, include_signal_error=include_signal_error,
                      compare=False, verify=False)
         worst["advice"] = adv.to_dict()
         message = _describe(worst, metric, t, include_signal_error, worst_net.unit)

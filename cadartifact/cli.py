@@ -255,6 +255,9 @@ def advise_cmd(
                                          help="Scheme (default: each face's own B-spline degrees; Catmull-Clark for OBJ)."),
     include_signal_error: bool = typer.Option(False, "--include-signal-error",
                                               help="Let the tolerance cover the whole deviation from intent."),
+    intent: str = typer.Option("surface", "--intent",
+                               help="Design intent: surface (the surface less its ripple) or net (the shape the "
+                                    "control points sample)."),
     face: Optional[List[int]] = typer.Option(None, "--face", help="Only this face index (repeatable)."),
     write_resampled: Optional[Path] = typer.Option(None, "--write-resampled",
                                                    help="Write every advised face as a B-spline surface to this STEP file."),
@@ -274,6 +277,7 @@ def advise_cmd(
     from .report import RichProgress, advise_files, render
 
     check_option("--metric", metric, METRICS)
+    check_option("--intent", intent, ("surface", "net"))
     if not (tol > 0) or tol != tol or tol == float("inf"):
         raise fail(f"--tol: expected a positive number of model units, received {tol!r}")
     if scheme is not None:
@@ -288,7 +292,7 @@ def advise_cmd(
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
                            verify=verify, progress=progress,
-                           keep=keep)
+                           keep=keep, intent=intent)
     if write_resampled is not None:
         from .exchange import write_step
         from .report import resampled_nets
@@ -364,6 +368,8 @@ def gate_cmd(
                                                   help="Warn at this fraction of the tolerance (0 < f <= 1; "
                                                        "default 0.8)."),
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
+    intent: Optional[str] = typer.Option(None, "--intent",
+                                         help="Design intent: surface or net (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
 ):
@@ -385,7 +391,8 @@ def gate_cmd(
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:
         raise OptionError("--jobs", "a number of processes >= 1", jobs)
-    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme})
+    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
+                     "intent": intent})
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
     settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis

@@ -54,7 +54,8 @@ def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]
     Notes
     -----
     ``fail`` if ``value > t``; ``warn`` if ``warn_fraction * t <= value <= t``; else ``pass``. A
-    measured face (outside the uniform theory) is capped at ``warn`` unless ``measured = "fail"``.
+    face outside the uniform theory (non-uniform knots or varying weights) is capped at ``warn``
+    unless ``measured = "fail"``.
     """
     key = "deviation" if settings.include_signal_error else "total"
     value = record["budget"][key][settings.metric]
@@ -67,9 +68,9 @@ def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]
                                    f"{settings.warn_fraction:g} of it")
     else:
         verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} within tolerance {t:g}"
-    if verdict == "fail" and record["method"] == "measured" and settings.measured == "warn":
+    if verdict == "fail" and not record.get("uniform", True) and settings.measured == "warn":
         verdict = "warn"
-        reason += " (outside the uniform theory, numbers relative to control-point intent: capped at warn " \
+        reason += " (non-uniform knots or varying weights, outside the uniform theory: capped at warn " \
                   "by policy measured = 'warn')"
     return verdict, reason, value
 
@@ -172,9 +173,9 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
         try:
             check = verify
             if check:  # verification costs a real-surface evaluation: only for faces that fail
-                b = budget(net, settings.scheme, settings.tolerance, metric=settings.metric)
+                b = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=settings.intent)
                 check = not b.meets(settings.include_signal_error)
-            adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric,
+            adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
                          include_signal_error=settings.include_signal_error, compare=False, verify=check)
             rec = face_record(net, adv)
         except CadArtifactError as exc:
@@ -349,6 +350,6 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
         tolerance = next((e["policy"]["tolerance"] for e in entries if e.get("policy")), None)
     return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": tolerance, "units": units,
             "metric": base["metric"], "include_signal_error": base["include_signal_error"],
-            "warn_fraction": base["warn_fraction"], "measured": base["measured"], "scheme": base["scheme"],
+            "intent": base.get("intent", "surface"), "warn_fraction": base["warn_fraction"], "measured": base["measured"], "scheme": base["scheme"],
             "policy": policy.source[len("policy "):] if policy.source else None,
             "files": entries, "summary": summary, "verdict": verdict, "exit_code": exit_code}

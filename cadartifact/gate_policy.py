@@ -8,6 +8,7 @@ table is passed over), or given with ``--policy FILE``::
     metric = "peak"               # or "rms"
     warn_fraction = 0.8           # value >= 0.8 * tolerance but within it: "warn"
     include_signal_error = false  # let the tolerance cover the attenuation too
+    intent = "surface"            # or "net": the shape the control points sample (SPEC §4)
     scheme = "bicubic"            # default: each face's own B-spline degrees (Catmull-Clark for OBJ)
     measured = "warn"             # or "fail": see below
 
@@ -63,11 +64,11 @@ METRICS = ("peak", "rms")
 MEASURED = ("warn", "fail")
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
-TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured", "override")
-OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured",
+TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "override")
+OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
                  "ignore_faces")
 
-DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False,
+DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
             "scheme": None, "measured": "warn", "ignore_faces": ()}
 
 
@@ -95,6 +96,8 @@ class FileSettings:
     warn_fraction : float
         ``0 < f <= 1``.
     include_signal_error : bool
+    intent : {"surface", "net"}
+        The reading of the design intent (SPEC §4).
     scheme : str or None
         None: each face's own degrees (Catmull-Clark for cages).
     measured : {"warn", "fail"}
@@ -107,6 +110,7 @@ class FileSettings:
     include_signal_error: bool = False
     scheme: str | None = None
     measured: str = "warn"
+    intent: str = "surface"
     ignore_faces: tuple = ()
 
     def to_dict(self) -> dict:
@@ -198,6 +202,10 @@ def _check_value(source: str, key: str, value):
     if key == "measured":
         if value not in MEASURED:
             raise PolicyError(source, key, f"expected one of 'warn', 'fail', received {value!r}")
+        return value
+    if key == "intent":
+        if value not in ("surface", "net"):
+            raise PolicyError(source, key, f"expected one of 'surface', 'net', received {value!r}")
         return value
     if key == "include_signal_error":
         if not isinstance(value, bool):
@@ -407,7 +415,8 @@ def base_settings(policy: Policy, cli: dict) -> dict:
 def check_cli(values: dict) -> dict:
     """Validate gate options given on the command line (same rules as the policy keys)."""
     out = {}
-    names = {"tolerance": "--tol", "metric": "--metric", "warn_fraction": "--warn-fraction", "scheme": "--scheme"}
+    names = {"tolerance": "--tol", "metric": "--metric", "warn_fraction": "--warn-fraction", "scheme": "--scheme",
+             "intent": "--intent"}
     for key, value in values.items():
         if value is None:
             continue

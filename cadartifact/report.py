@@ -65,7 +65,10 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "rational": net.rational,
         "scheme": budget.scheme,
         "method": budget.method,
+        "uniform": bool(net.knots is None or net.uniform),
+        "intent": budget.intent,
         "reason": budget.reason,
+        "notes": budget.notes,
         "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in budget.stats.items()},
         "share": None if t is None else {k: _f(s.get(budget.metric) / t) for k, s in budget.stats.items()},
         "meets_tolerance": None if t is None else bool(budget.stats[key].get(budget.metric) <= t),
@@ -81,7 +84,8 @@ def face_record(net, advice) -> dict:
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
-                 faces=None, compare="auto", verify: bool = True, progress=None, keep=None) -> dict:
+                 faces=None, compare="auto", verify: bool = True, progress=None, keep=None,
+                 intent: str = "surface") -> dict:
     """Load every file, advise every analysable face, and build the document.
 
     Parameters
@@ -141,7 +145,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             if faces is not None and net.origin.face not in faces:
                 continue
             adv = advise(net, tolerance, scheme, metric=metric, include_signal_error=include_signal_error,
-                         compare=compare, verify=verify)
+                         compare=compare, verify=verify, intent=intent)
             rec = face_record(net, adv)
             entries.append(rec)
             if keep is not None:
@@ -156,6 +160,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
                           "warnings": list(res.warnings), "faces": entries})
     units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
     return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
+            "intent": "net" if include_signal_error else intent,
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
 
 

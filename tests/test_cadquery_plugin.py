@@ -176,6 +176,6 @@ def test_importing_the_plugin_does_not_import_cadquery():
 def test_sample_script_runs(capsys):
     sample = Path(__file__).resolve().parents[1] / "samples" / "cadquery_check.py"
     module = runpy.run_path(str(sample))
-    assert module["main"](0.05) == 0
+    assert module["main"](0.002) == 0
     out = capsys.readouterr().out
     assert "warning: face 0: ripple peak" in out and "per-face budget" in out and "EXCEEDS" in out
