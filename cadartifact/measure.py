@@ -6,7 +6,7 @@ Independent of the spectral formulas, the surface comes from
   (:func:`cadartifact.splines.evaluate`, checked against OCCT's evaluator in the tests),
   parameters affine in the analysis coordinates (:mod:`cadartifact.frames`);
 * ``"uniform-bspline"``: a B-spline scheme applied to a net that is not that face (an OBJ
-  cage): uniform cardinal B-splines on the net extended by even reflection;
+  cage): uniform cardinal B-splines on the net continued by its intent past its borders;
 * ``"subdivision"``: ``L`` steps of numerical subdivision with the scheme's mask, then its
   limit stencil (4-3, 4-8, Kobbelt, user masks).
 """
@@ -127,9 +127,10 @@ def cardinal_operator(n: int, degree: int, x: np.ndarray, periodic: bool) -> np.
 def real_surface(intent, scheme) -> np.ndarray:
     """The real surface of the intent's net on its fine grid, ``(a, b, 3)``.
 
-    ``face``: the face's own NURBS (knots, degrees, weights) at the parameters of the fine grid;
-    ``uniform-bspline``: the uniform cardinal B-spline of the net (extended by even reflection, or
-    wrapped); ``subdivision``: ``levels`` steps of the scheme's mask and its limit stencil.
+    ``face``: the face's own NURBS (knots, degrees, weights) at the parameters of the fine grid.
+    A cage has no surface past its border rows: it is continued there by its intent (which passes
+    through its points), then ``uniform-bspline``: the uniform cardinal B-spline of the continued net;
+    ``subdivision``: ``levels`` steps of the scheme's mask and its limit stencil.
     """
     net = intent.net
     fu, fv = intent.frames
@@ -137,11 +138,18 @@ def real_surface(intent, scheme) -> np.ndarray:
     if road == "face":
         return evaluate(net, fu.param(fu.x), fv.param(fv.x))
     if road == "uniform-bspline":
-        mats = [cardinal_operator(f.n, deg, f.x, f.periodic) for f, deg in zip((fu, fv), scheme.degrees)]
-        return sandwich(mats[0], net.points, mats[1])
+        r = max(scheme.degrees) // 2 + 2
+        pts = intent.evaluate(np.arange(-r, fu.n + r, dtype=float), np.arange(-r, fv.n + r, dtype=float))
+        mats = []
+        for f, deg in zip((fu, fv), scheme.degrees):
+            m = f.n + 2 * r
+            t = -r - (deg + 1) / 2 + np.arange(m + deg + 1, dtype=float)
+            mats.append(basis_matrix(t, deg, f.x, n=m))
+        return sandwich(mats[0], pts, mats[1])
     mask = np.asarray(scheme.mask, float)
     stencil = np.asarray(scheme.limit_stencil, float)
     r = max(mask.shape) // 2 + max(stencil.shape) // 2 + 2
     K = fu.K
-    fine = apply_stencil(subdivide(_pad(net.points, r, net.periodic), mask, fu.levels), stencil)
+    pts = intent.evaluate(np.arange(-r, fu.n + r, dtype=float), np.arange(-r, fv.n + r, dtype=float))
+    fine = apply_stencil(subdivide(pts, mask, fu.levels), stencil)
     return fine[r * K: r * K + fu.fine_count, r * K: r * K + fv.fine_count]
