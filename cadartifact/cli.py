@@ -340,9 +340,12 @@ def _print_written(written: dict, units: str) -> None:
             if r["max_distance"] is None:
                 continue
             label = str(r["face"]) + (f" ({r['name']})" if r["name"] else "")
+            edges = "" if r["edge_tolerance"] is None else f"; edge tolerance {r['edge_tolerance']:.3g} {units}"
             con.print(f"  face {label}: max {r['max_distance']:.4g} {units}, mean {r['mean_distance']:.4g} {units} "
-                      f"from the old surface; edge tolerance {r['edge_tolerance']:.3g}; "
+                      f"from the old surface (same u, v){edges}; "
                       + ("valid" if r["valid"] else "[red]BRepCheck: invalid[/]"), soft_wrap=True)
+        if f.get("valid") is False:
+            con.print("  [red]BRepCheck rejects the written model[/] (see the JSON 'written')", soft_wrap=True)
 
 
 def _samples_dir() -> Path:

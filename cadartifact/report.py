@@ -212,9 +212,10 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
     Returns
     -------
     dict
-        The document's ``written`` entry: ``{"mode": "model" | "faces-only", "files": [{"path",
+        The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
         "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
-        "edge_tolerance", "valid"}], "kept": [face indices left as they were]}], "path", "faces"}``
+        "edge_tolerance", "valid", "model_valid"}], "kept": [face indices left as they were],
+        "valid": BRepCheck on the written model or None}], "path", "faces"}``
         (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
         faces whose advised net differs from today's are replaced; the others stay untouched
         and are listed in ``kept``.
@@ -240,7 +241,9 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
             changed = {net.origin.face: new for (_, net, _), new in zip(items, nets) if new.shape != net.shape}
             faces = write_model(src, changed, target, provenance=provenance)
             kept_faces = sorted(set(by_face) - set(changed))
-        files.append({"path": str(target), "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces})
+        checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
+        files.append({"path": str(target), "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
+                      "valid": all(checks) if checks else None})
     modes = {f["mode"] for f in files}
     return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,
             "path": files[0]["path"] if files else str(out), "faces": files[0]["faces"] if len(files) == 1 else

@@ -98,9 +98,9 @@ def test_written_model_keeps_faces_names_trims_and_untouched_faces(model, tmp_pa
     records = write_model(model, replacements, out, provenance=PROVENANCE)
 
     assert [r["face"] for r in records] == sorted(replacements)
-    for r in records:  # the same surface, refined: no distance, and a valid face
+    for r in records:  # the same surface, refined: no distance, and a valid face in a valid model
         assert r["max_distance"] < 1e-9 and r["mean_distance"] <= r["max_distance"], r
-        assert r["valid"], r
+        assert r["valid"] and r["model_valid"], r
     after = quiet_read(out)
     assert after.faces_total == before.faces_total
     plain_out = tmp_path / "plain.step"  # OCCT's round trip alone, no face replaced
@@ -134,6 +134,7 @@ def test_written_model_keeps_faces_names_trims_and_untouched_faces(model, tmp_pa
     for index in replacements:
         a, b = area(faces_plain[index]), area(faces_after[index])
         assert b == pytest.approx(a, rel=1e-8), (index, a, b)
+        assert faces_after[index].Orientation() == faces_plain[index].Orientation()
     assert BRepCheck_Analyzer(written).IsValid()
 
     text = out.read_text(errors="replace")
@@ -143,6 +144,9 @@ def test_written_model_keeps_faces_names_trims_and_untouched_faces(model, tmp_pa
         assert line in header, (line, header)
     assert f"source={model.name}" in header and "cadartifact 0.1.0" in header
     source_text = Path(model).read_text(errors="replace")
+    product = re.search(r"PRODUCT\s*\(\s*'([^']*)'", source_text)
+    if product:  # the product keeps its name
+        assert f"PRODUCT('{product.group(1)}'" in text
     for unit in ("INCH", ".CENTI.,.METRE.", ".MILLI.,.METRE."):  # the file's length unit is kept
         if re.search(r"LENGTH_UNIT\(\)[^;]*" + re.escape(unit), source_text) or (
                 unit == "INCH" and "'INCH'" in source_text):
@@ -166,6 +170,19 @@ def test_known_offset_is_reported_as_the_distance(tmp_path):
     gap = np.linalg.norm(evaluate_grid(new, u, v) - evaluate_grid(net, u, v), axis=-1)
     assert rec["max_distance"] == pytest.approx(gap.max(), abs=1e-9)
     assert rec["mean_distance"] == pytest.approx(gap.mean(), abs=1e-9)
+
+
+@pytest.mark.parametrize("model, dz", [("hull_freeform.step", 5.0), ("car_hood_coarse.step", 0.5)])
+def test_a_large_move_keeps_a_valid_model_with_edge_tolerances_covering_it(model, dz, tmp_path):
+    model = SAMPLES / model
+    net = quiet_read(model).nets[0]
+    out = tmp_path / "moved.step"
+    (rec,) = write_model(model, {0: net.replace(points=net.points + np.array([0.0, 0.0, dz]))}, out,
+                         provenance=PROVENANCE)
+    assert rec["max_distance"] == pytest.approx(dz, rel=1e-9) and rec["valid"] and rec["model_valid"]
+    assert dz * (1 - 1e-6) <= rec["edge_tolerance"] <= dz * 1.01  # ShapeFix: the edges' gap to the new surface
+    back = dict(iter_faces(shape_of(out)))
+    assert BRepCheck_Analyzer(back[0]).IsValid()
 
 
 def test_faces_only_writes_just_the_nets(tmp_path):
@@ -256,3 +273,37 @@ def test_cli_faces_only_needs_write_resampled(tmp_path, monkeypatch):
     result = invoke(["advise", SAMPLES / "clean_panel.step", "--tol", "0.05", "--faces-only"])
     assert result.exit_code == 2 and "--faces-only" in result.stderr
 
+
+
+def test_shapefix_face_runs_on_a_replaced_face_brepcheck_rejects(tmp_path, monkeypatch):
+    """The fallback path: pretend BRepCheck rejects the replaced face once; ShapeFix_Face runs, nothing else changes."""
+    import cadartifact.exchange.model_writer as mw
+
+    real = mw.BRepCheck_Analyzer
+    calls = []
+
+    class Strict:
+        def __init__(self, shape):
+            self.ok = real(shape).IsValid() and (len(calls) > 0 or shape.ShapeType().name != "TopAbs_FACE")
+            calls.append(shape)
+
+        def IsValid(self):
+            return self.ok
+
+    monkeypatch.setattr(mw, "BRepCheck_Analyzer", Strict)
+    fixes = []
+    real_fix = mw.ShapeFix_Face
+    monkeypatch.setattr(mw, "ShapeFix_Face", lambda face: fixes.append(face) or real_fix(face))
+    model = REALDATA / "MAINBODY_BACK.stp"
+    if not model.exists():
+        model = SAMPLES / "hull_freeform.step"
+    before = quiet_read(model)
+    net = next(n for n in before.nets if n.weights is None)
+    out = tmp_path / "fixed.step"
+    (rec,) = write_model(model, {net.origin.face: refined(net)}, out, provenance=PROVENANCE)
+    assert rec["max_distance"] < 1e-9
+    after = quiet_read(out)
+    assert after.faces_total == before.faces_total
+    assert [n.origin.face for n in after.nets] == [n.origin.face for n in before.nets]
+    assert real(shape_of(out)).IsValid()
+    assert len(fixes) == 1

@@ -35,7 +35,7 @@ from OCP.gp import gp_Pnt  # noqa: E402
 from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
 from OCP.Interface import Interface_Static  # noqa: E402
 from OCP.ShapeBuild import ShapeBuild_ReShape  # noqa: E402
-from OCP.ShapeFix import ShapeFix_Edge, ShapeFix_Shape  # noqa: E402
+from OCP.ShapeFix import ShapeFix_Edge, ShapeFix_Face  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
 from OCP.StepBasic import StepBasic_Product  # noqa: E402
 from OCP.STEPConstruct import STEPConstruct  # noqa: E402
@@ -239,11 +239,12 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     -------
     list of dict
         One per replaced face, in face order: ``{"face": int, "name": str | None,
-        "max_distance": float, "mean_distance": float, "edge_tolerance": float, "valid": bool}``.
+        "max_distance": float, "mean_distance": float, "edge_tolerance": float, "valid": bool,
+        "model_valid": bool}``.
         The distances are ``|S_old(u, v) - S_new(u, v)|`` on a 41 x 41 lattice of the face's
         trimmed uv box (model units, mm for STEP); ``edge_tolerance`` is the largest tolerance
         of the face's edges after the fix; ``valid`` is BRepCheck's verdict on the written face
-        (on the new face alone when ``faces_only``).
+        (on the new face alone when ``faces_only``), ``model_valid`` on the whole written shape.
 
     Raises
     ------
@@ -295,10 +296,18 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             for edge in edges:
                 fix.FixSameParameter(edge)
         BRepLib.UpdateTolerances_s(result, False)
-        if not BRepCheck_Analyzer(result).IsValid():
-            fixer = ShapeFix_Shape(result)
-            fixer.Perform()
-            result = fixer.Shape()
+        # ShapeFix_Face only on a replaced face BRepCheck rejects: the rest of the model stays as it was read
+        context = ShapeBuild_ReShape()
+        refixed = False
+        for index, face in iter_faces(result):
+            if index in replacements and not BRepCheck_Analyzer(face).IsValid():
+                fixer = ShapeFix_Face(face)
+                fixer.SetContext(context)
+                fixer.Perform()
+                refixed = True
+        if refixed:
+            result = context.Apply(result)
+        model_valid = bool(BRepCheck_Analyzer(result).IsValid())
     new_faces = list(iter_faces(result))
     if len(new_faces) != len(faces):  # ShapeFix must not split or merge faces: refuse rather than renumber
         raise InputError(out, f"fixing the model changed its face count ({len(faces)} -> {len(new_faces)}); "
@@ -321,7 +330,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
                   default=0.0)
         records.append({"face": index, "name": face_name(face) if face_name else None, "max_distance": dmax,
                         "mean_distance": dmean, "edge_tolerance": float(tol),
-                        "valid": bool(BRepCheck_Analyzer(written).IsValid())})
+                        "valid": bool(BRepCheck_Analyzer(written).IsValid()), "model_valid": model_valid})
     return records
 
 
@@ -338,6 +347,6 @@ def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, pr
         net = replacements[index]
         dmax, dmean = _distance(face, basis, occ_surface(net))
         records.append({"face": index, "name": net.origin.name, "max_distance": dmax, "mean_distance": dmean,
-                        "edge_tolerance": float(BRep_Tool.Tolerance_s(face)),
-                        "valid": bool(BRepCheck_Analyzer(make_face(net)).IsValid())})
+                        "edge_tolerance": None,
+                        "valid": bool(BRepCheck_Analyzer(make_face(net)).IsValid()), "model_valid": None})
     return records
