@@ -25,7 +25,8 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
                      "comparison": {scheme: {"net", "points", "meets_tolerance"}}}
         }]
       }],
-      "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int}
+      "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int},
+      "written": {...}  (only with --write-resampled: see :func:`write_advised`)
     }
 
 ``total`` is the whole ripple (x1 + x2 + diagonal); ``deviation`` is everything the surface differs
