@@ -32,6 +32,7 @@ _LAZY = {
     "read": ("exchange", "read"),
     "from_shape": ("exchange", "from_shape"),
     "write_step": ("exchange", "write_step"),
+    "write_model": ("exchange", "write_model"),
     "cq": ("cadquery_plugin", None),
 }
 

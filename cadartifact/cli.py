@@ -259,8 +259,13 @@ def advise_cmd(
                                help="Design intent: surface (the surface less its ripple) or net (the shape the "
                                     "control points sample)."),
     face: Optional[List[int]] = typer.Option(None, "--face", help="Only this face index (repeatable)."),
-    write_resampled: Optional[Path] = typer.Option(None, "--write-resampled",
-                                                   help="Write every advised face as a B-spline surface to this STEP file."),
+    write_resampled: Optional[Path] = typer.Option(
+        None, "--write-resampled",
+        help="Write the model to this .step/.stp file with each face whose advice changes its net replaced by "
+             "the advised surface (trims, names, other faces and units kept). Several input files: one "
+             "OUT_<input stem>.step each."),
+    faces_only: bool = typer.Option(False, "--faces-only",
+                                    help="With --write-resampled: write only the advised faces, untrimmed."),
     json_out: bool = typer.Option(False, "--json", help="Print one JSON document (schema: cadartifact.report)."),
     report: Optional[Path] = typer.Option(None, "--report",
                                           help="Also write a self-contained HTML report (tables, heatmaps, maps)."),
@@ -286,6 +291,12 @@ def advise_cmd(
         get_scheme(scheme)  # a bad name fails before any file is read
     if report is not None and not (report.parent if str(report.parent) else Path(".")).is_dir():
         raise fail(f"--report: expected a file in an existing folder, received {str(report)!r}")
+    if write_resampled is not None:  # a bad output is a usage error before any work
+        from .exchange.model_writer import check_step_output
+
+        check_step_output(write_resampled, "--write-resampled")
+    elif faces_only:
+        raise fail("--faces-only: expected together with --write-resampled, received it alone")
     keep = [] if write_resampled else None
     err = _console(stderr=True)
     with RichProgress(err, enabled=err.is_terminal) as progress:
@@ -293,20 +304,21 @@ def advise_cmd(
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
                            verify=verify, progress=progress,
                            keep=keep, intent=intent)
-    if write_resampled is not None:
-        from .exchange import write_step
-        from .report import resampled_nets
+    if write_resampled is not None and keep:
+        from . import __version__
+        from .report import write_advised
 
-        nets = resampled_nets(keep)
-        if nets:
-            write_step(nets, write_resampled)
-            doc["written"] = {"path": str(write_resampled), "faces": len(nets)}
+        provenance = {"tool": "cadartifact advise", "version": __version__, "tolerance": float(tol),
+                      "units": str(doc.get("units") or "mm"), "metric": metric,
+                      "intent": str(doc.get("intent", "net")),
+                      "include_signal_error": str(bool(include_signal_error)).lower()}
+        doc["written"] = write_advised(keep, write_resampled, faces_only=faces_only, provenance=provenance)
     if json_out:
         _write_json(doc)
     else:
         render(doc, _console())
         if doc.get("written"):
-            _console().print(f"wrote {doc['written']['faces']} resampled face(s) to {doc['written']['path']}")
+            _print_written(doc["written"], doc.get("units") or "mm")
     if report is not None:
         from .viz.html import write_report
 
@@ -315,6 +327,29 @@ def advise_cmd(
             _console().print(f"wrote {report}", soft_wrap=True)
     all_ok = all(f["meets_tolerance"] for fl in doc["files"] for f in fl["faces"])
     raise typer.Exit(0 if all_ok else 1)
+
+
+def _print_written(written: dict, units: str) -> None:
+    """One line per written file and per replaced face (its distance to the old surface)."""
+    con = _console()
+    for f in written["files"]:
+        if f["mode"] == "model":
+            kept = f" ({len(f['kept'])} advised face(s) kept as they were: advice = today's net)" if f["kept"] else ""
+            con.print(f"wrote {f['path']}: the model of {f['source']} with {len(f['faces'])} face(s) "
+                      f"replaced{kept}", soft_wrap=True)
+        else:
+            why = " (an OBJ cage has no B-rep to keep)" if f["source"].lower().endswith(".obj") else ""
+            con.print(f"wrote {len(f['faces'])} resampled face(s) only to {f['path']}{why}", soft_wrap=True)
+        for r in f["faces"]:
+            if r["max_distance"] is None:
+                continue
+            label = str(r["face"]) + (f" ({r['name']})" if r["name"] else "")
+            edges = "" if r["edge_tolerance"] is None else f"; edge tolerance {r['edge_tolerance']:.3g} {units}"
+            con.print(f"  face {label}: max {r['max_distance']:.4g} {units}, mean {r['mean_distance']:.4g} {units} "
+                      f"from the old surface (same u, v){edges}; "
+                      + ("valid" if r["valid"] else "[red]BRepCheck: invalid[/]"), soft_wrap=True)
+        if f.get("valid") is False:
+            con.print("  [red]BRepCheck rejects the written model[/] (see the JSON 'written')", soft_wrap=True)
 
 
 def _samples_dir() -> Path:

@@ -25,7 +25,8 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
                      "comparison": {scheme: {"net", "points", "meets_tolerance"}}}
         }]
       }],
-      "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int}
+      "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int},
+      "written": {...}  (only with --write-resampled: see :func:`write_advised`)
     }
 
 ``total`` is the whole ripple (x1 + x2 + diagonal); ``deviation`` is everything the surface differs
@@ -42,7 +43,7 @@ from pathlib import Path
 from .artifact_budget import METRICS
 from .errors import FileFormatError, OptionError, check_option
 
-__all__ = ["advise_files", "budget_record", "face_record", "render", "SCHEMA"]
+__all__ = ["advise_files", "budget_record", "face_record", "render", "write_advised", "SCHEMA"]
 
 SCHEMA = "cadartifact.advise/1"
 DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total", "signal_error", "deviation")
@@ -183,6 +184,77 @@ def resampled_nets(kept) -> list:
             new = ControlNet(points=new.points, degrees=degs, knots=knots, unit=new.unit, origin=new.origin)
         out.append(new)
     return out
+
+
+def advised_outputs(kept, out) -> list:
+    """``(source path, output path, [(path, net, advice), ...])`` per input file of ``kept``.
+
+    One input file writes ``out`` itself; several write ``OUT_<input stem>.step`` each, next to ``out``.
+    """
+    groups: dict = {}
+    for item in kept:
+        groups.setdefault(Path(item[0]), []).append(item)
+    out = Path(out)
+    if len(groups) == 1:
+        return [(src, out, items) for src, items in groups.items()]
+    return [(src, out.with_name(f"{out.stem}_{src.stem}{out.suffix}"), items) for src, items in groups.items()]
+
+
+def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None) -> dict:
+    """Write the advice of ``(path, net, advice)`` tuples: whole models, or the advised faces only.
+
+    Parameters
+    ----------
+    kept : list of (path, ControlNet, Advice)
+        As collected by :func:`advise_files` with ``keep``.
+    out : path-like
+        A ``.step``/``.stp`` file (see :func:`advised_outputs` for several input files).
+    faces_only : bool
+        Write every advised face as an untrimmed B-spline face (no model). OBJ inputs are
+        always written this way (a cage has no B-rep to keep).
+    provenance : dict, optional
+        Header provenance (tool, version, tolerance, intent).
+
+    Returns
+    -------
+    dict
+        The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
+        "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
+        "edge_tolerance", "valid", "model_valid"}], "kept": [face indices left as they were],
+        "valid": BRepCheck on the written model or None}], "path", "faces"}``
+        (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
+        faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
+        untouched and are listed in ``kept``.
+    """
+    from .exchange.model_writer import check_step_output, write_model
+    from .exchange.step import write_step
+
+    check_step_output(out)
+    files = []
+    for src, target, items in advised_outputs(kept, out):
+        nets = resampled_nets(items)
+        by_face = {net.origin.face: new for (_, net, _), new in zip(items, nets)}
+        mode = "faces-only" if faces_only or src.suffix.lower() == ".obj" else "model"
+        if mode == "faces-only" and src.suffix.lower() == ".obj":
+            write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
+            faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
+                      "edge_tolerance": None, "valid": None} for n in nets]
+            kept_faces = []
+        elif mode == "faces-only":
+            faces = write_model(src, by_face, target, provenance=provenance, faces_only=True)
+            kept_faces = []
+        else:
+            changed = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
+                       if not getattr(adv, "kept_today", new.shape == net.shape)}
+            faces = write_model(src, changed, target, provenance=provenance)
+            kept_faces = sorted(set(by_face) - set(changed))
+        checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
+        files.append({"path": str(target), "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
+                      "valid": all(checks) if checks else None})
+    modes = {f["mode"] for f in files}
+    return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,
+            "path": files[0]["path"] if files else str(out), "faces": files[0]["faces"] if len(files) == 1 else
+            [dict(r, file=f["path"]) for f in files for r in f["faces"]]}
 
 
 def _bar(share: float | None, width: int = 4) -> str:

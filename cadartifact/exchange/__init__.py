@@ -38,6 +38,7 @@ __all__ = [
     "load",
     "from_shape",
     "write_step",
+    "write_model",
     "occ_surface",
     "evaluate_grid",
 ]
@@ -216,6 +217,16 @@ def write_step(nets, path: str | os.PathLike) -> Path:
     from .step import write_step as _write
 
     return _write(nets, path)
+
+
+def write_model(source, replacements, out, *, provenance=None, faces_only: bool = False) -> list:
+    """The whole model of ``source`` written to STEP with some faces' surfaces replaced.
+
+    See :func:`cadartifact.exchange.model_writer.write_model`.
+    """
+    from .model_writer import write_model as _write
+
+    return _write(source, replacements, out, provenance=provenance, faces_only=faces_only)
 
 
 def occ_surface(net: ControlNet):

@@ -28,7 +28,7 @@ from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Wr
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
 
-__all__ = ["check_file", "read_step", "read_iges", "read_brep", "write_step"]
+__all__ = ["check_file", "open_step", "read_step", "set_header", "read_iges", "read_brep", "write_step"]
 
 
 def _step_name(reader: STEPControl_Reader):
@@ -47,6 +47,26 @@ def _step_name(reader: STEPControl_Reader):
     return face_name
 
 
+def open_step(path) -> STEPControl_Reader:
+    """A STEP reader that has read and transferred ``path`` (same checks and errors as :func:`read_step`)."""
+    path = check_file(path)
+    reader = STEPControl_Reader()
+    with quiet_occt():
+        status = reader.ReadFile(str(path))
+        if status != IFSelect_RetDone:
+            raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
+                                  "truncated, corrupt or not STEP)")
+        if reader.NbRootsForTransfer() == 0:
+            raise FileFormatError(path, "STEP file has no shape to transfer")
+        try:
+            reader.TransferRoots()
+        except Standard_Failure as exc:
+            raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
+        if reader.NbShapes() == 0 or reader.OneShape().IsNull():
+            raise FileFormatError(path, "STEP file has no shape to transfer")
+    return reader
+
+
 def read_step(path) -> tuple[TopoDS_Shape, object]:
     """Read a STEP file.
 
@@ -63,22 +83,8 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
         Missing/empty file, a file OCCT's STEP parser rejects (status != RetDone:
         truncated, not STEP, binary), or a file without transferable shapes.
     """
-    path = check_file(path)
-    reader = STEPControl_Reader()
-    with quiet_occt():
-        status = reader.ReadFile(str(path))
-        if status != IFSelect_RetDone:
-            raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
-                                  "truncated, corrupt or not STEP)")
-        if reader.NbRootsForTransfer() == 0:
-            raise FileFormatError(path, "STEP file has no shape to transfer")
-        try:
-            reader.TransferRoots()
-        except Standard_Failure as exc:
-            raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
-        if reader.NbShapes() == 0 or reader.OneShape().IsNull():
-            raise FileFormatError(path, "STEP file has no shape to transfer")
-        return reader.OneShape(), _step_name(reader)
+    reader = open_step(path)
+    return reader.OneShape(), _step_name(reader)
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:
@@ -153,7 +159,40 @@ def _name_products(writer: STEPControl_Writer, name: str) -> None:
             entity.SetName(label)
 
 
-def write_step(nets, path) -> Path:
+def set_header(writer: STEPControl_Writer, name: str, provenance: dict | None) -> None:
+    """Fill the STEP header (FILE_NAME, FILE_DESCRIPTION) of a writer's model with provenance.
+
+    Parameters
+    ----------
+    writer : STEPControl_Writer
+        After ``Transfer`` and before ``Write``.
+    name : str
+        FILE_NAME's name (the file's name).
+    provenance : dict str -> str or float, or None
+        FILE_DESCRIPTION holds one ``key=value`` line per entry (floats as ``%g``);
+        ``"authorization"`` goes to FILE_NAME's authorisation instead. FILE_NAME's originating
+        system is ``cadartifact <version>``. None leaves OCCT's header as it is.
+    """
+    if provenance is None:
+        return
+    from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
+    from OCP.Interface import Interface_HArray1OfHAsciiString
+
+    from .. import __version__
+
+    header = APIHeaderSection_MakeHeader(writer.Model())
+    lines = [f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
+             for k, v in provenance.items() if k != "authorization"] or ["cadartifact"]
+    description = Interface_HArray1OfHAsciiString(1, len(lines))
+    for i, line in enumerate(lines, start=1):
+        description.SetValue(i, TCollection_HAsciiString(line))
+    header.SetDescription(description)
+    header.SetName(TCollection_HAsciiString(name))
+    header.SetOriginatingSystem(TCollection_HAsciiString(f"cadartifact {__version__}"))
+    header.SetAuthorisation(TCollection_HAsciiString(str(provenance.get("authorization", "cadartifact"))))
+
+
+def write_step(nets, path, *, provenance: dict | None = None) -> Path:
     """Write B-spline nets to a STEP file, one face each, in one shell.
 
     Parameters
@@ -164,6 +203,8 @@ def write_step(nets, path) -> Path:
         name, so it reads back as the face name.
     path : str or path-like
         Output file (``.step``/``.stp``).
+    provenance : dict, optional
+        Header provenance (see :func:`set_header`); None keeps OCCT's default header.
 
     Returns
     -------
@@ -203,6 +244,7 @@ def write_step(nets, path) -> Path:
         if writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone:
             raise InputError(path, "OCCT could not translate the nets to STEP")
         _name_products(writer, path.stem)
+        set_header(writer, path.name, provenance)
         finder = writer.WS().TransferWriter().FinderProcess()
         for net, face in zip(nets, faces):
             if net.origin.name:

@@ -1,0 +1,352 @@
+"""Write a whole B-rep model back to STEP with some faces' surfaces replaced by new nets.
+
+The model is read with OCCT, its faces are walked in the order :func:`cadartifact.exchange.read`
+numbers them (``TopExp_Explorer`` over the whole shape), and each replaced face gets a new TFace
+on the new ``Geom_BSplineSurface`` that keeps the face's own wires. The edges stay shared with
+the neighbouring faces; each edge of a replaced face gets its old pcurve again on the new
+surface (valid because a replacement covers the same parameter range by contract), and
+``ShapeFix_Edge.FixSameParameter`` then sets the edge tolerance to the gap between the edge's
+3-D curve and the new surface. Untouched faces, face order, face and product names and the
+file's length unit are kept; the header carries the provenance.
+
+This module does no analysis: the distance it reports is a plain grid comparison of two surfaces.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..dependencies import require
+from ..errors import InputError, OptionError
+from ..net import ControlNet
+from .files import check_file
+
+require("OCP", "writing STEP models")
+
+from OCP.BRep import BRep_Builder, BRep_Tool  # noqa: E402
+from OCP.BRepCheck import BRepCheck_Analyzer  # noqa: E402
+from OCP.BRepLib import BRepLib  # noqa: E402
+from OCP.BRepTools import BRepTools  # noqa: E402
+from OCP.gp import gp_Pnt  # noqa: E402
+from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
+from OCP.Interface import Interface_Static  # noqa: E402
+from OCP.ShapeBuild import ShapeBuild_ReShape  # noqa: E402
+from OCP.ShapeFix import ShapeFix_Edge, ShapeFix_Face  # noqa: E402
+from OCP.Standard import Standard_Failure  # noqa: E402
+from OCP.StepBasic import StepBasic_Product  # noqa: E402
+from OCP.STEPConstruct import STEPConstruct  # noqa: E402
+from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer  # noqa: E402
+from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
+from OCP.TColStd import TColStd_SequenceOfAsciiString  # noqa: E402
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FORWARD, TopAbs_REVERSED  # noqa: E402
+from OCP.TopExp import TopExp  # noqa: E402
+from OCP.TopoDS import TopoDS, TopoDS_Iterator  # noqa: E402
+from OCP.TopTools import TopTools_IndexedMapOfShape  # noqa: E402
+
+from .occ import iter_faces, occ_surface, quiet_occt, surface_kind  # noqa: E402
+from .step import set_header  # noqa: E402
+
+__all__ = ["write_model", "STEP_SUFFIXES", "check_step_output", "GRID"]
+
+#: Output suffixes write_model accepts (any case).
+STEP_SUFFIXES = (".step", ".stp")
+#: Evaluations per direction of the old/new distance grid.
+GRID = 41
+
+#: STEP unit names (as OCCT's reader reports them) -> the ``write.step.unit`` value.
+_UNITS = {"millimetre": "MM", "mm": "MM", "centimetre": "CM", "cm": "CM", "metre": "M", "m": "M",
+          "kilometre": "KM", "km": "KM", "micrometre": "UM", "um": "UM", "inch": "INCH", "foot": "FT",
+          "ft": "FT", "mile": "MI", "mil": "MIL", "microinch": "UIN"}
+
+
+def check_step_output(out, parameter: str = "out") -> Path:
+    """``out`` as a Path if it names a ``.step``/``.stp`` file in an existing folder, else :class:`OptionError`."""
+    path = Path(out)
+    if path.suffix.lower() not in STEP_SUFFIXES:
+        raise OptionError(parameter, "a .step or .stp file (the model is written as STEP)", str(out))
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OptionError(parameter, "a file in an existing folder", str(out))
+    return path
+
+
+def _read_source(path: Path):
+    """(shape, face_name, length unit for write.step.unit, product names) of a STEP/IGES/BREP model."""
+    from . import _format_of
+    from . import step
+
+    fmt = _format_of(path)
+    if fmt == "obj":
+        raise OptionError("source", "a STEP, IGES or BREP model (an OBJ cage has no B-rep to keep: "
+                          "write the faces only)", str(path))
+    if fmt != "step":
+        reader = step.read_iges if fmt == "iges" else step.read_brep
+        shape, face_name = reader(path)
+        return shape, face_name, "MM", []
+    reader = step.open_step(path)
+    shape, face_name = reader.OneShape(), step._step_name(reader)
+    lengths, angles, solids = TColStd_SequenceOfAsciiString(), TColStd_SequenceOfAsciiString(), \
+        TColStd_SequenceOfAsciiString()
+    unit = "MM"
+    try:
+        reader.FileUnits(lengths, angles, solids)
+        if lengths.Length():
+            unit = _UNITS.get(lengths.Value(1).ToCString().strip().lower(), "MM")
+    except Standard_Failure:
+        pass
+    model = reader.WS().Model()
+    products = []
+    for i in range(1, model.NbEntities() + 1):
+        entity = model.Value(i)
+        if isinstance(entity, StepBasic_Product):
+            products.append((entity.Id().ToCString() if entity.Id() else "",
+                             entity.Name().ToCString() if entity.Name() else ""))
+    return shape, face_name, unit, products
+
+
+def _check_range(index: int, surface, net: ControlNet) -> None:
+    """The replacement must span the old surface's parameter range (the pcurves stay valid)."""
+    new = occ_surface(net).Bounds()
+    old = surface.Bounds()
+    scale = max(1.0, *(abs(x) for x in old if np.isfinite(x)))
+    if not all(np.isfinite(old)) or any(abs(a - b) > 1e-7 * scale for a, b in zip(old, new)):
+        raise OptionError(f"replacements[{index}]", "a net over the face's parameter range "
+                          f"u [{old[0]:g}, {old[1]:g}] x v [{old[2]:g}, {old[3]:g}]",
+                          f"u [{new[0]:g}, {new[1]:g}] x v [{new[2]:g}, {new[3]:g}]")
+
+
+def _distance(face, old_surface, new_surface, grid: int = GRID) -> tuple[float, float]:
+    """Max and mean of ``|S_old(u, v) - S_new(u, v)|`` on a ``grid x grid`` lattice of the face's uv box."""
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+    b = old_surface.Bounds()
+    if not old_surface.IsUPeriodic():
+        u0, u1 = max(u0, b[0]), min(u1, b[1])
+    if not old_surface.IsVPeriodic():
+        v0, v1 = max(v0, b[2]), min(v1, b[3])
+    p, q = gp_Pnt(), gp_Pnt()
+    d = []
+    for u in np.linspace(u0, u1, grid).tolist():
+        for v in np.linspace(v0, v1, grid).tolist():
+            old_surface.D0(u, v, p)
+            new_surface.D0(u, v, q)
+            d.append(p.Distance(q))
+    d = np.asarray(d)
+    return float(d.max()), float(d.mean())
+
+
+def _replace_surface(face, surface):
+    """A new face on ``surface`` (global coordinates) with ``face``'s wires, edges keeping their pcurves."""
+    builder = BRep_Builder()
+    new_face = TopoDS.Face_s(face.EmptyCopied())
+    it = TopoDS_Iterator(face, False, False)  # the wires as stored: relative orientation and location
+    while it.More():
+        builder.Add(new_face, it.Value())
+        it.Next()
+    local = surface
+    if not face.Location().IsIdentity():
+        local = surface.Transformed(face.Location().Inverted().Transformation())
+    builder.UpdateFace(new_face, local, face.Location(), BRep_Tool.Tolerance_s(face))
+    edges = TopTools_IndexedMapOfShape()
+    TopExp.MapShapes_s(new_face, TopAbs_EDGE, edges)
+    fixed = []
+    for i in range(1, edges.Extent() + 1):
+        edge = TopoDS.Edge_s(edges.FindKey(i))
+        tol = BRep_Tool.Tolerance_s(edge)
+        if BRep_Tool.IsClosed_s(edge, face):  # a seam: one pcurve per orientation
+            forward = TopoDS.Edge_s(edge.Oriented(TopAbs_FORWARD))
+            c1 = BRep_Tool.CurveOnSurface_s(forward, face, 0.0, 0.0)
+            c2 = BRep_Tool.CurveOnSurface_s(TopoDS.Edge_s(edge.Oriented(TopAbs_REVERSED)), face, 0.0, 0.0)
+            builder.UpdateEdge(forward, c1, c2, new_face, tol)
+        else:
+            curve = BRep_Tool.CurveOnSurface_s(edge, face, 0.0, 0.0)
+            if curve is None:
+                raise InputError(None, "an edge of the face has no curve on its surface")
+            builder.UpdateEdge(edge, curve, new_face, tol)
+        builder.SameParameter(edge, False)
+        fixed.append(edge)
+    return new_face, fixed
+
+
+def _write(shape, out: Path, *, unit: str, names, products, source: Path, provenance: dict) -> None:
+    """Write ``shape`` to ``out`` atomically (temporary file + rename) in ``unit``."""
+    writer = STEPControl_Writer()
+    saved = Interface_Static.CVal_s("write.step.unit")
+    with quiet_occt():
+        Interface_Static.SetCVal_s("write.step.unit", unit)
+        try:
+            status = writer.Transfer(shape, STEPControl_AsIs)
+        finally:
+            Interface_Static.SetCVal_s("write.step.unit", saved)
+        if status != IFSelect_RetDone:
+            raise InputError(out, "OCCT could not translate the model to STEP")
+        model = writer.Model()
+        written = [model.Value(i) for i in range(1, model.NbEntities() + 1)
+                   if isinstance(model.Value(i), StepBasic_Product)]
+        for k, entity in enumerate(written):
+            ident, name = products[k] if k < len(products) else (out.stem, out.stem)
+            entity.SetId(TCollection_HAsciiString(ident or out.stem))
+            entity.SetName(TCollection_HAsciiString(name or ident or out.stem))
+        finder = writer.WS().TransferWriter().FinderProcess()
+        for face, name in names:
+            entity = STEPConstruct.FindEntity_s(finder, face)
+            if entity is not None and hasattr(entity, "SetName"):
+                entity.SetName(TCollection_HAsciiString(name))
+        set_header(writer, out.name, {"source": source.name, **provenance})
+        folder = out.parent if str(out.parent) else Path(".")
+        fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".step", dir=folder)
+        os.close(fd)
+        try:
+            try:
+                status = writer.Write(tmp)
+            except Standard_Failure as exc:
+                raise InputError(out, f"cannot write STEP: {exc}") from None
+            if status != IFSelect_RetDone:
+                raise InputError(out, "cannot write STEP file (check the folder is writable)")
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)
+            os.replace(tmp, out)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+
+
+def write_model(source, replacements: dict, out, *, provenance: dict | None = None,
+                faces_only: bool = False) -> list[dict]:
+    """Write ``source`` to STEP with the surfaces of some faces replaced.
+
+    Parameters
+    ----------
+    source : str or path-like
+        The original STEP/IGES/BREP model.
+    replacements : dict int -> ControlNet
+        0-based face index (as ``ControlNet.origin.face`` of :func:`cadartifact.exchange.read`)
+        -> a non-rational B-spline net over the same parameter range as that face's surface.
+    out : str or path-like
+        A ``.step``/``.stp`` file in an existing folder (checked before anything is read).
+    provenance : dict str -> str or float, optional
+        Written as ``key=value`` lines of the header's FILE_DESCRIPTION (e.g. tool, version,
+        tolerance, intent); ``"authorization"`` goes to FILE_NAME's authorisation field.
+    faces_only : bool
+        Write only the replacement nets, one untrimmed face each
+        (:func:`cadartifact.exchange.step.write_step`), instead of the whole model.
+
+    Returns
+    -------
+    list of dict
+        One per replaced face, in face order: ``{"face": int, "name": str | None,
+        "max_distance": float, "mean_distance": float, "edge_tolerance": float, "valid": bool,
+        "model_valid": bool}``.
+        The distances are ``|S_old(u, v) - S_new(u, v)|`` on a 41 x 41 lattice of the face's
+        trimmed uv box (model units, mm for STEP); ``edge_tolerance`` is the largest tolerance
+        of the face's edges after the fix; ``valid`` is BRepCheck's verdict on the written face
+        (on the new face alone when ``faces_only``), ``model_valid`` on the whole written shape.
+
+    Raises
+    ------
+    OptionError
+        ``out`` not .step/.stp or not in an existing folder; a face index the model has not;
+        a net that is a cage, rational, or over another parameter range; an OBJ source.
+    InputError
+        The source cannot be read, or the file cannot be written (nothing is left behind).
+    """
+    out = check_step_output(out)
+    source = check_file(source)
+    provenance = dict(provenance or {})
+    for index, net in replacements.items():
+        if not isinstance(net, ControlNet) or net.degrees is None or net.knots is None:
+            raise OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)", type(net).__name__)
+        if net.rational:
+            raise OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights")
+    shape, face_name, unit, products = _read_source(source)
+    faces = list(iter_faces(shape))
+    missing = sorted(set(replacements) - set(range(len(faces))))
+    if missing:
+        raise OptionError("replacements", f"face indices of {source.name} (0..{len(faces) - 1})", missing[0])
+    old = {}
+    for index in sorted(replacements):
+        face = faces[index][1]
+        kind, basis = surface_kind(BRep_Tool.Surface_s(face))
+        if basis is None:
+            raise OptionError(f"replacements[{index}]", "a face with a surface", "a face without one")
+        _check_range(index, basis, replacements[index])
+        old[index] = (face, basis)
+    if faces_only:
+        return _write_faces_only(source, replacements, old, out, provenance)
+
+    reshape = ShapeBuild_ReShape()
+    new_surfaces = {}
+    to_fix = []
+    for index in sorted(replacements):
+        face, _ = old[index]
+        surface = occ_surface(replacements[index])
+        new_surfaces[index] = surface
+        with quiet_occt():
+            new_face, edges = _replace_surface(face, surface)
+        to_fix.append(edges)
+        reshape.Replace(face, new_face)
+    with quiet_occt():
+        result = reshape.Apply(shape)
+        fix = ShapeFix_Edge()
+        for edges in to_fix:
+            for edge in edges:
+                fix.FixSameParameter(edge)
+        BRepLib.UpdateTolerances_s(result, False)
+        # ShapeFix_Face only on a replaced face BRepCheck rejects: the rest of the model stays as it was read
+        context = ShapeBuild_ReShape()
+        refixed = False
+        for index, face in iter_faces(result):
+            if index in replacements and not BRepCheck_Analyzer(face).IsValid():
+                fixer = ShapeFix_Face(face)
+                fixer.SetContext(context)
+                fixer.Perform()
+                refixed = True
+        if refixed:
+            result = context.Apply(result)
+        model_valid = bool(BRepCheck_Analyzer(result).IsValid())
+    new_faces = list(iter_faces(result))
+    if len(new_faces) != len(faces):  # ShapeFix must not split or merge faces: refuse rather than renumber
+        raise InputError(out, f"fixing the model changed its face count ({len(faces)} -> {len(new_faces)}); "
+                         "nothing written")
+    names = []
+    if face_name is not None:
+        for (_, before), (_, after) in zip(faces, new_faces):
+            name = face_name(before)
+            if name:
+                names.append((after, name))
+    _write(result, out, unit=unit, names=names, products=products, source=source, provenance=provenance)
+    records = []
+    for index in sorted(replacements):
+        face, basis = old[index]
+        written = new_faces[index][1]
+        dmax, dmean = _distance(face, basis, new_surfaces[index])
+        edges = TopTools_IndexedMapOfShape()
+        TopExp.MapShapes_s(written, TopAbs_EDGE, edges)
+        tol = max((BRep_Tool.Tolerance_s(TopoDS.Edge_s(edges.FindKey(i))) for i in range(1, edges.Extent() + 1)),
+                  default=0.0)
+        records.append({"face": index, "name": face_name(face) if face_name else None, "max_distance": dmax,
+                        "mean_distance": dmean, "edge_tolerance": float(tol),
+                        "valid": bool(BRepCheck_Analyzer(written).IsValid()), "model_valid": model_valid})
+    return records
+
+
+def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, provenance: dict) -> list[dict]:
+    """Today's output: the replacement nets alone, one untrimmed face each."""
+    from .occ import make_face
+    from .step import write_step
+
+    nets = [replacements[i] for i in sorted(replacements)]
+    write_step(nets, out, provenance={"source": source.name, **provenance})
+    records = []
+    for index in sorted(replacements):
+        face, basis = old[index]
+        net = replacements[index]
+        dmax, dmean = _distance(face, basis, occ_surface(net))
+        records.append({"face": index, "name": net.origin.name, "max_distance": dmax, "mean_distance": dmean,
+                        "edge_tolerance": None,
+                        "valid": bool(BRepCheck_Analyzer(make_face(net)).IsValid()), "model_valid": None})
+    return records
