@@ -254,10 +254,10 @@ def test_cli_writes_the_model_with_distances_in_the_json(tmp_path):
 
 def test_cli_faces_only_obj_and_several_inputs(tmp_path):
     out = tmp_path / "o.step"
-    result = invoke(["advise", SAMPLES / "clean_panel.step", SAMPLES / "cage.obj", "--tol", "0.05", "--no-verify",
+    result = invoke(["advise", SAMPLES / "hull_freeform.step", SAMPLES / "cage.obj", "--tol", "0.05", "--no-verify",
                      "--no-compare", "--write-resampled", out])
     assert result.exit_code in (0, 1), result.output
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["o_cage.step", "o_clean_panel.step"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o_cage.step", "o_hull_freeform.step"]
     assert "an OBJ cage has no B-rep to keep" in result.stdout
     assert "from the old surface" in result.stdout
     out2 = tmp_path / "faces.step"
