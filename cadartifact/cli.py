@@ -16,7 +16,7 @@ from typing import List, Optional
 import typer
 from typer.core import TyperGroup
 
-from .errors import CadArtifactError, OptionError, check_option
+from .errors import CadArtifactError, InputError, OptionError, check_option
 
 try:  # typer >= 0.2x vendors click
     from typer._click.exceptions import UsageError
@@ -105,20 +105,46 @@ class _OneLineUsageErrors(TyperGroup):
 
 
 def _usage_exit(exc: UsageError):
-    if type(exc).__name__ == "NoArgsIsHelpError":  # typer prints the help for these
-        return exc
+    if type(exc).__name__ == "NoArgsIsHelpError":
+        if getattr(exc, "ctx", None) is not None and exc.ctx.parent is None:
+            # a bare ``cadartifact``: the help is what was asked for (stdout, exit 0)
+            typer.echo(exc.ctx.get_help())
+            return typer.Exit(0)
+        return exc  # typer prints a subcommand's help for these
     return fail(usage_message(exc), exc.exit_code)
 
 
 app = typer.Typer(
     cls=_OneLineUsageErrors,
     name="cadartifact",
-    help="Measure control-net artifacts (ripples) in NURBS and subdivision surfaces and advise control-point density.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
-    rich_markup_mode="rich",
+    # plain click help: it reflows hard-wrapped docstrings, never truncates option names at 80 columns and
+    # shows text such as [tool.cadartifact] or the JSON schema's [...] as written (rich markup would eat them)
+    rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"]},
 )
+
+
+def _version(value: bool):
+    if value:
+        from . import __version__
+
+        typer.echo(f"cadartifact {__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+):
+    """Measure control-net artifacts (ripples) in NURBS and subdivision surfaces and advise control-point density.
+
+    Run 'cadartifact COMMAND -h' for a command's options; 'cadartifact demo' runs the advisor on the bundled
+    samples.
+    """
 
 
 def _console(stderr: bool = False):
@@ -176,7 +202,7 @@ class Stage(str, Enum):
 
 
 # ---------------------------------------------------------------- schemes & maps (spectral engine)
-@app.command("schemes")
+@app.command("schemes", short_help="The scheme catalogue.")
 @cli_errors
 def schemes_cmd(
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
@@ -213,7 +239,7 @@ def schemes_cmd(
     _console().print("Also: bspline(p,q) for any degrees >= 1, box(n1,n2,n3,n4), or Scheme.from_mask(array).")
 
 
-@app.command("maps")
+@app.command("maps", short_help="Response maps over the frequency square (paper Figs 8, 10-17).")
 @cli_errors(aliases={"schemes": "scheme", "out suffix": "out"})
 def maps_cmd(
     scheme: List[str] = typer.Option(["bicubic"], "--scheme", "-s", help="Scheme name; repeat to compare."),
@@ -245,7 +271,7 @@ def _write_json(doc: dict) -> None:
     typer.echo(json.dumps(doc, indent=2, allow_nan=False))
 
 
-@app.command("advise")
+@app.command("advise", short_help="Advise the control-point density per face for a tolerance.")
 @cli_errors(aliases={"tolerance": "tol", "faces": "face"})
 def advise_cmd(
     files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
@@ -264,6 +290,8 @@ def advise_cmd(
     compare: Optional[bool] = typer.Option(None, "--compare/--no-compare",
                                            help="Also advise the other named schemes (default: nets up to 2000 points)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Verify each advice on the real surface (OCCT)."),
+    convert: bool = typer.Option(False, "--convert",
+                                 help="Convert revolution/extrusion/offset faces to B-splines instead of skipping them."),
 ):
     """Advise the control-point density that keeps each face's ripple within the tolerance.
 
@@ -283,12 +311,12 @@ def advise_cmd(
     if report is not None and not (report.parent if str(report.parent) else Path(".")).is_dir():
         raise fail(f"--report: expected a file in an existing folder, received {str(report)!r}")
     keep = [] if write_resampled else None
+    files = advise_inputs(files)
     err = _console(stderr=True)
     with RichProgress(err, enabled=err.is_terminal) as progress:
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
-                           verify=verify, progress=progress,
-                           keep=keep)
+                           verify=verify, progress=progress, keep=keep, convert=convert)
     if write_resampled is not None:
         from .exchange import write_step
         from .report import resampled_nets
@@ -313,14 +341,39 @@ def advise_cmd(
     raise typer.Exit(0 if all_ok else 1)
 
 
+def advise_inputs(files) -> list:
+    """The files to advise: a folder stands for its STEP/IGES/BREP/OBJ files (recursively, as ``gate``)."""
+    from .gate_policy import CAD_SUFFIXES, expand_paths
+
+    out = []
+    for f in files:
+        if Path(f).is_dir():
+            found = expand_paths([f]) if any(Path(f).rglob("*")) else []
+            found = [p for p in found if p.suffix.lower() in CAD_SUFFIXES]
+            if not found:
+                raise InputError(f, "folder holds no STEP/IGES/BREP/OBJ file")
+            out.extend(found)
+        else:
+            out.append(Path(f))
+    return out
+
+
 def _samples_dir() -> Path:
-    for cand in (Path.cwd() / "samples", Path(__file__).resolve().parent.parent / "samples"):
-        if cand.is_dir() and any(cand.glob("*.st*p")):
+    """The samples shipped inside the package (``cadartifact/samples``, package data), else the checkout's."""
+    from importlib.resources import files
+
+    try:
+        bundled = Path(str(files("cadartifact") / "samples"))
+    except (ModuleNotFoundError, TypeError):  # pragma: no cover - a zipped or odd install
+        bundled = None
+    for cand in (bundled, Path(__file__).resolve().parent.parent / "samples"):
+        if cand is not None and cand.is_dir() and any(cand.glob("*.st*p")):
             return cand
-    raise CadArtifactError("samples/: the bundled samples were not found (run from the cadartifact checkout)")
+    raise CadArtifactError("cadartifact/samples: the bundled samples were not found (a broken installation? "
+                           "reinstall cadartifact)")
 
 
-@app.command("demo")
+@app.command("demo", short_help="Run the advisor on the bundled samples.")
 @cli_errors(aliases={"tolerance": "tol"})
 def demo_cmd(
     tol: float = typer.Option(0.05, "--tol", "-t", help="Tolerance in mm."),
@@ -340,20 +393,29 @@ def demo_cmd(
     con = _console()
     con.print(f"[bold]cadartifact demo[/]: {len(files)} sample file(s) from {folder}, tolerance {tol:g} mm\n")
     render(doc, con)
-    con.print("\nEach bar is that direction's ripple as a share of the tolerance; 'advised' is the net with the "
-              "fewest control points that keeps the ripple within it (verified on the real OCCT surface). "
-              "Try: cadartifact advise FILE --tol 0.05 --json")
+    con.print("\n" + demo_hint(doc, tol), soft_wrap=True)
+
+
+def demo_hint(doc: dict, tol: float) -> str:
+    """The demo's closing explanation: says how the advice was verified, for the formats present."""
+    words = {"occt": "on the real OCCT surface", "subdivision": "by numerical subdivision of the cage",
+             "uniform-bspline": "on the uniform B-spline surface of the net"}
+    methods = {(r["advice"].get("verification") or {}).get("method") for f in doc["files"] for r in f["faces"]}
+    roads = [text for key, text in words.items() if key in methods]
+    how = f" (verified {' and '.join(roads)})" if roads else ""
+    return ("Each bar is that direction's ripple as a share of the tolerance; 'advised' is the net with the fewest "
+            f"control points that keeps the ripple within it{how}. Try: cadartifact advise FILE --tol {tol:g} --json")
 
 
 # ---------------------------------------------------------------- gate (CI quality gate)
-@app.command("gate")
+@app.command("gate", short_help="CI quality gate: pass / warn / fail per face, reports.")
 @cli_errors
 def gate_cmd(
     paths: List[str] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files, folders (recursive) or globs.",
                                       show_default=False),
     tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
     policy: Optional[Path] = typer.Option(None, "--policy",
-                                          help="Policy TOML (default: cadartifact.toml or \\[tool.cadartifact] in "
+                                          help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
     fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
@@ -366,6 +428,9 @@ def gate_cmd(
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
+    convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
+                                           help="Convert revolution/extrusion/offset faces to B-splines and gate "
+                                                "them (overrides the policy's convert; default: skip them)."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -373,7 +438,7 @@ def gate_cmd(
 
     An unreadable file is reported as an error and the other files are still analysed (fail closed).
 
-    Policy: cadartifact.toml or \\[tool.cadartifact] in pyproject.toml (see cadartifact.gate_policy).
+    Policy: cadartifact.toml or [tool.cadartifact] in pyproject.toml (see cadartifact.gate_policy).
     """
     import importlib.util
     import os
@@ -385,7 +450,8 @@ def gate_cmd(
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:
         raise OptionError("--jobs", "a number of processes >= 1", jobs)
-    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme})
+    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
+                     "convert": convert})
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
     settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis
@@ -426,7 +492,7 @@ def gate_cmd(
 
 
 # ---------------------------------------------------------------- inspect (exchange: what a file holds)
-@app.command("inspect")
+@app.command("inspect", short_help="List the control nets in CAD and mesh files.")
 @cli_errors
 def inspect_cmd(
     files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
@@ -437,20 +503,21 @@ def inspect_cmd(
     """List the control nets in CAD and mesh files: one row per analysable face (or OBJ chart).
 
     Columns: face index, kind, degrees, net size, rational / weights vary, periodic, knots uniform,
-    trimmed fraction (face UV-bounds area / full knot-range area) and name; then a summary line
-    (faces total, analysable, skipped by kind). A file with no analysable face prints a warning
+    kept area (the share of the knot range the face's UV bounds keep: 1.000 untrimmed) and name; then a
+    summary line (faces total, analysable, skipped by kind). A file with no analysable face prints a warning
     and exits 0. If any file cannot be read, every error is printed (one line each), nothing else
     is printed (no partial tables or JSON) and the exit code is 2.
 
-    JSON schema (--json)::
+    JSON schema (--json):
 
+    \b
         {"schema": "cadartifact.inspect/1",
          "files": [{"path": str, "format": "step"|"iges"|"brep"|"obj",
                     "faces_total": int, "analysable": int, "skipped": {kind: int}, "warnings": [str],
                     "faces": [{"face": int, "name": str|null, "kind": str, "degrees": [int, int]|null,
                                "size": [nu, nv], "rational": bool, "weights_vary": bool,
                                "periodic": [bool, bool], "knots_uniform": [bool, bool],
-                               "trimmed_fraction": float|null}],
+                               "trimmed_fraction": float|null (the kept area)}],
                     "mesh": null | {"vertices": int, "quads": int, "triangles": int, "ngons": int,
                                     "regular_faces": int, "extraordinary": [vertex ids, 0-based],
                                     "crease_edges": int,
@@ -461,6 +528,7 @@ def inspect_cmd(
 
     from .exchange import SUPPORTED_EXTENSIONS, LoadWarning, read
     from .exchange.summary import result_summary
+    from .report import kind_count, plural
 
     summaries, errors = [], []
     for path in files:
@@ -489,7 +557,7 @@ def inspect_cmd(
     for doc in summaries:
         table = Table(title=doc["path"], header_style="bold", title_justify="left")
         for col in ("face", "kind", "degrees", "net", "rational", "weights vary", "periodic u,v",
-                    "uniform knots u,v", "trimmed", "name"):
+                    "uniform knots u,v", "kept area", "name"):
             table.add_column(col)
         for f in doc["faces"]:
             frac = f["trimmed_fraction"]
@@ -500,9 +568,9 @@ def inspect_cmd(
                 "-" if frac is None else f"{frac:.3f}", f["name"] or "")
         if doc["faces"]:
             con.print(table)
-        skipped = ", ".join(f"{k} {n}" for k, n in doc["skipped"].items()) or "none"
-        con.print(f"{doc['path']}: {doc['faces_total']} faces, {doc['analysable']} analysable, skipped: {skipped}",
-                  soft_wrap=True)
+        skipped = ", ".join(kind_count(k, n) for k, n in doc["skipped"].items()) or "none"
+        con.print(f"{doc['path']}: {plural(doc['faces_total'], 'face')}, {doc['analysable']} analysable, "
+                  f"skipped: {skipped}", soft_wrap=True)
         mesh = doc["mesh"]
         if mesh is not None:
             con.print(f"  mesh: {mesh['vertices']} vertices, {mesh['quads']} quads, {mesh['triangles']} triangles, "
@@ -514,7 +582,7 @@ def inspect_cmd(
 
 
 # ---------------------------------------------------------------- view (3-D heatmaps)
-@app.command("view")
+@app.command("view", short_help="3-D heatmap of each face's ripple (PNG, GLB).")
 @cli_errors(aliases={"window_size": "size", "faces": "face"})
 def view_cmd(
     file: Path = typer.Argument(..., help="STEP/IGES/BREP/OBJ file.", show_default=False),
@@ -545,11 +613,31 @@ def view_cmd(
         con.print(f"wrote {res.glb}", soft_wrap=True)
 
 
-def main():  # console-script entry point
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    """``warnings.showwarning`` for the command line: one line, no source path or code line."""
+    text = " ".join(str(message).split())
+    _console(stderr=True).print(f"[yellow]cadartifact: warning:[/] {_escape(text)}", soft_wrap=True)
+
+
+def _escape(text: str) -> str:
+    from rich.markup import escape
+
+    return escape(text)
+
+
+def quiet_warnings() -> None:
+    """No raw Python warnings on stderr: the readers' (LoadWarning) are part of every report already
+    (tables, JSON, the error line), any other is shown once as one line without a source path."""
     import warnings
 
-    # the reader's warnings are part of every report (tables, JSON); do not echo them with source lines
-    warnings.filterwarnings("ignore", message=r".*(no analysable face|skipped face)")
+    from .exchange.messages import LoadWarning
+
+    warnings.simplefilter("ignore", LoadWarning)
+    warnings.showwarning = _one_line_warning
+
+
+def main():  # console-script entry point
+    quiet_warnings()
     try:
         app()
     except KeyboardInterrupt:

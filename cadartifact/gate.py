@@ -153,9 +153,9 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
     from .advisor import advise
     from .budget import budget
     from .exchange import read
-    from .report import face_record
+    from .report import analysed_share, face_record, kind_count
 
-    res = read(path)
+    res = read(path, convert=settings.convert)
     invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
     if invalid:
         detail = "; ".join(w for w in res.warnings if "no analysable face" not in w)
@@ -193,10 +193,21 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
     if not faces:
         notes.append("no analysable face (nothing to gate): pass")
+    share = analysed_share(res)
     entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
+             "analysed_share": None if share is None else round(share, 9),
              "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
     entry["verdict"] = file_verdict(entry)
+    if share is not None:
+        skipped = ", ".join(kind_count(k, n) for k, n in sorted(res.skipped.items()))
+        text = f"analysed charts cover {100 * share:.1f} % of the cage's area" + (f" (not analysed: {skipped})"
+                                                                                   if skipped else "")
+        if share < settings.min_analysed_share:
+            entry["share_failure"] = (f"{text}, below min_analysed_share {settings.min_analysed_share:g}")
+            entry["verdict"] = _worst([entry["verdict"], "fail"])
+        elif share < 1:
+            notes.append(text)
     return entry
 
 

@@ -9,6 +9,7 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
       "files": [{
         "path": str, "units": "mm" | "model" | null,
         "faces_total": int, "skipped": {kind: count}, "warnings": [str],
+        "analysed_share": float | null (OBJ: share of the cage's area in analysed charts),
         "faces": [{
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
           "net": [nu, nv], "degrees": [p, q] | null, "scheme": str,
@@ -80,8 +81,42 @@ def face_record(net, advice) -> dict:
     return rec
 
 
+def analysed_share(result) -> float | None:
+    """Share of an OBJ cage's surface area that its analysed charts cover; None for B-rep files.
+
+    Parameters
+    ----------
+    result : LoadResult
+        With ``mesh`` (polygons) and ``charts`` (the analysed grid cells, ``face_ids``).
+
+    Returns
+    -------
+    float or None
+        ``sum(area of charted faces) / sum(area of all faces)``, polygon areas by fan triangulation
+        of the control polygons (1.0 for a mesh of zero area with every face charted).
+    """
+    import numpy as np
+
+    mesh = getattr(result, "mesh", None)
+    if mesh is None:
+        return None
+    v = np.asarray(mesh.vertices, float)
+    areas = np.zeros(len(mesh.faces))
+    for k, ids in enumerate(mesh.faces):
+        p = v[list(ids)]
+        areas[k] = 0.5 * np.linalg.norm(np.cross(p[1:-1] - p[0], p[2:] - p[0]), axis=-1).sum()
+    charted = np.zeros(len(mesh.faces), bool)
+    for chart in result.charts:
+        charted[np.asarray(chart.face_ids).ravel()] = True
+    total = float(areas.sum())
+    if not total > 0:
+        return float(charted.mean()) if len(charted) else None
+    return float(areas[charted].sum() / total)
+
+
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
-                 faces=None, compare="auto", verify: bool = True, progress=None, keep=None) -> dict:
+                 faces=None, compare="auto", verify: bool = True, progress=None, keep=None,
+                 convert: bool = False) -> dict:
     """Load every file, advise every analysable face, and build the document.
 
     Parameters
@@ -96,6 +131,8 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         ``progress(kind, total_or_None, label)``: "files" once with the count, "face" per face.
     keep : list, optional
         If given, ``(path, net, advice)`` tuples are appended (for writing resampled faces).
+    convert : bool
+        Convert revolution/extrusion/offset faces to B-splines (as :func:`cadartifact.read`).
 
     Returns
     -------
@@ -114,7 +151,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     paths = [Path(p) for p in paths]
     if not paths:
         raise OptionError("FILE", "at least one file", "none")
-    loaded = [read(p) for p in paths]  # read everything first: a bad file fails before any output
+    loaded = [read(p, convert=convert) for p in paths]  # read everything first: a bad file fails before any output
     for p, res in zip(paths, loaded):
         if res.skipped.get("degenerate"):
             # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
@@ -152,7 +189,8 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             if progress:
                 progress("face", None, f"{path.name}#{net.origin.face}")
         doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
-                          "faces_total": res.faces_total, "skipped": dict(res.skipped),
+                          "faces_total": res.faces_total, "analysed_share": _f(analysed_share(res)),
+                          "skipped": dict(res.skipped),
                           "warnings": list(res.warnings), "faces": entries})
     units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
     return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
@@ -178,6 +216,18 @@ def resampled_nets(kept) -> list:
             new = ControlNet(points=new.points, degrees=degs, knots=knots, unit=new.unit, origin=new.origin)
         out.append(new)
     return out
+
+
+def kind_count(kind: str, n: int) -> str:
+    """``"3 irregular quads"``, ``"1 triangle"``, ``"2 planes"``: a count of skipped faces of one kind."""
+    if n == 1 or kind.endswith("s") or kind in ("degenerate", "conversion failed"):
+        return f"{n} {kind}"
+    return f"{n} {kind}es" if kind.endswith(("sh", "ch", "x")) else f"{n} {kind}s"
+
+
+def plural(n: int, word: str) -> str:
+    """``"1 face"``, ``"2 faces"``."""
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
 def _bar(share: float | None, width: int = 4) -> str:
@@ -235,13 +285,15 @@ def render(doc: dict, console) -> None:
                           _bar(sh["diagonal"]), _bar(sh["lateral"]),
                           _bar(sh["deviation" if doc["include_signal_error"] else "total"]), advised, verdict)
         console.print(table)
-        skipped = ", ".join(f"{v} {k}" for k, v in sorted(f["skipped"].items()))
+        skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
+        share = f.get("analysed_share")
         if skipped:
-            console.print(f"  not analysed: {skipped}")
+            cover = "" if share is None else f" (the analysed charts cover {100 * share:.1f} % of the area)"
+            console.print(f"  not analysed: {skipped}{cover}")
         for w in f["warnings"]:
             console.print(f"  [yellow]warning:[/] {w}")
     s = doc["summary"]
-    console.print(f"[bold]{s['faces']} face(s) in {s['files']} file(s): {s['within']} within tolerance, "
+    console.print(f"[bold]{plural(s['faces'], 'face')} in {plural(s['files'], 'file')}: {s['within']} within tolerance, "
                   f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
     if any((ff["advice"].get("verification") or {}).get("meets") is False for fl in doc["files"] for ff in fl["faces"]):
         console.print("[yellow]?[/] the advised net did not verify on the real surface's interior "

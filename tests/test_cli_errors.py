@@ -122,7 +122,7 @@ def test_other_usage_errors_are_one_line(args, needle):
 
 
 def test_help_and_no_arguments_still_print_the_help():
-    for args, code in (([], 2), (["--help"], 0), (["advise", "--help"], 0)):
+    for args, code in (([], 0), (["--help"], 0), (["-h"], 0), (["advise", "--help"], 0), (["advise", "-h"], 0)):
         result = invoke(args)
         assert result.exit_code == code and "Usage:" in result.stdout and result.stderr == "", args
 
