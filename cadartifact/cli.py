@@ -573,10 +573,13 @@ def inspect_cmd(
                   f"skipped: {skipped}", soft_wrap=True)
         mesh = doc["mesh"]
         if mesh is not None:
-            con.print(f"  mesh: {mesh['vertices']} vertices, {mesh['quads']} quads, {mesh['triangles']} triangles, "
-                      f"{mesh['ngons']} n-gons, {len(mesh['extraordinary'])} extraordinary vertices, "
-                      f"{mesh['crease_edges']} crease edges, {mesh['regular_faces']} regular faces in "
-                      f"{len(mesh['charts'])} charts", soft_wrap=True)
+            counts = ((mesh["vertices"], "vertex", "vertices"), (mesh["quads"], "quad", "quads"),
+                      (mesh["triangles"], "triangle", "triangles"), (mesh["ngons"], "n-gon", "n-gons"),
+                      (len(mesh["extraordinary"]), "extraordinary vertex", "extraordinary vertices"),
+                      (mesh["crease_edges"], "crease edge", "crease edges"))
+            con.print("  mesh: " + ", ".join(f"{n} {one if n == 1 else many}" for n, one, many in counts)
+                      + f", {plural(mesh['regular_faces'], 'regular face')} in {plural(len(mesh['charts']), 'chart')}",
+                      soft_wrap=True)
         for w in doc["warnings"]:
             _console(stderr=True).print(f"[yellow]warning:[/] {w}", soft_wrap=True)
 
