@@ -8,6 +8,7 @@ traceback.
 from __future__ import annotations
 
 import functools
+import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -151,7 +152,7 @@ def _console(stderr: bool = False):
     from rich.console import Console
 
     con = Console(stderr=stderr, highlight=False)
-    if not con.is_terminal and not stderr:
+    if not con.is_terminal and not stderr and not os.environ.get("COLUMNS"):
         con = Console(stderr=stderr, highlight=False, width=120)  # logs and pipes: do not squeeze tables to 80
     return con
 
@@ -292,6 +293,8 @@ def advise_cmd(
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Verify each advice on the real surface (OCCT)."),
     convert: bool = typer.Option(False, "--convert",
                                  help="Convert revolution/extrusion/offset faces to B-splines instead of skipping them."),
+    wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
+                                        help="Every direction column (default: when the terminal has 110 columns)."),
 ):
     """Advise the control-point density that keeps each face's ripple within the tolerance.
 
@@ -328,7 +331,7 @@ def advise_cmd(
     if json_out:
         _write_json(doc)
     else:
-        render(doc, _console())
+        render(doc, _console(), wide=wide)
         if doc.get("written"):
             _console().print(f"wrote {doc['written']['faces']} resampled face(s) to {doc['written']['path']}")
     if report is not None:
@@ -431,6 +434,8 @@ def gate_cmd(
     convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
                                            help="Convert revolution/extrusion/offset faces to B-splines and gate "
                                                 "them (overrides the policy's convert; default: skip them)."),
+    wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
+                                        help="Every column in the text report (default: at 110 columns or more)."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -474,9 +479,9 @@ def gate_cmd(
 
     if fmt == "text" and output is None:
         con = _console()
-        if not con.is_terminal:  # CI logs: rich's 80-column default would fold every table
+        if not con.is_terminal and not os.environ.get("COLUMNS"):  # CI logs: the whole table, unfolded
             con.width = max(con.width, 132)
-        render_text(doc, con)
+        render_text(doc, con, wide=wide)
     else:
         text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
         if output is None:

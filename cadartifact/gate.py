@@ -56,17 +56,20 @@ def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]
     ``fail`` if ``value > t``; ``warn`` if ``warn_fraction * t <= value <= t``; else ``pass``. A
     measured face (outside the uniform theory) is capped at ``warn`` unless ``measured = "fail"``.
     """
+    from .report import unit_name
+
     key = "deviation" if settings.include_signal_error else "total"
     value = record["budget"][key][settings.metric]
     t = settings.tolerance
     what = "deviation" if settings.include_signal_error else "ripple"
+    u = unit_name(record.get("units"))  # the face's own unit, next to its numbers
     if value > t:
-        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} exceeds tolerance {t:g}"
+        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} {u} exceeds tolerance {t:g} {u}"
     elif value >= settings.warn_fraction * t:
-        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} is within tolerance {t:g} but above "
-                                   f"{settings.warn_fraction:g} of it")
+        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} {u} is within tolerance {t:g} {u} but "
+                                   f"above {settings.warn_fraction:g} of it")
     else:
-        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} within tolerance {t:g}"
+        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} {u} within tolerance {t:g} {u}"
     if verdict == "fail" and record["method"] == "measured" and settings.measured == "warn":
         verdict = "warn"
         reason += " (outside the uniform theory, numbers relative to control-point intent: capped at warn " \

@@ -27,6 +27,7 @@ from pathlib import Path
 from urllib.parse import quote
 
 from .errors import InputError
+from .report import unit_name
 
 __all__ = ["FORMATS", "RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit", "to_sarif",
            "write_atomic", "face_label"]
@@ -77,9 +78,9 @@ def _num(x) -> str:
 def face_numbers(doc: dict, entry: dict, face: dict) -> str:
     """One line with the numbers of a face: value against tolerance, per-direction peaks, advice."""
     pol = entry["policy"]
-    units = entry.get("units") or doc["units"]
+    units = file_units(doc, entry)
     peaks = ", ".join(f"{k} {_num(face['budget'][k]['peak'])}" for k in _DIRECTIONS[:4])
-    return (f"{face['verdict_reason']} {units}; peaks {peaks} {units}; net {_net(face['net'])}, "
+    return (f"{face['verdict_reason']}; peaks {peaks} {units}; net {_net(face['net'])}, "
             f"scheme {face['scheme']}, {face['method']}; {_advice_text(face)}; metric {pol['metric']}, "
             f"warn at {pol['warn_fraction']:g} of tolerance")
 
@@ -89,39 +90,65 @@ def _share(x) -> str:
     return "" if x is None else f"{100 * x:.0f}%"
 
 
-def render_text(doc: dict, console) -> None:
-    """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary."""
+def file_units(doc: dict, entry: dict) -> str:
+    """The unit of one file (never another file's: an OBJ beside STEP files stays in model units)."""
+    return unit_name(entry.get("units") if entry.get("units") else (doc["units"] if entry.get("faces") else None))
+
+
+def render_text(doc: dict, console, wide: bool | None = None) -> None:
+    """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary.
+
+    ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
+    the narrow layout (80 columns) shows face, net, value, its share, the worst direction, advised net
+    and verdict, with scheme and method under the table; no cell is cut or wraps inside a number.
+    """
     from rich.table import Table
 
+    from .report import WIDE_COLUMNS, _face_label, _worst_direction
+
+    if wide is None:
+        wide = console.width >= WIDE_COLUMNS
     for entry in doc["files"]:
         v = entry["verdict"]
         if v == "error":
             console.print(f"[{_COLOURS[v]}]ERROR[/] {entry['error']}", soft_wrap=True)
             continue
         pol = entry["policy"]
-        units = entry.get("units") or doc["units"]
+        units = file_units(doc, entry)
         title = (f"{entry['path']}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} {units}, "
                  f"{pol['metric']}, warn at {pol['warn_fraction']:g})")
         if entry["faces"]:
             table = Table(title=title, title_justify="left", header_style="bold")
-            for col in ("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised",
-                        "verdict"):
-                # fold rather than truncate: the numbers must stay readable in narrow CI logs
-                table.add_column(col, overflow="fold", min_width=4 if col != "face" else 6)
+            cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised", "verdict")
+                    if wide else ("face", "net", "value", "share", "worst", "advised", "verdict"))
+            for col in cols:
+                # only the face label may fold; numbers never wrap or shrink
+                table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
             for f in entry["faces"]:
                 sh = f["share"]
                 advised = _net(f["advice"]["net"]) if f["advice"]["meets_tolerance"] else "out of reach"
-                label = str(f["face"]) + (f" {f['name']}" if f.get("name") else "")
-                table.add_row(label, _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]), _share(sh["x2"]),
-                              _share(sh["diagonal"]), _share(sh["lateral"]), f"{f['value']:.4g}", advised,
-                              f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]")
+                verdict = f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]"
+                if wide:
+                    table.add_row(_face_label(f), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
+                                  _share(sh["x2"]), _share(sh["diagonal"]), _share(sh["lateral"]),
+                                  f"{f['value']:.4g}", advised, verdict)
+                else:
+                    key = "deviation" if pol["include_signal_error"] else "total"
+                    table.add_row(_face_label(f), _net(f["net"]), f"{f['value']:.4g}", _share(sh[key]),
+                                  _worst_direction(sh), advised, verdict)
             console.print(table)
+            if not wide:
+                schemes = ", ".join(sorted({f["scheme"] for f in entry["faces"]}))
+                methods = ", ".join(sorted({f["method"] for f in entry["faces"]}))
+                console.print(f"  values in {units}; scheme {schemes}; {methods}", soft_wrap=True)
         else:
             console.print(title)
         for f in entry["faces"]:
             if f["verdict"] != "pass":
                 console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}: {f['verdict_reason']}",
                               soft_wrap=True)
+        if entry.get("share_failure"):
+            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)
         for note in entry["notes"] + entry["warnings"]:
             console.print(f"  note: {note}", soft_wrap=True)
     console.print(summary_line(doc))

@@ -12,7 +12,7 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
         "analysed_share": float | null (OBJ: share of the cage's area in analysed charts),
         "faces": [{
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
-          "net": [nu, nv], "degrees": [p, q] | null, "scheme": str,
+          "net": [nu, nv], "degrees": [p, q] | null, "units": "mm" | "model", "scheme": str,
           "method": "predicted" | "measured", "reason": str,
           "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
                      {"peak": float, "rms": float}},
@@ -64,6 +64,7 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "net": list(net.shape),
         "degrees": list(net.degrees) if net.degrees else None,
         "rational": net.rational,
+        "units": net.unit,
         "scheme": budget.scheme,
         "method": budget.method,
         "reason": budget.reason,
@@ -240,50 +241,88 @@ def _bar(share: float | None, width: int = 4) -> str:
     return f"[{colour}]{'█' * filled}{'·' * (width - filled)} {pct:>4}[/]"
 
 
-def _units(units: str | None) -> str:
+def unit_name(units: str | None) -> str:
+    """How a unit is written in every report: ``"mm"``, or ``"model units"`` (OBJ, unknown)."""
     return "model units" if units in (None, "model") else units
 
 
-def render(doc: dict, console) -> None:
+_units = unit_name
+
+
+#: Below this console width ``render`` uses its narrow layout (``wide=None``).
+WIDE_COLUMNS = 110
+
+
+def _worst_direction(share: dict) -> str:
+    """``"X2 204%"``: the direction (X1, X2, diagonal) whose ripple takes most of the tolerance."""
+    name, value = max(((k, share.get(k) or 0.0) for k in ("x1", "x2", "diagonal")), key=lambda kv: kv[1])
+    label = {"x1": "X1", "x2": "X2", "diagonal": "diag"}[name]
+    pct = f"{value * 100:.0f}%" if value < 10 else f"{value:.0f}x"
+    return f"{label} {pct}"
+
+
+def _face_label(r: dict, limit: int = 24) -> str:
+    label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
+    return label if len(label) <= limit else label[:limit - 1] + "~"
+
+
+def render(doc: dict, console, wide: bool | None = None) -> None:
     """Print one rich table per file and a summary line.
 
     Each direction column shows that ripple's share of the tolerance (peak or RMS, as the
     document's metric), with a small bar; ``ripple`` is all of it together.
+
+    Parameters
+    ----------
+    doc : dict
+        The advise document.
+    console : rich.console.Console
+    wide : bool, optional
+        Every direction column (X1, X2, diagonal, lateral). Default: when the console is at least
+        :data:`WIDE_COLUMNS` wide; narrower consoles (80 columns) get face, net, ripple, the worst
+        direction, advised net and verdict, each cell whole (the rest is in ``--wide`` and the JSON).
     """
     from rich import box
     from rich.table import Table
 
+    if wide is None:
+        wide = console.width >= WIDE_COLUMNS
     t = doc["tolerance"]
+    key = "deviation" if doc["include_signal_error"] else "total"
     for f in doc["files"]:
         schemes = sorted({r["scheme"] for r in f["faces"]})
         methods = sorted({r["method"] for r in f["faces"]})
-        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); scheme {', '.join(schemes) or '-'}; "
-                   f"{', '.join(methods) or 'no face analysed'}")
+        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); "
+                   f"scheme {', '.join(schemes) or '-'}; {', '.join(methods) or 'no face analysed'}")
         table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
                       title_justify="left", caption_justify="left", pad_edge=False)
-        for col in ("face", "net", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple", "advised", "verdict"):
-            table.add_column(col, no_wrap=True)
-        rows = sorted(f["faces"], key=lambda r: -(r["share"]["deviation" if doc["include_signal_error"] else "total"]
-                                                  or 0.0))
+        cols = (("face", "net", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple", "advised", "verdict") if wide
+                else ("face", "net", "ripple", "worst", "advised", "verdict"))
+        for col in cols:
+            # the face label may fold (it is the only free text); numbers never wrap or shrink
+            table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
+        rows = sorted(f["faces"], key=lambda r: -(r["share"][key] or 0.0))
         for r in rows:
             sh = r["share"]
             adv = r["advice"]
-            label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
             if r["meets_tolerance"]:
                 verdict = "[green]within[/]"
-                if adv["points"] < r["net"][0] * r["net"][1]:
+                if wide and adv["points"] < r["net"][0] * r["net"][1]:
                     verdict += " [dim](coarser ok)[/]"
             elif adv["meets_tolerance"]:
                 verdict = "[red]exceeds[/]"
             else:
-                verdict = "[red]exceeds[/] [dim](out of reach)[/]"
+                verdict = "[red]exceeds[/] [dim](out of reach)[/]" if wide else "[red]unreachable[/]"
             advised = "x".join(map(str, adv["net"]))
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
                 advised += " [yellow]?[/]"
-            table.add_row(label[:24], "x".join(map(str, r["net"])), _bar(sh["x1"]), _bar(sh["x2"]),
-                          _bar(sh["diagonal"]), _bar(sh["lateral"]),
-                          _bar(sh["deviation" if doc["include_signal_error"] else "total"]), advised, verdict)
+            if wide:
+                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _bar(sh["x1"]), _bar(sh["x2"]),
+                              _bar(sh["diagonal"]), _bar(sh["lateral"]), _bar(sh[key]), advised, verdict)
+            else:
+                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _bar(sh[key]), _worst_direction(sh),
+                              advised, verdict)
         console.print(table)
         skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
         share = f.get("analysed_share")
