@@ -302,7 +302,7 @@ def advise_cmd(
     2 on usage or input errors.
     """
     from .budget import METRICS
-    from .report import RichProgress, advise_files, render
+    from .report import advise_files, render
 
     check_option("--metric", metric, METRICS)
     if not (tol > 0) or tol != tol or tol == float("inf"):
@@ -316,7 +316,7 @@ def advise_cmd(
     keep = [] if write_resampled else None
     files = advise_inputs(files)
     err = _console(stderr=True)
-    with RichProgress(err, enabled=err.is_terminal) as progress:
+    with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
                            verify=verify, progress=progress, keep=keep, convert=convert)
@@ -342,6 +342,13 @@ def advise_cmd(
             _console().print(f"wrote {report}", soft_wrap=True)
     all_ok = all(f["meets_tolerance"] for fl in doc["files"] for f in fl["faces"])
     raise typer.Exit(0 if all_ok else 1)
+
+
+def _progress(err, verb: str, total: int):
+    """A progress bar on a terminal, else (logs, pipes) one line per file on stderr."""
+    from .report import LineProgress, RichProgress
+
+    return RichProgress(err) if err.is_terminal else LineProgress(err, verb, total)
 
 
 def advise_inputs(files) -> list:
@@ -383,12 +390,12 @@ def demo_cmd(
     json_out: bool = typer.Option(False, "--json", help="Print the JSON document instead of tables."),
 ):
     """Run the advisor on the bundled samples (samples/*.step, samples/*.obj) and explain what it found."""
-    from .report import RichProgress, advise_files, render
+    from .report import advise_files, render
 
     folder = _samples_dir()
     files = sorted(p for p in folder.iterdir() if p.suffix.lower() in (".step", ".stp", ".obj"))
     err = _console(stderr=True)
-    with RichProgress(err, enabled=err.is_terminal) as progress:
+    with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, progress=progress)
     if json_out:
         _write_json(doc)
@@ -451,6 +458,7 @@ def gate_cmd(
     from .gate import build_document, run_gate
     from .gate_policy import base_settings, check_cli, expand_paths, find_policy, load_policy
     from .gate_reports import FORMATS, render_text, summary_line, to_json, to_junit, to_sarif, to_text, write_atomic
+    from .report import LineProgress, plural
 
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:
@@ -473,8 +481,15 @@ def gate_cmd(
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=err, transient=True, disable=not err.is_terminal) as bar:
         task = bar.add_task("gating files", total=len(files))
-        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify,
-                           progress=lambda entry: bar.update(task, advance=1, description=f"gated {entry['path']}"))
+        lines = None if err.is_terminal else LineProgress(err, "gated", len(files))
+
+        def done(entry):
+            bar.update(task, advance=1, description=f"gated {entry['path']}")
+            if lines is not None:
+                lines.file_done(entry["path"], entry["verdict"] + (f", {plural(len(entry['faces']), 'face')}"
+                                                                   if entry.get("faces") else ""))
+
+        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify, progress=done)
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:
@@ -613,10 +628,24 @@ def view_cmd(
     except ValueError:
         raise OptionError("--size", "WIDTHxHEIGHT in pixels, e.g. 1200x900", size) from None
     require("pyvista", "3-D heatmaps").OFF_SCREEN = True  # this process never opens a window
-    res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
-               window_size=(width, height), layout=layout)  # cli_errors names the options in its errors
+    err = _console(stderr=True)
+    if err.is_terminal:
+        status = err.status(f"reading {file}")
+        say = lambda message: status.update(message)  # noqa: E731
+    else:  # logs and pipes: one plain line per stage
+        import contextlib
+
+        status = contextlib.nullcontext()
+        say = lambda message: err.print(f"cadartifact: {message}", markup=False, highlight=False,  # noqa: E731
+                                        soft_wrap=True)
+    with status:
+        res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
+                   window_size=(width, height), layout=layout, progress=say)  # cli_errors names the options
     con = _console()
-    con.print(f"wrote {res.png} ({len(res.faces)} face(s), {res.direction} peak {res.peak:.4g})", soft_wrap=True)
+    from .report import plural, unit_name
+
+    con.print(f"wrote {res.png} ({plural(len(res.faces), 'face')}, {res.direction} peak {res.peak:.4g} "
+              f"{unit_name(getattr(res, 'unit', None) or _unit_of(file))})", soft_wrap=True)
     if res.glb is not None:
         con.print(f"wrote {res.glb}", soft_wrap=True)
 
@@ -642,6 +671,11 @@ def quiet_warnings() -> None:
 
     warnings.simplefilter("ignore", LoadWarning)
     warnings.showwarning = _one_line_warning
+
+
+def _unit_of(path) -> str:
+    """``"mm"`` for the B-rep formats (OCCT reads them in mm), ``"model"`` for OBJ cages."""
+    return "model" if Path(path).suffix.lower() == ".obj" else "mm"
 
 
 def main():  # console-script entry point

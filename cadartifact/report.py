@@ -129,7 +129,8 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     faces : set of int, optional
         Only these face indices (per file); an index that no file has raises :class:`OptionError`.
     progress : callable, optional
-        ``progress(kind, total_or_None, label)``: "files" once with the count, "face" per face.
+        ``progress(kind, total_or_None, label)``: "files" once with the count of faces, "face" per face,
+        "file" after each file (``total`` its face count, ``label`` its path).
     keep : list, optional
         If given, ``(path, net, advice)`` tuples are appended (for writing resampled faces).
     convert : bool
@@ -189,6 +190,8 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             summary["unreachable"] += 0 if adv.meets_tolerance else 1
             if progress:
                 progress("face", None, f"{path.name}#{net.origin.face}")
+        if progress:
+            progress("file", len(entries), str(path))
         doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
                           "faces_total": res.faces_total, "analysed_share": _f(analysed_share(res)),
                           "skipped": dict(res.skipped),
@@ -363,5 +366,38 @@ class RichProgress:
     def __call__(self, kind, total, label):
         if kind == "files":
             self._task = self._p.add_task("advising faces", total=total)
-        elif self._task is not None:
+        elif kind == "face" and self._task is not None:
             self._p.update(self._task, advance=1, description=f"advising {label}")
+
+
+class LineProgress:
+    """Progress for logs and pipes (no terminal): one plain line per file on stderr, with the time taken.
+
+    Works as the ``progress`` callback of :func:`advise_files` (kind "file") and, through
+    :meth:`file_done`, of the gate and of ``view``.
+    """
+
+    def __init__(self, console, verb: str = "advised", total: int | None = None):
+        import time
+
+        self.console, self.verb, self.total, self.done = console, verb, total, 0
+        self._clock = time.perf_counter
+        self._start = self._clock()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def __call__(self, kind, total, label):
+        if kind == "file":
+            self.file_done(label, f"{plural(total, 'face')}")
+
+    def file_done(self, path: str, detail: str = "") -> None:
+        self.done += 1
+        count = f"{self.done}/{self.total}" if self.total else str(self.done)
+        now = self._clock()
+        took, self._start = now - self._start, now
+        self.console.print(f"cadartifact: [{count}] {self.verb} {path}" + (f": {detail}" if detail else "")
+                           + f" ({took:.1f} s)", markup=False, highlight=False, soft_wrap=True)

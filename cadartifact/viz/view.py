@@ -447,7 +447,8 @@ def _check_out(option: str, path, suffix: str) -> Path:
 
 
 def view(path, *, direction: str = "total", tol: float | None = None, out=None, glb=None, faces=None,
-         scheme=None, window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto") -> ViewResult:
+         scheme=None, window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
+         progress=None) -> ViewResult:
     """Heatmap picture (and optionally a glb) of a file's faces.
 
     Parameters
@@ -467,6 +468,8 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
     scheme : str or Scheme, optional
     window_size, show_net, layout
         As :func:`render_image`.
+    progress : callable, optional
+        ``progress(message)`` at each stage: the file read, each face's fields, the picture, the glb.
 
     Returns
     -------
@@ -508,7 +511,12 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
             shown = ", ".join(str(f) for f in sorted(have)[:20]) + (", ..." if len(have) > 20 else "")
             raise OptionError("face", f"an analysable face index of {src.name} ({shown})", missing[0])
         nets = [n for n in nets if n.origin.face in wanted]
-    maps = face_maps(nets, direction, scheme)
+    say = progress or (lambda message: None)
+    say(f"read {src}: {len(nets)} face{'' if len(nets) == 1 else 's'} to draw")
+    maps = []
+    for k, net in enumerate(nets, 1):
+        maps += face_maps([net], direction, scheme)
+        say(f"fields of face {net.origin.face} ({k}/{len(nets)})")
     peak = max(m.peak for m in maps)
     unit = unit_text(nets[0].unit)
     if png is not None:
@@ -516,9 +524,11 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         title = f"{src.name}  ({what}): {_LABELS[direction]}, peak {number(peak)} {unit}"
         if tol is not None:
             title += f", tolerance {tol:g} {unit} (red beyond)"
+        say(f"rendering {png}")
         write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
                   layout=layout)
     if glb_path is not None:
+        say(f"writing {glb_path}")
         export_glb(maps, glb_path, tol=tol)
     return ViewResult(png=png, glb=glb_path, direction=direction, peak=peak,
                       faces=tuple(n.origin.face for n in nets))
