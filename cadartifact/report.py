@@ -13,6 +13,7 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
         "faces": [{
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
           "net": [nu, nv], "degrees": [p, q] | null, "units": "mm" | "model", "scheme": str,
+          "entity": int | null (STEP: the face's #id in the file),
           "method": "predicted" | "measured", "reason": str,
           "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
                      {"peak": float, "rms": float}},
@@ -65,6 +66,7 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "degrees": list(net.degrees) if net.degrees else None,
         "rational": net.rational,
         "units": net.unit,
+        "entity": getattr(net.origin, "entity", None),
         "scheme": budget.scheme,
         "method": budget.method,
         "reason": budget.reason,
@@ -73,6 +75,42 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "meets_tolerance": None if t is None else bool(budget.stats[key].get(budget.metric) <= t),
         "advice": None,
     }
+
+
+def peak_location(net, scheme=None, field: str = "total") -> dict:
+    """Where a face's ripple peaks: fine-grid index, surface parameters and position.
+
+    Parameters
+    ----------
+    net : ControlNet
+    scheme : str or Scheme, optional
+        As :func:`cadartifact.budget` (the scheme the face was analysed with).
+    field : str
+        ``"total"`` (ripple) or ``"deviation"``.
+
+    Returns
+    -------
+    dict
+        ``{"value", "index": [i, j] (index space), "uv": [u, v] | None (B-spline faces), "xyz": [x, y, z]}``;
+        ``value`` is the budget's peak of ``field`` over the region its stats cover, ``xyz`` the surface
+        point there (model units).
+    """
+    import numpy as np
+
+    from .budget import budget
+
+    b = budget(net, scheme, keep_fields=True)
+    values = np.where(b.region, np.abs(b.scalar_fields[field]), -np.inf)
+    i, j = np.unravel_index(int(np.argmax(values)), values.shape)
+    x, y = float(b.fields.x[i]), float(b.fields.y[j])
+    uv = None
+    if net.knots is not None:
+        from .measure import _param_axis  # read-only use of the index -> parameter map
+
+        uv = [float(_param_axis(net, 0, np.array([x]))[0]), float(_param_axis(net, 1, np.array([y]))[0])]
+    return {"value": _f(values[i, j]), "index": [round(x, 9), round(y, 9)],
+            "uv": None if uv is None else [round(t, 9) for t in uv],
+            "xyz": [_f(c) for c in np.asarray(b.fields.surface)[i, j]]}
 
 
 def face_record(net, advice) -> dict:

@@ -485,6 +485,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
     from ..exchange import read
 
     check_option("direction", direction, DIRECTIONS)
+    check_option("layout", layout, LAYOUTS)  # every option before any work (and any progress line)
     if tol is not None:
         try:
             tol = float(tol)
