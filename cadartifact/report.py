@@ -92,8 +92,8 @@ def peak_location(net, scheme=None, field: str = "total") -> dict:
     -------
     dict
         ``{"value", "index": [i, j] (index space), "uv": [u, v] | None (B-spline faces), "xyz": [x, y, z]}``;
-        ``value`` is the budget's peak of ``field`` over the region its stats cover, ``xyz`` the surface
-        point there (model units).
+        ``value`` is the budget's peak of ``field`` over the region its stats cover, ``xyz`` the point of
+        the face at ``uv`` (OCCT) or, for cages, of the limit surface there (model units).
     """
     import numpy as np
 
@@ -104,13 +104,16 @@ def peak_location(net, scheme=None, field: str = "total") -> dict:
     i, j = np.unravel_index(int(np.argmax(values)), values.shape)
     x, y = float(b.fields.x[i]), float(b.fields.y[j])
     uv = None
+    xyz = np.asarray(b.fields.surface)[i, j]  # cages: the limit surface there
     if net.knots is not None:
+        from .exchange import evaluate_grid
         from .measure import _param_axis  # read-only use of the index -> parameter map
 
         uv = [float(_param_axis(net, 0, np.array([x]))[0]), float(_param_axis(net, 1, np.array([y]))[0])]
+        # the face's own point at that uv (the fine grid of a predicted face is the uniform model's)
+        xyz = evaluate_grid(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
     return {"value": _f(values[i, j]), "index": [round(x, 9), round(y, 9)],
-            "uv": None if uv is None else [round(t, 9) for t in uv],
-            "xyz": [_f(c) for c in np.asarray(b.fields.surface)[i, j]]}
+            "uv": None if uv is None else [round(t, 9) for t in uv], "xyz": [_f(c) for c in xyz]}
 
 
 def face_record(net, advice) -> dict:
