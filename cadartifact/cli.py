@@ -243,7 +243,9 @@ def schemes_cmd(
 @app.command("maps", short_help="Response maps over the frequency square (paper Figs 8, 10-17).")
 @cli_errors(aliases={"schemes": "scheme", "out suffix": "out"})
 def maps_cmd(
-    scheme: List[str] = typer.Option(["bicubic"], "--scheme", "-s", help="Scheme name; repeat to compare."),
+    scheme: Optional[List[str]] = typer.Option(None, "--scheme", "-s",
+                                               help="Scheme name; repeat to compare (default: bicubic; "
+                                                    "not with --grid, whose schemes are the paper's)."),
     stage: str = typer.Option("limit", "--stage", help="Which response to map: one-step, limit or continuous."),
     out: Path = typer.Option(Path("maps.png"), "--out", "-o", help="PNG file to write."),
     grid: bool = typer.Option(False, "--grid", help="Draw the paper's Figure 8 array (g axis x d diagonal smoothing pairs)."),
@@ -259,9 +261,12 @@ def maps_cmd(
         check_option("--stage", stage, stages)
     stage = stage.replace("-", "_")
     if grid:
+        if scheme:  # the Figure 8 array is a fixed family of schemes: a -s would be silently ignored
+            raise OptionError("--scheme", "no --scheme with --grid (the grid draws the paper's g x d family)",
+                              " ".join(scheme))
         path = plot_grid(out, stage=stage, resolution=resolution, domain=domain)
     else:
-        path = plot_maps(scheme, out, stage=stage, resolution=resolution, domain=domain)
+        path = plot_maps(scheme or ["bicubic"], out, stage=stage, resolution=resolution, domain=domain)
     _console().print(f"wrote {path}")
 
 

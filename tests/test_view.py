@@ -108,7 +108,8 @@ def test_glb_round_trip_colours_decode_to_the_field(model, tmp_path):
         m = maps[int(name.split("_")[1])]
         a, b = m.values.shape
         assert len(mesh.vertices) == a * b and len(mesh.faces) == 2 * (a - 1) * (b - 1)
-        np.testing.assert_allclose(np.asarray(mesh.vertices).reshape(a, b, 3), m.points, atol=1e-5)
+        # glTF is in metres: the mm faces are scaled by 1e-3
+        np.testing.assert_allclose(np.asarray(mesh.vertices).reshape(a, b, 3) * 1e3, m.points, atol=1e-5)
         rgb = np.asarray(mesh.visual.vertex_colors)[:, :3].astype(float)
         values = m.values.ravel()
         red = np.all(rgb == np.round(np.array(V.ABOVE_COLOUR) * 255), axis=1)

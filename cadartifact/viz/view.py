@@ -238,27 +238,73 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
         try:
             plotter.set_background("white")
             extra = {"above_color": ABOVE_COLOUR} if tol is not None else {}
+            floor = noise_floor(maps)
             for m in maps:
                 pts, vals, quads = _cells(m)
                 if len(quads) == 0:
                     continue
                 mesh = pv.PolyData(pts, np.hstack([np.full((len(quads), 1), 4), quads]).ravel())
-                mesh.point_data["value"] = np.nan_to_num(vals, nan=0.0)
+                # rounding noise (1e-13 mm on a clean panel) is drawn as the zero it is
+                shown = np.where(np.nan_to_num(vals, nan=0.0) < floor, 0.0, np.nan_to_num(vals, nan=0.0))
+                mesh.point_data["value"] = shown
                 plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
                                  show_scalar_bar=False, **extra)
                 if show_net:
                     nu, nv = m.net.shape
                     cage = pv.PolyData(np.asarray(m.net.points, float).reshape(-1, 3), lines=_net_lines(nu, nv))
-                    plotter.add_mesh(cage, color="black", line_width=1, opacity=0.5)
+                    # lighter when many faces share the view, so the colours stay readable
+                    plotter.add_mesh(cage, color="black", line_width=1, opacity=0.5 if len(maps) <= 4 else 0.2)
+                if m.peak > floor:  # a marker at the peak
+                    k = int(np.nanargmax(m.values))
+                    plotter.add_points(m.points.reshape(-1, 3)[k][None, :], color="magenta", point_size=12,
+                                       render_points_as_spheres=True)
             if face_labels:
-                centres = np.array([_centre(m) for m in maps])
-                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in maps], font_size=14,
+                worst = sorted(maps, key=lambda m: -m.peak)[:LABELLED_FACES]  # labels of all 40 would overlap
+                centres = np.array([_centre(m) for m in worst])
+                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in worst], font_size=14,
                                          point_size=1, shape_opacity=0.5, always_visible=True)
-            plotter.view_isometric()
+            normal = mean_normal(maps[0]) if len(maps) == 1 else None
+            if normal is not None:  # a face seen along its mean normal, not edge-on
+                up = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
+                plotter.view_vector(normal, viewup=up)
+            else:
+                plotter.view_isometric()
+            if len(maps) > 1:
+                plotter.add_axes()  # an axis triad for the whole-model view
             plotter.reset_camera()
             return plotter.screenshot(None, return_img=True)
         finally:
             plotter.close()
+
+
+#: Faces labelled with their index in a whole-model view (the worst ones).
+LABELLED_FACES = 6
+
+
+def noise_floor(maps) -> float:
+    """Values below ``1e-9`` of the scene's size are rounding noise: pictures draw them as 0."""
+    pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+    size = float(np.linalg.norm(np.ptp(pts, axis=0))) if len(pts) else 0.0
+    return 1e-9 * max(size, 1e-300)
+
+
+def mean_normal(m: FaceMap) -> np.ndarray | None:
+    """The unit mean normal of a face's fine-grid surface (area-weighted), None when the face curves
+    all round (a cylinder's normals cancel): then there is no single direction to look from."""
+    p = np.asarray(m.points, float)
+    if p.shape[0] < 2 or p.shape[1] < 2:
+        return None
+    du, dv = np.diff(p, axis=0)[:, :-1], np.diff(p, axis=1)[:-1, :]
+    n = np.cross(du, dv)
+    on_face = np.isfinite(m.values[:-1, :-1]) & np.isfinite(m.values[1:, 1:])  # cells inside the trim
+    if on_face.any():
+        n = n[on_face]
+    total = n.reshape(-1, 3).sum(axis=0)
+    length = float(np.linalg.norm(total))
+    area = float(np.linalg.norm(n, axis=-1).sum())
+    if not area > 0 or length < 0.2 * area:
+        return None
+    return total / length
 
 
 def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
@@ -346,7 +392,7 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
     sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
     bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
-    bar.set_label(label(direction, unit), fontsize=11)
+    bar.set_label(label(direction, unit_text(unit)), fontsize=11)
     bar.ax.tick_params(labelsize=9)
     if title:
         fig.text(0.01, 0.985, title, ha="left", va="top", fontsize=12)
@@ -403,7 +449,7 @@ def write_png(maps, out, **options) -> Path:
     return write_atomic(Path(out), png_bytes(render_image(maps, **options)))
 
 
-def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP) -> Path:
+def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP, direction: str | None = None) -> Path:
     """Write the faces as one glb scene of triangle meshes with vertex colours (trimesh).
 
     Parameters
@@ -413,27 +459,53 @@ def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP) -> Path
         ``.glb`` file, written atomically.
     tol : float, optional
         Colour scale 0..tol with red beyond (as the picture), else 0..largest peak.
+    direction : str, optional
+        The field drawn (one of :data:`DIRECTIONS`), recorded in the extras.
 
     Returns
     -------
     Path
         One mesh per face, named ``face_<index>``; each quad of the fine grid is two triangles.
+
+    Notes
+    -----
+    glTF coordinates are metres: faces in mm are scaled by 1e-3 (a 5.5 m hull is 5.5 m wide in a
+    viewer); OBJ cages in model units are written as they are. Vertices outside the trimmed face
+    (used by no triangle) are dropped. The scene's glTF ``extras`` hold the field drawn, its units,
+    the tolerance and the peak (in the file's units, as the reports), and the coordinate scale;
+    each mesh's ``extras`` its face index, name and peak.
     """
     trimesh = require("trimesh", "glb export")
     if not maps:
         raise CadArtifactError("nothing to export: no analysable face")
     clim = colour_limits(maps, tol)
+    unit = maps[0].net.unit
+    scale = GLB_SCALE.get(unit, 1.0)
     scene = trimesh.Scene()
     for m in maps:
         pts, vals, quads = _cells(m)
         if len(quads) == 0:
             continue
         tris = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-        mesh = trimesh.Trimesh(vertices=pts, faces=tris, vertex_colors=vertex_colours(vals, clim, cmap),
-                               process=False)
+        used = np.unique(tris)  # vertices of cells outside the trim carry no triangle
+        remap = np.full(len(pts), -1)
+        remap[used] = np.arange(len(used))
+        mesh = trimesh.Trimesh(vertices=np.asarray(pts)[used] * scale, faces=remap[tris],
+                               vertex_colors=vertex_colours(np.asarray(vals)[used], clim, cmap), process=False)
+        mesh.metadata.update({"face": m.net.origin.face, "name": m.net.origin.name, "peak": float(m.peak)})
         name = f"face_{m.net.origin.face}"
         scene.add_geometry(mesh, node_name=name, geom_name=name)
+    scene.metadata.update({
+        "generator": "cadartifact", "field": direction, "units": unit_text(unit),
+        "coordinates": "m" if unit in GLB_SCALE else unit_text(unit), "coordinate_scale": scale,
+        "tolerance": None if tol is None else float(tol), "peak": float(max(m.peak for m in maps)),
+        "colour_scale": [float(clim[0]), float(clim[1])],
+    })
     return write_atomic(Path(out), scene.export(file_type="glb"))
+
+
+#: glTF is in metres: the factor from a file's unit to metres (units not listed are written as they are).
+GLB_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254}
 
 
 def _check_out(option: str, path, suffix: str) -> Path:
@@ -530,6 +602,6 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
                   layout=layout)
     if glb_path is not None:
         say(f"writing {glb_path}")
-        export_glb(maps, glb_path, tol=tol)
+        export_glb(maps, glb_path, tol=tol, direction=direction)
     return ViewResult(png=png, glb=glb_path, direction=direction, peak=peak,
                       faces=tuple(n.origin.face for n in nets))
