@@ -49,3 +49,14 @@ def test_noise_floor_and_mean_normal():
     p = np.asarray(net.points, float)
     corner = np.cross(p[-1, 0] - p[0, 0], p[0, -1] - p[0, 0])
     assert abs(np.dot(n, corner / np.linalg.norm(corner))) > 0.99
+
+
+def test_over_tolerance_keeps_structure():
+    values = np.array([0.0, 0.5, 1.0, 2.0, 5.0, 10.0])
+    flat = V.vertex_colours(values, (0.0, 1.0))
+    assert len({tuple(c) for c in flat[values > 1]}) == 1  # the old scale: solid red
+    graded = V.vertex_colours(values, (0.0, 1.0), top=10.0)
+    over = graded[values > 1, :3].astype(int)
+    assert len({tuple(c) for c in over}) == 3 and np.all(np.diff(over[:, 0]) < 0)  # darker towards the peak
+    assert tuple(graded[-1, :3]) == tuple(np.round(np.array(V.PEAK_COLOUR) * 255).astype(int))
+    np.testing.assert_array_equal(graded[values <= 1], flat[values <= 1])

@@ -192,8 +192,8 @@ def _heatmap(entry: dict, doc: dict, tol: float, unit: str) -> str:
         return f'<p class="note">No heatmap: {_e(exc)}</p>'
     except Exception as exc:  # a picture (e.g. no OpenGL on this machine) must not cost the report
         return f'<p class="note">No heatmap: rendering failed ({_e(type(exc).__name__)}: {_e(exc)})</p>'
-    caption = (f"|{direction.replace('_', ' ')}| on the limit surface, 0 to the tolerance {tol:g} {_e(unit)}; red: "
-               "beyond it. Thin lines: the control net.")
+    caption = (f"|{direction.replace('_', ' ')}| on the limit surface, 0 to the tolerance {tol:g} {_e(unit)}; reds: "
+               "beyond it, darkest at the peak (magenta dot). Thin lines: the control net.")
     return f"<figure>{_img(png_bytes(image), title, 'heatmap')}<figcaption>{caption}</figcaption></figure>"
 
 

@@ -65,6 +65,7 @@ _LABELS = {
 
 CMAP = "viridis"
 ABOVE_COLOUR = (0.86, 0.08, 0.08)  # red: beyond the tolerance
+PEAK_COLOUR = (0.40, 0.0, 0.04)  # dark red: the largest peak, when it is beyond the tolerance
 OUTSIDE_COLOUR = (0.75, 0.75, 0.75)  # grey: no value (glb only)
 DEFAULT_SIZE = (1200, 900)
 
@@ -177,16 +178,35 @@ def _cells(m: FaceMap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return pts, vals, quads[inside]
 
 
-def vertex_colours(values: np.ndarray, clim: tuple[float, float], cmap: str = CMAP) -> np.ndarray:
-    """RGBA ``uint8`` colours ``(n, 4)`` of magnitudes: the colormap over ``clim``, red above, grey for NaN."""
+def vertex_colours(values: np.ndarray, clim: tuple[float, float], cmap: str = CMAP,
+                   top: float | None = None) -> np.ndarray:
+    """RGBA ``uint8`` colours ``(n, 4)`` of magnitudes: the colormap over ``clim``, red above, grey for NaN.
+
+    With ``top > clim[1]`` (the tolerance) the values above it keep their structure: a second
+    segment runs linearly from :data:`ABOVE_COLOUR` at the tolerance to :data:`PEAK_COLOUR` at ``top``
+    (a face far over tolerance is no longer solid red).
+    """
     mpl = require("matplotlib", "heatmap colours")
     lo, hi = clim
     span = hi - lo if hi > lo else 1.0
     t = np.clip((np.nan_to_num(values, nan=lo) - lo) / span, 0.0, 1.0)
     rgba = np.asarray(mpl.colormaps[cmap](t), dtype=float)
-    rgba[values > hi, :3] = ABOVE_COLOUR
+    over = values > hi
+    if top is not None and top > hi and over.any():
+        s = np.clip((values[over] - hi) / (top - hi), 0.0, 1.0)[:, None]
+        rgba[over, :3] = (1 - s) * np.array(ABOVE_COLOUR) + s * np.array(PEAK_COLOUR)
+    else:
+        rgba[over, :3] = ABOVE_COLOUR
     rgba[~np.isfinite(values), :3] = OUTSIDE_COLOUR
     return np.round(rgba * 255).astype(np.uint8)
+
+
+def upper_limit(maps, tol: float | None) -> float | None:
+    """The top of the over-tolerance segment: the largest peak when it exceeds ``tol``, else None."""
+    if tol is None:
+        return None
+    top = max((m.peak for m in maps), default=0.0)
+    return top if top > tol else None
 
 
 @contextlib.contextmanager
@@ -239,6 +259,7 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
             plotter.set_background("white")
             extra = {"above_color": ABOVE_COLOUR} if tol is not None else {}
             floor = noise_floor(maps)
+            top = upper_limit(maps, tol)
             for m in maps:
                 pts, vals, quads = _cells(m)
                 if len(quads) == 0:
@@ -246,9 +267,14 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
                 mesh = pv.PolyData(pts, np.hstack([np.full((len(quads), 1), 4), quads]).ravel())
                 # rounding noise (1e-13 mm on a clean panel) is drawn as the zero it is
                 shown = np.where(np.nan_to_num(vals, nan=0.0) < floor, 0.0, np.nan_to_num(vals, nan=0.0))
-                mesh.point_data["value"] = shown
-                plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
-                                 show_scalar_bar=False, **extra)
+                if top is not None:  # two segments: the colours are computed here, drawn as they are
+                    mesh.point_data["rgb"] = vertex_colours(np.where(np.isfinite(vals), shown, np.nan), clim,
+                                                            cmap, top)[:, :3]
+                    plotter.add_mesh(mesh, scalars="rgb", rgb=True, smooth_shading=True, show_scalar_bar=False)
+                else:
+                    mesh.point_data["value"] = shown
+                    plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
+                                     show_scalar_bar=False, **extra)
                 if show_net:
                     nu, nv = m.net.shape
                     cage = pv.PolyData(np.asarray(m.net.points, float).reshape(-1, 3), lines=_net_lines(nu, nv))
@@ -329,7 +355,8 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     direction : str
         Names the colour bar (e.g. ``"X1 ripple [mm]"``).
     tol : float, optional
-        Colour scale 0..tol, red beyond (the bar's red end).
+        Colour scale 0..tol; beyond it a red segment up to the largest peak (the bar is broken at the
+        tolerance), so faces over tolerance keep their structure.
     title : str, optional
     window_size : (int, int)
         Width and height of the picture in pixels.
@@ -389,9 +416,23 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
             ax.set_axis_off()
             ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}", fontsize=9, pad=2)
     cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
-    colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
-    sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
-    bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
+    top = upper_limit(maps, tol)
+    if top is not None:  # two segments: 0..tolerance (colormap), tolerance..peak (reds), broken at the tolerance
+        from matplotlib.colors import LinearSegmentedColormap, ListedColormap, TwoSlopeNorm
+
+        reds = LinearSegmentedColormap.from_list("over", [ABOVE_COLOUR, PEAK_COLOUR])
+        colours = ListedColormap(np.vstack([mpl.colormaps[cmap](np.linspace(0, 1, 256)),
+                                            reds(np.linspace(0, 1, 256))]))
+        sm = mpl.cm.ScalarMappable(norm=TwoSlopeNorm(vmin=clim[0], vcenter=tol, vmax=top), cmap=colours)
+        bar = fig.colorbar(sm, cax=cax)
+        bar.set_ticks([clim[0], tol / 2, tol, (tol + top) / 2, top])
+        bar.set_ticklabels(["0", f"{tol / 2:.3g}", f"tol {tol:.3g}", f"{(tol + top) / 2:.3g}",
+                            f"{top:.3g}"])
+        bar.ax.axhline(tol, color="black", linewidth=1.5)
+    else:
+        colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
+        sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
+        bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
     bar.set_label(label(direction, unit_text(unit)), fontsize=11)
     bar.ax.tick_params(labelsize=9)
     if title:
@@ -458,7 +499,7 @@ def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP, directi
     out : path-like
         ``.glb`` file, written atomically.
     tol : float, optional
-        Colour scale 0..tol with red beyond (as the picture), else 0..largest peak.
+        Colour scale 0..tol with the red segment beyond (as the picture), else 0..largest peak.
     direction : str, optional
         The field drawn (one of :data:`DIRECTIONS`), recorded in the extras.
 
@@ -491,7 +532,8 @@ def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP, directi
         remap = np.full(len(pts), -1)
         remap[used] = np.arange(len(used))
         mesh = trimesh.Trimesh(vertices=np.asarray(pts)[used] * scale, faces=remap[tris],
-                               vertex_colors=vertex_colours(np.asarray(vals)[used], clim, cmap), process=False)
+                               vertex_colors=vertex_colours(np.asarray(vals)[used], clim, cmap,
+                                                            upper_limit(maps, tol)), process=False)
         mesh.metadata.update({"face": m.net.origin.face, "name": m.net.origin.name, "peak": float(m.peak)})
         name = f"face_{m.net.origin.face}"
         scene.add_geometry(mesh, node_name=name, geom_name=name)
@@ -530,7 +572,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
     direction : str
         One of :data:`DIRECTIONS`.
     tol : float, optional
-        Colour scale 0..tol, red beyond.
+        Colour scale 0..tol, then reds up to the peak.
     out : path-like, optional
         PNG to write; default ``<file stem>_<direction>.png`` in the current folder. ``False``: no PNG.
     glb : path-like, optional
@@ -596,7 +638,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         what = f"face {nets[0].origin.face}" if len(nets) == 1 else f"{len(nets)} faces"
         title = f"{src.name}  ({what}): {_LABELS[direction]}, peak {number(peak)} {unit}"
         if tol is not None:
-            title += f", tolerance {tol:g} {unit} (red beyond)"
+            title += f", tolerance {tol:g} {unit} (reds beyond it, darkest at the peak)"
         say(f"rendering {png}")
         write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
                   layout=layout)
