@@ -414,7 +414,8 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
             ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
             ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap)))
             ax.set_axis_off()
-            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}", fontsize=9, pad=2)
+            why = "" if mean_normal(m) is not None else "\n(curved all round: no single side to face, isometric view)"
+            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}{why}", fontsize=9, pad=2)
     cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
     top = upper_limit(maps, tol)
     if top is not None:  # two segments: 0..tolerance (colormap), tolerance..peak (reds), broken at the tolerance
