@@ -159,7 +159,6 @@ def test_entity_ids_on_real_step_files():
 
 def test_peak_location_is_the_budget_peak_on_the_surface():
     from cadartifact import budget
-    from cadartifact.exchange import evaluate_grid
 
     net = read(SAMPLES / "wavy_panel_diagonal.step").nets[0]
     at = peak_location(net)
@@ -177,7 +176,6 @@ def test_peak_location_is_the_budget_peak_on_the_surface():
     assert proj.LowerDistance() < 1e-9 * size
     u, v = proj.LowerDistanceParameters()
     assert (u, v) == pytest.approx(tuple(at["uv"]), abs=1e-6)
-    del evaluate_grid
 
 
 def test_sarif_junit_and_json_point_at_the_entity_and_the_peak(gate_doc, tmp_path):
