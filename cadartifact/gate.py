@@ -160,7 +160,7 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
     from .advisor import advise
     from .budget import budget
     from .exchange import read
-    from .report import analysed_share, face_record, kind_count
+    from .report import _locate, analysed_share, face_record, kind_count
 
     res = read(path, convert=settings.convert)
     invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
@@ -191,7 +191,7 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
                                    "(coordinates too large?)")
         verdict, reason, value = face_verdict(rec, settings)
         rec.update(verdict=verdict, verdict_reason=reason, value=value)
-        _locate(rec, path, net, key)
+        _locate(rec, path, net, key)  # entity_line; peak_at for faces that warn or fail
         faces.append(rec)
     present = {n.origin.face for n in res.nets}
     ignored = sorted(settings.ignore_faces)
@@ -217,21 +217,6 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
         elif share < 1:
             notes.append(text)
     return entry
-
-
-def _locate(rec: dict, path: str, net, key: str) -> None:
-    """Point a finding at the file: the STEP entity's line, and (faces that warn or fail) where the
-    ripple peaks (``peak_at``: uv, xyz); additive fields of the face record."""
-    from .exchange.step_text import entity_line
-    from .report import peak_location
-
-    rec["entity_line"] = entity_line(path, rec.get("entity"))
-    rec["peak_at"] = None
-    if rec["verdict"] != "pass":
-        try:
-            rec["peak_at"] = peak_location(net, rec["scheme"], key)
-        except (CadArtifactError, ValueError, KeyError):  # a location is a help, never a reason to fail
-            rec["peak_at"] = None
 
 
 def _gate_file_args(args):

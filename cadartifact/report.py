@@ -13,7 +13,9 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
         "faces": [{
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
           "net": [nu, nv], "degrees": [p, q] | null, "units": "mm" | "model", "scheme": str,
-          "entity": int | null (STEP: the face's #id in the file),
+          "entity": int | null (STEP: the face's #id in the file), "entity_line": int | null (its line),
+          "peak_at": null | {"value", "index": [x, y], "uv": [u, v] | null, "xyz": [x, y, z]}
+                     (faces beyond the tolerance: where the ripple peaks),
           "method": "predicted" | "measured", "reason": str,
           "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
                      {"peak": float, "rms": float}},
@@ -223,6 +225,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             adv = advise(net, tolerance, scheme, metric=metric, include_signal_error=include_signal_error,
                          compare=compare, verify=verify)
             rec = face_record(net, adv)
+            _locate(rec, path, net, "deviation" if include_signal_error else "total")
             entries.append(rec)
             if keep is not None:
                 keep.append((path, net, adv))
@@ -240,6 +243,21 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
     return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
+
+
+def _locate(rec: dict, path, net, key: str) -> None:
+    """Where a face is in its file (``entity_line``: the STEP entity's line) and, for a face beyond the
+    tolerance, where its ripple peaks (``peak_at``, :func:`peak_location`); additive record fields."""
+    from .errors import CadArtifactError
+    from .exchange.step_text import entity_line
+
+    rec["entity_line"] = entity_line(path, rec.get("entity"))
+    rec["peak_at"] = None
+    if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
+        try:
+            rec["peak_at"] = peak_location(net, rec["scheme"], key)
+        except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
+            rec["peak_at"] = None
 
 
 def resampled_nets(kept) -> list:

@@ -260,3 +260,16 @@ def test_readme_policy_snippet_works_in_both_files(tmp_path):
     (tmp_path / "cadartifact.toml").write_text("[tool.black]\nline-length = 1\n")
     with pytest.raises(Exception, match="tool.black"):
         load_policy(tmp_path / "cadartifact.toml")
+
+
+def test_advise_json_points_at_the_entity_and_the_peak(advice_doc):
+    for f in advice_doc["files"]:
+        for r in f["faces"]:
+            if f["path"].endswith(".step"):
+                assert isinstance(r["entity"], int) and r["entity_line"] > 0
+            else:
+                assert r["entity"] is None and r["entity_line"] is None
+            if r["meets_tolerance"]:
+                assert r["peak_at"] is None
+            else:
+                assert r["peak_at"]["value"] == pytest.approx(r["budget"]["total"]["peak"], rel=1e-9)
