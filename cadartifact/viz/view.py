@@ -295,8 +295,15 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
                 plotter.view_vector(normal, viewup=up)
             else:
                 plotter.view_isometric()
-            if len(maps) > 1:
-                plotter.add_axes()  # an axis triad for the whole-model view
+            if len(maps) > 1:  # the whole-model view: an axis triad and a scale bar along the longest side
+                plotter.add_axes()
+                pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+                lo, hi = pts.min(axis=0), pts.max(axis=0)
+                k = int(np.argmax(hi - lo))
+                a, b = lo.copy(), lo.copy()
+                b[k] = hi[k]
+                plotter.add_ruler(a, b, title=unit_text(maps[0].net.unit), number_labels=3, font_size_factor=0.6,
+                                  label_size_factor=0.6)
             plotter.reset_camera()
             return plotter.screenshot(None, return_img=True)
         finally:
