@@ -13,7 +13,17 @@ from __future__ import annotations
 import importlib
 
 from . import errors
-from .errors import CadArtifactError
+from .errors import (  # the error hierarchy, so that callers can write ``except cadartifact.InputError``
+    ArtifactToleranceError,
+    CadArtifactError,
+    FileFormatError,
+    InputError,
+    InvalidNetError,
+    MissingDependencyError,
+    OptionError,
+    SchemeError,
+    UnsupportedFormatError,
+)
 from .net import ControlNet, NetOrigin
 
 __version__ = "0.1.0"
@@ -36,7 +46,10 @@ _LAZY = {
     "cq": ("cadquery_plugin", None),
 }
 
-__all__ = ["ControlNet", "NetOrigin", "CadArtifactError", "errors", "__version__", "Scheme", "box", "bspline",
+ERRORS = ("CadArtifactError", "InputError", "FileFormatError", "UnsupportedFormatError", "InvalidNetError",
+          "OptionError", "SchemeError", "MissingDependencyError", "ArtifactToleranceError")
+
+__all__ = ["ControlNet", "NetOrigin", *ERRORS, "errors", "__version__", "Scheme", "box", "bspline",
            "scheme", "schemes", "Response", "Budget", "budget", "Advice", "advise", "resample", *_LAZY]
 
 

@@ -8,6 +8,7 @@ traceback.
 from __future__ import annotations
 
 import functools
+import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -16,76 +17,8 @@ from typing import List, Optional
 import typer
 from typer.core import TyperGroup
 
-from .errors import CadArtifactError, OptionError, check_option
-
-try:  # typer >= 0.2x vendors click
-    from typer._click.exceptions import UsageError
-except ImportError:  # pragma: no cover - older typer depends on click
-    from click.exceptions import UsageError
-
-
-def _option_name(param) -> str:
-    """``--tol`` for an option (its long name), ``FILES`` for an argument."""
-    opts = list(getattr(param, "opts", None) or [])
-    if getattr(param, "param_type_name", "") == "option" and opts:
-        return max(opts, key=len)
-    return (param.name or "argument").upper()
-
-
-#: What a value of the type was expected to be, by pydantic error type (typer's coercion).
-_EXPECTED = {"float_parsing": "a number", "float_type": "a number", "finite_number": "a finite number",
-             "int_parsing": "an integer", "int_type": "an integer", "int_from_float": "an integer",
-             "bool_parsing": "true or false", "bool_type": "true or false"}
-
-
-def _choices(param):
-    """The valid values of a choice option (an Enum annotation, or a click Choice in older typer), else None."""
-    annotation = getattr(getattr(param, "type_descriptor", None), "annotation", None)
-    if isinstance(annotation, type) and issubclass(annotation, Enum):
-        return [member.value for member in annotation]
-    return getattr(getattr(param, "type", None), "choices", None)
-
-
-def usage_message(exc: UsageError) -> str:
-    """One line for a click/typer usage error: the option, what was expected, what was received.
-
-    Parameters
-    ----------
-    exc : UsageError
-        Raised by typer while parsing (bad type or choice, missing value, unknown option or command).
-
-    Returns
-    -------
-    str
-        ``"--tol: expected a number, received 'abc'"``; the choices for an Enum option, as
-        :func:`~cadartifact.errors.check_option` words them; typer's own words (on one line) otherwise.
-    """
-    param = getattr(exc, "param", None)
-    if param is None:  # no such option / command, extra argument, option without its value
-        ctx = getattr(exc, "ctx", None)
-        hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
-        text = " ".join(exc.format_message().split())
-        return (text.rstrip(".") + hint) if hint else text
-    name = _option_name(param)
-    if type(exc).__name__ == "MissingParameter":
-        return f"{name}: expected a value (it is required), received nothing"
-    cause = exc.__cause__
-    errors = cause.errors() if callable(getattr(cause, "errors", None)) else None
-    if errors:  # typer >= 0.2x coerces with pydantic: the error knows the input
-        err = errors[0]
-        choices = _choices(param)
-        if choices:
-            try:
-                check_option(name, err.get("input"), choices)
-            except OptionError as bad:
-                return str(bad)
-        expected = _EXPECTED.get(err.get("type"))
-        if expected is None and "expected" in (err.get("ctx") or {}):
-            expected = "one of " + str(err["ctx"]["expected"]).replace(" or ", ", ")
-        if expected is None:
-            return f"{name}: {err.get('msg', exc.message)}, received {err.get('input')!r}"
-        return str(OptionError(name, expected, err.get("input")))
-    return f"{name}: " + " ".join(str(exc.message).split())
+from .cli_usage import UsageError, quiet_warnings, usage_message  # noqa: F401  (re-exported)
+from .errors import CadArtifactError, InputError, OptionError, check_option
 
 
 class _OneLineUsageErrors(TyperGroup):
@@ -105,27 +38,53 @@ class _OneLineUsageErrors(TyperGroup):
 
 
 def _usage_exit(exc: UsageError):
-    if type(exc).__name__ == "NoArgsIsHelpError":  # typer prints the help for these
-        return exc
+    if type(exc).__name__ == "NoArgsIsHelpError":
+        if getattr(exc, "ctx", None) is not None and exc.ctx.parent is None:
+            # a bare ``cadartifact``: the help is what was asked for (stdout, exit 0)
+            typer.echo(exc.ctx.get_help())
+            return typer.Exit(0)
+        return exc  # typer prints a subcommand's help for these
     return fail(usage_message(exc), exc.exit_code)
 
 
 app = typer.Typer(
     cls=_OneLineUsageErrors,
     name="cadartifact",
-    help="Measure control-net artifacts (ripples) in NURBS and subdivision surfaces and advise control-point density.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
-    rich_markup_mode="rich",
+    # plain click help: it reflows hard-wrapped docstrings, never truncates option names at 80 columns and
+    # shows text such as [tool.cadartifact] or the JSON schema's [...] as written (rich markup would eat them)
+    rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"]},
 )
+
+
+def _version(value: bool):
+    if value:
+        from . import __version__
+
+        typer.echo(f"cadartifact {__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+):
+    """Measure control-net artifacts (ripples) in NURBS and subdivision surfaces and advise control-point density.
+
+    Run 'cadartifact COMMAND -h' for a command's options; 'cadartifact demo' runs the advisor on the bundled
+    samples.
+    """
 
 
 def _console(stderr: bool = False):
     from rich.console import Console
 
     con = Console(stderr=stderr, highlight=False)
-    if not con.is_terminal and not stderr:
+    if not con.is_terminal and not stderr and not os.environ.get("COLUMNS"):
         con = Console(stderr=stderr, highlight=False, width=120)  # logs and pipes: do not squeeze tables to 80
     return con
 
@@ -176,7 +135,7 @@ class Stage(str, Enum):
 
 
 # ---------------------------------------------------------------- schemes & maps (spectral engine)
-@app.command("schemes")
+@app.command("schemes", short_help="The scheme catalogue.")
 @cli_errors
 def schemes_cmd(
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
@@ -213,10 +172,12 @@ def schemes_cmd(
     _console().print("Also: bspline(p,q) for any degrees >= 1, box(n1,n2,n3,n4), or Scheme.from_mask(array).")
 
 
-@app.command("maps")
+@app.command("maps", short_help="Response maps over the frequency square (paper Figs 8, 10-17).")
 @cli_errors(aliases={"schemes": "scheme", "out suffix": "out"})
 def maps_cmd(
-    scheme: List[str] = typer.Option(["bicubic"], "--scheme", "-s", help="Scheme name; repeat to compare."),
+    scheme: Optional[List[str]] = typer.Option(None, "--scheme", "-s",
+                                               help="Scheme name; repeat to compare (default: bicubic; "
+                                                    "not with --grid, whose schemes are the paper's)."),
     stage: str = typer.Option("limit", "--stage", help="Which response to map: one-step, limit or continuous."),
     out: Path = typer.Option(Path("maps.png"), "--out", "-o", help="PNG file to write."),
     grid: bool = typer.Option(False, "--grid", help="Draw the paper's Figure 8 array (g axis x d diagonal smoothing pairs)."),
@@ -232,9 +193,12 @@ def maps_cmd(
         check_option("--stage", stage, stages)
     stage = stage.replace("-", "_")
     if grid:
+        if scheme:  # the Figure 8 array is a fixed family of schemes: a -s would be silently ignored
+            raise OptionError("--scheme", "no --scheme with --grid (the grid draws the paper's g x d family)",
+                              " ".join(scheme))
         path = plot_grid(out, stage=stage, resolution=resolution, domain=domain)
     else:
-        path = plot_maps(scheme, out, stage=stage, resolution=resolution, domain=domain)
+        path = plot_maps(scheme or ["bicubic"], out, stage=stage, resolution=resolution, domain=domain)
     _console().print(f"wrote {path}")
 
 
@@ -245,7 +209,7 @@ def _write_json(doc: dict) -> None:
     typer.echo(json.dumps(doc, indent=2, allow_nan=False))
 
 
-@app.command("advise")
+@app.command("advise", short_help="Advise the control-point density per face for a tolerance.")
 @cli_errors(aliases={"tolerance": "tol", "faces": "face"})
 def advise_cmd(
     files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
@@ -272,6 +236,10 @@ def advise_cmd(
     compare: Optional[bool] = typer.Option(None, "--compare/--no-compare",
                                            help="Also advise the other named schemes (default: nets up to 2000 points)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Verify each advice on the real surface (OCCT)."),
+    convert: bool = typer.Option(False, "--convert",
+                                 help="Convert revolution/extrusion/offset faces to B-splines instead of skipping them."),
+    wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
+                                        help="Every direction column (default: when the terminal has 110 columns)."),
 ):
     """Advise the control-point density that keeps each face's ripple within the tolerance.
 
@@ -279,7 +247,7 @@ def advise_cmd(
     2 on usage or input errors.
     """
     from .artifact_budget import METRICS
-    from .report import RichProgress, advise_files, render
+    from .report import advise_files, render
 
     check_option("--metric", metric, METRICS)
     check_option("--intent", intent, ("surface", "net"))
@@ -298,12 +266,13 @@ def advise_cmd(
     elif faces_only:
         raise fail("--faces-only: expected together with --write-resampled, received it alone")
     keep = [] if write_resampled else None
+    files = advise_inputs(files)
     err = _console(stderr=True)
-    with RichProgress(err, enabled=err.is_terminal) as progress:
+    with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
                            verify=verify, progress=progress,
-                           keep=keep, intent=intent)
+                           keep=keep, convert=convert, intent=intent)
     if write_resampled is not None and keep:
         from . import __version__
         from .report import write_advised
@@ -316,7 +285,7 @@ def advise_cmd(
     if json_out:
         _write_json(doc)
     else:
-        render(doc, _console())
+        render(doc, _console(), wide=wide)
         if doc.get("written"):
             _print_written(doc["written"], doc.get("units") or "mm")
     if report is not None:
@@ -352,26 +321,58 @@ def _print_written(written: dict, units: str) -> None:
             con.print("  [red]BRepCheck rejects the written model[/] (see the JSON 'written')", soft_wrap=True)
 
 
+def _progress(err, verb: str, total: int):
+    """A progress bar on a terminal, else (logs, pipes) one line per file on stderr."""
+    from .report import LineProgress, RichProgress
+
+    return RichProgress(err) if err.is_terminal else LineProgress(err, verb, total)
+
+
+def advise_inputs(files) -> list:
+    """The files to advise: a folder stands for its STEP/IGES/BREP/OBJ files (recursively, as ``gate``)."""
+    from .gate_policy import CAD_SUFFIXES, expand_paths
+
+    out = []
+    for f in files:
+        if Path(f).is_dir():
+            found = expand_paths([f]) if any(Path(f).rglob("*")) else []
+            found = [p for p in found if p.suffix.lower() in CAD_SUFFIXES]
+            if not found:
+                raise InputError(f, "folder holds no STEP/IGES/BREP/OBJ file")
+            out.extend(found)
+        else:
+            out.append(Path(f))
+    return out
+
+
 def _samples_dir() -> Path:
-    for cand in (Path.cwd() / "samples", Path(__file__).resolve().parent.parent / "samples"):
-        if cand.is_dir() and any(cand.glob("*.st*p")):
+    """The samples shipped inside the package (``cadartifact/samples``, package data), else the checkout's."""
+    from importlib.resources import files
+
+    try:
+        bundled = Path(str(files("cadartifact") / "samples"))
+    except (ModuleNotFoundError, TypeError):  # pragma: no cover - a zipped or odd install
+        bundled = None
+    for cand in (bundled, Path(__file__).resolve().parent.parent / "samples"):
+        if cand is not None and cand.is_dir() and any(cand.glob("*.st*p")):
             return cand
-    raise CadArtifactError("samples/: the bundled samples were not found (run from the cadartifact checkout)")
+    raise CadArtifactError("cadartifact/samples: the bundled samples were not found (a broken installation? "
+                           "reinstall cadartifact)")
 
 
-@app.command("demo")
+@app.command("demo", short_help="Run the advisor on the bundled samples.")
 @cli_errors(aliases={"tolerance": "tol"})
 def demo_cmd(
     tol: float = typer.Option(0.05, "--tol", "-t", help="Tolerance in mm."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON document instead of tables."),
 ):
     """Run the advisor on the bundled samples (samples/*.step, samples/*.obj) and explain what it found."""
-    from .report import RichProgress, advise_files, render
+    from .report import advise_files, render
 
     folder = _samples_dir()
     files = sorted(p for p in folder.iterdir() if p.suffix.lower() in (".step", ".stp", ".obj"))
     err = _console(stderr=True)
-    with RichProgress(err, enabled=err.is_terminal) as progress:
+    with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, progress=progress)
     if json_out:
         _write_json(doc)
@@ -379,20 +380,29 @@ def demo_cmd(
     con = _console()
     con.print(f"[bold]cadartifact demo[/]: {len(files)} sample file(s) from {folder}, tolerance {tol:g} mm\n")
     render(doc, con)
-    con.print("\nEach bar is that direction's ripple as a share of the tolerance; 'advised' is the net with the "
-              "fewest control points that keeps the ripple within it (verified on the real OCCT surface). "
-              "Try: cadartifact advise FILE --tol 0.05 --json")
+    con.print("\n" + demo_hint(doc, tol), soft_wrap=True)
+
+
+def demo_hint(doc: dict, tol: float) -> str:
+    """The demo's closing explanation: says how the advice was verified, for the formats present."""
+    words = {"occt": "on the real OCCT surface", "subdivision": "by numerical subdivision of the cage",
+             "uniform-bspline": "on the uniform B-spline surface of the net"}
+    methods = {(r["advice"].get("verification") or {}).get("method") for f in doc["files"] for r in f["faces"]}
+    roads = [text for key, text in words.items() if key in methods]
+    how = f" (verified {' and '.join(roads)})" if roads else ""
+    return ("Each bar is that direction's ripple as a share of the tolerance; 'advised' is the net with the fewest "
+            f"control points that keeps the ripple within it{how}. Try: cadartifact advise FILE --tol {tol:g} --json")
 
 
 # ---------------------------------------------------------------- gate (CI quality gate)
-@app.command("gate")
+@app.command("gate", short_help="CI quality gate: pass / warn / fail per face, reports.")
 @cli_errors
 def gate_cmd(
     paths: List[str] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files, folders (recursive) or globs.",
                                       show_default=False),
     tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
     policy: Optional[Path] = typer.Option(None, "--policy",
-                                          help="Policy TOML (default: cadartifact.toml or \\[tool.cadartifact] in "
+                                          help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
     fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
@@ -407,6 +417,11 @@ def gate_cmd(
                                          help="Design intent: surface or net (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
+    convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
+                                           help="Convert revolution/extrusion/offset faces to B-splines and gate "
+                                                "them (overrides the policy's convert; default: skip them)."),
+    wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
+                                        help="Every column in the text report (default: at 110 columns or more)."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -414,7 +429,7 @@ def gate_cmd(
 
     An unreadable file is reported as an error and the other files are still analysed (fail closed).
 
-    Policy: cadartifact.toml or \\[tool.cadartifact] in pyproject.toml (see cadartifact.gate_policy).
+    Policy: cadartifact.toml or [tool.cadartifact] in pyproject.toml (see cadartifact.gate_policy).
     """
     import importlib.util
     import os
@@ -422,12 +437,13 @@ def gate_cmd(
     from .gate import build_document, run_gate
     from .gate_policy import base_settings, check_cli, expand_paths, find_policy, load_policy
     from .gate_reports import FORMATS, render_text, summary_line, to_json, to_junit, to_sarif, to_text, write_atomic
+    from .report import LineProgress, plural
 
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:
         raise OptionError("--jobs", "a number of processes >= 1", jobs)
     cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
-                     "intent": intent})
+                     "intent": intent, "convert": convert})
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
     settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis
@@ -444,15 +460,22 @@ def gate_cmd(
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=err, transient=True, disable=not err.is_terminal) as bar:
         task = bar.add_task("gating files", total=len(files))
-        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify,
-                           progress=lambda entry: bar.update(task, advance=1, description=f"gated {entry['path']}"))
+        lines = None if err.is_terminal else LineProgress(err, "gated", len(files))
+
+        def done(entry):
+            bar.update(task, advance=1, description=f"gated {entry['path']}")
+            if lines is not None:
+                lines.file_done(entry["path"], entry["verdict"] + (f", {plural(len(entry['faces']), 'face')}"
+                                                                   if entry.get("faces") else ""))
+
+        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify, progress=done)
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:
         con = _console()
-        if not con.is_terminal:  # CI logs: rich's 80-column default would fold every table
+        if not con.is_terminal and not os.environ.get("COLUMNS"):  # CI logs: the whole table, unfolded
             con.width = max(con.width, 132)
-        render_text(doc, con)
+        render_text(doc, con, wide=wide)
     else:
         text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
         if output is None:
@@ -468,7 +491,7 @@ def gate_cmd(
 
 
 # ---------------------------------------------------------------- inspect (exchange: what a file holds)
-@app.command("inspect")
+@app.command("inspect", short_help="List the control nets in CAD and mesh files.")
 @cli_errors
 def inspect_cmd(
     files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
@@ -479,20 +502,21 @@ def inspect_cmd(
     """List the control nets in CAD and mesh files: one row per analysable face (or OBJ chart).
 
     Columns: face index, kind, degrees, net size, rational / weights vary, periodic, knots uniform,
-    trimmed fraction (face UV-bounds area / full knot-range area) and name; then a summary line
-    (faces total, analysable, skipped by kind). A file with no analysable face prints a warning
+    kept area (the share of the knot range the face's UV bounds keep: 1.000 untrimmed) and name; then a
+    summary line (faces total, analysable, skipped by kind). A file with no analysable face prints a warning
     and exits 0. If any file cannot be read, every error is printed (one line each), nothing else
     is printed (no partial tables or JSON) and the exit code is 2.
 
-    JSON schema (--json)::
+    JSON schema (--json):
 
+    \b
         {"schema": "cadartifact.inspect/1",
          "files": [{"path": str, "format": "step"|"iges"|"brep"|"obj",
                     "faces_total": int, "analysable": int, "skipped": {kind: int}, "warnings": [str],
                     "faces": [{"face": int, "name": str|null, "kind": str, "degrees": [int, int]|null,
                                "size": [nu, nv], "rational": bool, "weights_vary": bool,
                                "periodic": [bool, bool], "knots_uniform": [bool, bool],
-                               "trimmed_fraction": float|null}],
+                               "trimmed_fraction": float|null (the kept area)}],
                     "mesh": null | {"vertices": int, "quads": int, "triangles": int, "ngons": int,
                                     "regular_faces": int, "extraordinary": [vertex ids, 0-based],
                                     "crease_edges": int,
@@ -503,6 +527,7 @@ def inspect_cmd(
 
     from .exchange import SUPPORTED_EXTENSIONS, LoadWarning, read
     from .exchange.summary import result_summary
+    from .report import kind_count, plural
 
     summaries, errors = [], []
     for path in files:
@@ -531,7 +556,7 @@ def inspect_cmd(
     for doc in summaries:
         table = Table(title=doc["path"], header_style="bold", title_justify="left")
         for col in ("face", "kind", "degrees", "net", "rational", "weights vary", "periodic u,v",
-                    "uniform knots u,v", "trimmed", "name"):
+                    "uniform knots u,v", "kept area", "name"):
             table.add_column(col)
         for f in doc["faces"]:
             frac = f["trimmed_fraction"]
@@ -542,21 +567,24 @@ def inspect_cmd(
                 "-" if frac is None else f"{frac:.3f}", f["name"] or "")
         if doc["faces"]:
             con.print(table)
-        skipped = ", ".join(f"{k} {n}" for k, n in doc["skipped"].items()) or "none"
-        con.print(f"{doc['path']}: {doc['faces_total']} faces, {doc['analysable']} analysable, skipped: {skipped}",
-                  soft_wrap=True)
+        skipped = ", ".join(kind_count(k, n) for k, n in doc["skipped"].items()) or "none"
+        con.print(f"{doc['path']}: {plural(doc['faces_total'], 'face')}, {doc['analysable']} analysable, "
+                  f"skipped: {skipped}", soft_wrap=True)
         mesh = doc["mesh"]
         if mesh is not None:
-            con.print(f"  mesh: {mesh['vertices']} vertices, {mesh['quads']} quads, {mesh['triangles']} triangles, "
-                      f"{mesh['ngons']} n-gons, {len(mesh['extraordinary'])} extraordinary vertices, "
-                      f"{mesh['crease_edges']} crease edges, {mesh['regular_faces']} regular faces in "
-                      f"{len(mesh['charts'])} charts", soft_wrap=True)
+            counts = ((mesh["vertices"], "vertex", "vertices"), (mesh["quads"], "quad", "quads"),
+                      (mesh["triangles"], "triangle", "triangles"), (mesh["ngons"], "n-gon", "n-gons"),
+                      (len(mesh["extraordinary"]), "extraordinary vertex", "extraordinary vertices"),
+                      (mesh["crease_edges"], "crease edge", "crease edges"))
+            con.print("  mesh: " + ", ".join(f"{n} {one if n == 1 else many}" for n, one, many in counts)
+                      + f", {plural(mesh['regular_faces'], 'regular face')} in {plural(len(mesh['charts']), 'chart')}",
+                      soft_wrap=True)
         for w in doc["warnings"]:
             _console(stderr=True).print(f"[yellow]warning:[/] {w}", soft_wrap=True)
 
 
 # ---------------------------------------------------------------- view (3-D heatmaps)
-@app.command("view")
+@app.command("view", short_help="3-D heatmap of each face's ripple (PNG, GLB).")
 @cli_errors(aliases={"window_size": "size", "faces": "face"})
 def view_cmd(
     file: Path = typer.Argument(..., help="STEP/IGES/BREP/OBJ file.", show_default=False),
@@ -579,19 +607,35 @@ def view_cmd(
     except ValueError:
         raise OptionError("--size", "WIDTHxHEIGHT in pixels, e.g. 1200x900", size) from None
     require("pyvista", "3-D heatmaps").OFF_SCREEN = True  # this process never opens a window
-    res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
-               window_size=(width, height), layout=layout)  # cli_errors names the options in its errors
+    err = _console(stderr=True)
+    if err.is_terminal:
+        status = err.status(f"reading {file}")
+        say = lambda message: status.update(message)  # noqa: E731
+    else:  # logs and pipes: one plain line per stage
+        import contextlib
+
+        status = contextlib.nullcontext()
+        say = lambda message: err.print(f"cadartifact: {message}", markup=False, highlight=False,  # noqa: E731
+                                        soft_wrap=True)
+    with status:
+        res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
+                   window_size=(width, height), layout=layout, progress=say)  # cli_errors names the options
     con = _console()
-    con.print(f"wrote {res.png} ({len(res.faces)} face(s), {res.direction} peak {res.peak:.4g})", soft_wrap=True)
+    from .report import plural, unit_name
+
+    con.print(f"wrote {res.png} ({plural(len(res.faces), 'face')}, {res.direction} peak {res.peak:.4g} "
+              f"{unit_name(getattr(res, 'unit', None) or _unit_of(file))})", soft_wrap=True)
     if res.glb is not None:
         con.print(f"wrote {res.glb}", soft_wrap=True)
 
 
-def main():  # console-script entry point
-    import warnings
+def _unit_of(path) -> str:
+    """``"mm"`` for the B-rep formats (OCCT reads them in mm), ``"model"`` for OBJ cages."""
+    return "model" if Path(path).suffix.lower() == ".obj" else "mm"
 
-    # the reader's warnings are part of every report (tables, JSON); do not echo them with source lines
-    warnings.filterwarnings("ignore", message=r".*(no analysable face|skipped face)")
+
+def main():  # console-script entry point
+    quiet_warnings()
     try:
         app()
     except KeyboardInterrupt:

@@ -57,17 +57,20 @@ def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]
     face outside the uniform theory (non-uniform knots or varying weights) is capped at ``warn``
     unless ``measured = "fail"``.
     """
+    from .report import unit_name
+
     key = "deviation" if settings.include_signal_error else "total"
     value = record["budget"][key][settings.metric]
     t = settings.tolerance
     what = "deviation" if settings.include_signal_error else "ripple"
+    u = unit_name(record.get("units"))  # the face's own unit, next to its numbers
     if value > t:
-        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} exceeds tolerance {t:g}"
+        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} {u} exceeds tolerance {t:g} {u}"
     elif value >= settings.warn_fraction * t:
-        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} is within tolerance {t:g} but above "
-                                   f"{settings.warn_fraction:g} of it")
+        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} {u} is within tolerance {t:g} {u} but "
+                                   f"above {settings.warn_fraction:g} of it")
     else:
-        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} within tolerance {t:g}"
+        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} {u} within tolerance {t:g} {u}"
     if verdict == "fail" and not record.get("uniform", True) and settings.measured == "warn":
         verdict = "warn"
         reason += " (non-uniform knots or varying weights, outside the uniform theory: capped at warn " \
@@ -107,8 +110,12 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
     -------
     dict
         The advise document's file entry plus ``units``, ``verdict``, ``policy`` (the settings),
-        ``notes``, ``ignored_faces`` and per face ``verdict``, ``verdict_reason`` and ``value``; or an
-        error entry ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
+        ``notes``, ``ignored_faces``, ``analysed_share`` (OBJ: the share of the cage's area in analysed
+        charts, else None), ``share_failure`` (only when that share is below ``min_analysed_share``:
+        the file fails) and per face ``verdict``, ``verdict_reason``, ``value``, ``entity_line`` (the
+        line of the STEP entity ``entity``, else None) and ``peak_at`` (warn/fail faces:
+        :func:`cadartifact.report.peak_location`, else None); or an error entry
+        ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
 
     Notes
     -----
@@ -154,9 +161,9 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
     from .advice import advise
     from .artifact_budget import budget
     from .exchange import read
-    from .report import face_record
+    from .report import _locate, analysed_share, face_record, kind_count
 
-    res = read(path)
+    res = read(path, convert=settings.convert)
     invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
     if invalid:
         detail = "; ".join(w for w in res.warnings if "no analysable face" not in w)
@@ -185,6 +192,7 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
                                    "(coordinates too large?)")
         verdict, reason, value = face_verdict(rec, settings)
         rec.update(verdict=verdict, verdict_reason=reason, value=value)
+        _locate(rec, path, net, key)  # entity_line; peak_at for faces that warn or fail
         faces.append(rec)
     present = {n.origin.face for n in res.nets}
     ignored = sorted(settings.ignore_faces)
@@ -194,10 +202,21 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
     if not faces:
         notes.append("no analysable face (nothing to gate): pass")
+    share = analysed_share(res)
     entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
+             "analysed_share": None if share is None else round(share, 9),
              "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
     entry["verdict"] = file_verdict(entry)
+    if share is not None:
+        skipped = ", ".join(kind_count(k, n) for k, n in sorted(res.skipped.items()))
+        text = f"analysed charts cover {100 * share:.1f} % of the cage's area" + (f" (not analysed: {skipped})"
+                                                                                   if skipped else "")
+        if share < settings.min_analysed_share:
+            entry["share_failure"] = (f"{text}, below min_analysed_share {settings.min_analysed_share:g}")
+            entry["verdict"] = _worst([entry["verdict"], "fail"])
+        elif share < 1:
+            notes.append(text)
     return entry
 
 

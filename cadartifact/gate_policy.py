@@ -11,6 +11,8 @@ table is passed over), or given with ``--policy FILE``::
     intent = "surface"            # or "net": the shape the control points sample (SPEC §4)
     scheme = "bicubic"            # default: each face's own B-spline degrees (Catmull-Clark for OBJ)
     measured = "warn"             # or "fail": see below
+    convert = false               # convert revolution/extrusion/offset faces to B-splines and gate them
+    min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
 
     [[override]]                  # applied in order to files matching glob; later ones win
     glob = "legacy/**"
@@ -64,12 +66,13 @@ METRICS = ("peak", "rms")
 MEASURED = ("warn", "fail")
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
-TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "override")
+TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "convert",
+            "min_analysed_share", "override")
 OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
-                 "ignore_faces")
+                 "convert", "min_analysed_share", "ignore_faces")
 
 DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
-            "scheme": None, "measured": "warn", "ignore_faces": ()}
+            "scheme": None, "measured": "warn", "convert": False, "min_analysed_share": 0.0, "ignore_faces": ()}
 
 
 class PolicyError(CadArtifactError):
@@ -101,6 +104,11 @@ class FileSettings:
     scheme : str or None
         None: each face's own degrees (Catmull-Clark for cages).
     measured : {"warn", "fail"}
+    convert : bool
+        Convert revolution/extrusion/offset faces to B-splines (and gate them) instead of skipping them.
+    min_analysed_share : float
+        ``0 <= s <= 1``: an OBJ cage whose analysed charts cover less than this share of its surface
+        area fails (0: never).
     ignore_faces : tuple of int
     """
 
@@ -111,6 +119,8 @@ class FileSettings:
     scheme: str | None = None
     measured: str = "warn"
     intent: str = "surface"
+    convert: bool = False
+    min_analysed_share: float = 0.0
     ignore_faces: tuple = ()
 
     def to_dict(self) -> dict:
@@ -207,7 +217,11 @@ def _check_value(source: str, key: str, value):
         if value not in ("surface", "net"):
             raise PolicyError(source, key, f"expected one of 'surface', 'net', received {value!r}")
         return value
-    if key == "include_signal_error":
+    if key == "min_analysed_share":
+        if not _is_number(value) or not (0 <= value <= 1):
+            raise PolicyError(source, key, f"expected a share with 0 <= s <= 1, received {value!r}")
+        return float(value)
+    if key in ("include_signal_error", "convert"):
         if not isinstance(value, bool):
             raise PolicyError(source, key, f"expected true or false, received {value!r}")
         return value
@@ -316,7 +330,19 @@ def load_policy(path) -> Policy:
         if table is None:
             raise PolicyError(source, None, "has no [tool.cadartifact] table")
         return parse_policy(table, source, path.resolve().parent)
-    return parse_policy(data, source, path.resolve().parent)
+    return parse_policy(_own_table(data, source), source, path.resolve().parent)
+
+
+def _own_table(data: dict, source: str) -> dict:
+    """The policy of a ``cadartifact.toml``: its top level, or its ``[tool.cadartifact]`` table when the
+    file holds only that (the form pyproject.toml uses, so a snippet works pasted into either file)."""
+    if set(data) == {"tool"} and isinstance(data["tool"], dict):
+        if set(data["tool"]) != {"cadartifact"}:
+            others = sorted(set(data["tool"]) - {"cadartifact"})
+            raise PolicyError(source, f"tool.{others[0]}", "is unknown (a cadartifact.toml holds the policy keys, "
+                                                            "or only a [tool.cadartifact] table)")
+        return data["tool"]["cadartifact"]
+    return data
 
 
 def find_policy(start=None) -> Policy:

@@ -11,9 +11,12 @@ What goes where:
   a ``<system-out>`` line, a file that could not be read is a testcase with an ``<error>``, a file
   without analysable face a ``<skipped>`` testcase.
 - SARIF: one result per finding (``fail`` CA001 error, ``warn`` CA002 warning, unreadable file
-  CA003 error, no analysable face CA004 note); passing faces are not findings. Locations are the
-  file (URI relative to the working directory) at line 1, as code scanning needs a line, and the
-  face as a logical location; ``partialFingerprints`` keep alerts stable across runs.
+  CA003 error, no analysable face CA004 note, OBJ cage analysed below ``min_analysed_share`` CA005
+  error); passing faces are not findings. Locations are the file (URI relative to the working
+  directory) at the line where the face's STEP entity (``#id = ADVANCED_FACE``) is defined (line 1
+  for OBJ and files without one), and the face (with its ``#id``) as a logical location; the
+  properties carry the entity, its line and the peak's ``uv`` and ``xyz`` (``peak_at``);
+  ``partialFingerprints`` keep alerts stable across runs.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from pathlib import Path
 from urllib.parse import quote
 
 from .errors import InputError
+from .report import unit_name
 
 __all__ = ["FORMATS", "RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit", "to_sarif",
            "write_atomic", "face_label"]
@@ -46,6 +50,8 @@ RULES = (
      "A file could not be read or analysed; the gate fails closed"),
     ("CA004", "no-analysable-face", "note",
      "A file has no B-spline face or quad chart to analyse"),
+    ("CA005", "analysed-share-too-small", "error",
+     "An OBJ cage's analysed charts cover less of its area than the policy's min_analysed_share"),
 )
 
 _COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red"}
@@ -74,14 +80,27 @@ def _num(x) -> str:
     return "n/a" if x is None else f"{x:.4g}"
 
 
+def where_text(face: dict, units: str) -> str:
+    """``"STEP #17 (line 28); peak at uv (1, 0.9333), xyz (1000, 11.63, 19.87) mm"``, or ``""``."""
+    parts = []
+    if face.get("entity") is not None:
+        parts.append(f"STEP #{face['entity']}" + (f" (line {face['entity_line']})" if face.get("entity_line") else ""))
+    peak = face.get("peak_at")
+    if peak:
+        at = f"uv ({', '.join(_num(t) for t in peak['uv'])}), " if peak.get("uv") else ""
+        parts.append(f"peak at {at}xyz ({', '.join(_num(c) for c in peak['xyz'])}) {units}")
+    return "; ".join(parts)
+
+
 def face_numbers(doc: dict, entry: dict, face: dict) -> str:
     """One line with the numbers of a face: value against tolerance, per-direction peaks, advice."""
     pol = entry["policy"]
-    units = entry.get("units") or doc["units"]
+    units = file_units(doc, entry)
     peaks = ", ".join(f"{k} {_num(face['budget'][k]['peak'])}" for k in _DIRECTIONS[:4])
-    return (f"{face['verdict_reason']} {units}; peaks {peaks} {units}; net {_net(face['net'])}, "
+    where = where_text(face, units)
+    return (f"{face['verdict_reason']}; peaks {peaks} {units}; net {_net(face['net'])}, "
             f"scheme {face['scheme']}, {face['method']}; {_advice_text(face)}; metric {pol['metric']}, "
-            f"warn at {pol['warn_fraction']:g} of tolerance")
+            f"warn at {pol['warn_fraction']:g} of tolerance" + (f"; {where}" if where else ""))
 
 
 # ---------------------------------------------------------------- text
@@ -89,39 +108,66 @@ def _share(x) -> str:
     return "" if x is None else f"{100 * x:.0f}%"
 
 
-def render_text(doc: dict, console) -> None:
-    """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary."""
+def file_units(doc: dict, entry: dict) -> str:
+    """The unit of one file (never another file's: an OBJ beside STEP files stays in model units)."""
+    return unit_name(entry.get("units") if entry.get("units") else (doc["units"] if entry.get("faces") else None))
+
+
+def render_text(doc: dict, console, wide: bool | None = None) -> None:
+    """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary.
+
+    ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
+    the narrow layout (80 columns) shows face, net, value, its share, the worst direction, advised net
+    and verdict, with scheme and method under the table; no cell is cut or wraps inside a number.
+    """
     from rich.table import Table
 
+    from .report import WIDE_COLUMNS, _face_label, _worst_direction
+
+    if wide is None:
+        wide = console.width >= WIDE_COLUMNS
     for entry in doc["files"]:
         v = entry["verdict"]
         if v == "error":
             console.print(f"[{_COLOURS[v]}]ERROR[/] {entry['error']}", soft_wrap=True)
             continue
         pol = entry["policy"]
-        units = entry.get("units") or doc["units"]
+        units = file_units(doc, entry)
         title = (f"{entry['path']}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} {units}, "
                  f"{pol['metric']}, warn at {pol['warn_fraction']:g})")
         if entry["faces"]:
             table = Table(title=title, title_justify="left", header_style="bold")
-            for col in ("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised",
-                        "verdict"):
-                # fold rather than truncate: the numbers must stay readable in narrow CI logs
-                table.add_column(col, overflow="fold", min_width=4 if col != "face" else 6)
+            cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised", "verdict")
+                    if wide else ("face", "net", "value", "share", "worst", "advised", "verdict"))
+            for col in cols:
+                # only the face label may fold; numbers never wrap or shrink
+                table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
             for f in entry["faces"]:
                 sh = f["share"]
                 advised = _net(f["advice"]["net"]) if f["advice"]["meets_tolerance"] else "out of reach"
-                label = str(f["face"]) + (f" {f['name']}" if f.get("name") else "")
-                table.add_row(label, _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]), _share(sh["x2"]),
-                              _share(sh["diagonal"]), _share(sh["lateral"]), f"{f['value']:.4g}", advised,
-                              f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]")
+                verdict = f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]"
+                if wide:
+                    table.add_row(_face_label(f), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
+                                  _share(sh["x2"]), _share(sh["diagonal"]), _share(sh["lateral"]),
+                                  f"{f['value']:.4g}", advised, verdict)
+                else:
+                    key = "deviation" if pol["include_signal_error"] else "total"
+                    table.add_row(_face_label(f), _net(f["net"]), f"{f['value']:.4g}", _share(sh[key]),
+                                  _worst_direction(sh), advised, verdict)
             console.print(table)
+            if not wide:
+                schemes = ", ".join(sorted({f["scheme"] for f in entry["faces"]}))
+                methods = ", ".join(sorted({f["method"] for f in entry["faces"]}))
+                console.print(f"  values in {units}; scheme {schemes}; {methods}", soft_wrap=True)
         else:
             console.print(title)
         for f in entry["faces"]:
             if f["verdict"] != "pass":
-                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}: {f['verdict_reason']}",
-                              soft_wrap=True)
+                where = where_text(f, units)
+                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}: {f['verdict_reason']}"
+                              + (f"; {where}" if where else ""), soft_wrap=True)
+        if entry.get("share_failure"):
+            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)
         for note in entry["notes"] + entry["warnings"]:
             console.print(f"  note: {note}", soft_wrap=True)
     console.print(summary_line(doc))
@@ -169,6 +215,7 @@ def to_junit(doc: dict) -> str:
             props = ET.SubElement(suite, "properties")
             for k in ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured"):
                 ET.SubElement(props, "property", name=k, value="default" if pol[k] is None else str(pol[k]))
+            ET.SubElement(props, "property", name="units", value=file_units(doc, entry))
             ET.SubElement(props, "property", name="verdict", value=entry["verdict"])
         if entry["verdict"] == "error":
             case = ET.SubElement(suite, "testcase", name=entry["path"], classname="cadartifact.gate")
@@ -176,7 +223,15 @@ def to_junit(doc: dict) -> str:
             err.text = entry["error"]
             counts["tests"] += 1
             counts["errors"] += 1
-        elif not entry["faces"]:
+        if entry.get("share_failure"):
+            case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (analysed share)",
+                                 classname="cadartifact.gate")
+            fail = ET.SubElement(case, "failure", message=entry["share_failure"],
+                                 type="CA005 analysed-share-too-small")
+            fail.text = entry["share_failure"]
+            counts["tests"] += 1
+            counts["failures"] += 1
+        if entry["verdict"] != "error" and not entry["faces"]:
             case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (no analysable face)",
                                  classname="cadartifact.gate")
             ET.SubElement(case, "skipped", message="; ".join(entry["notes"] + entry["warnings"]))
@@ -186,8 +241,18 @@ def to_junit(doc: dict) -> str:
             case = ET.SubElement(suite, "testcase", name=face_label(entry["path"], f), classname="cadartifact.gate")
             props = ET.SubElement(case, "properties")
             for name, value in (("verdict", f["verdict"]), ("value", f"{f['value']:.9g}"),
-                                ("tolerance", f"{pol['tolerance']:.9g}"), ("advised_net", _net(f["advice"]["net"]))):
+                                ("tolerance", f"{pol['tolerance']:.9g}"), ("units", file_units(doc, entry)),
+                                ("advised_net", _net(f["advice"]["net"]))):
                 ET.SubElement(props, "property", name=name, value=value)
+            if f.get("entity") is not None:
+                ET.SubElement(props, "property", name="entity", value=f"#{f['entity']}")
+                if f.get("entity_line"):
+                    ET.SubElement(props, "property", name="entity_line", value=str(f["entity_line"]))
+            peak = f.get("peak_at")
+            if peak:
+                if peak.get("uv"):
+                    ET.SubElement(props, "property", name="peak_uv", value=" ".join(f"{t:.9g}" for t in peak["uv"]))
+                ET.SubElement(props, "property", name="peak_xyz", value=" ".join(f"{c:.9g}" for c in peak["xyz"]))
             counts["tests"] += 1
             numbers = face_numbers(doc, entry, f)
             if f["verdict"] == "fail":
@@ -232,10 +297,13 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
     results = []
 
     def add(rule_id: str, level: str, text: str, path: str, face: dict | None, props: dict):
-        loc = {"physicalLocation": {"artifactLocation": {"uri": _uri(path, cwd)}, "region": {"startLine": 1}}}
+        # the line of the face's STEP entity (#id = ADVANCED_FACE...); line 1 where there is none (OBJ)
+        line = (face or {}).get("entity_line") or 1
+        loc = {"physicalLocation": {"artifactLocation": {"uri": _uri(path, cwd)}, "region": {"startLine": line}}}
         if face is not None:
+            entity = f" #{face['entity']}" if face.get("entity") is not None else ""
             loc["logicalLocations"] = [{"name": f"face {face['face']}" + (f" {face['name']}" if face.get("name")
-                                                                            else ""),
+                                                                            else "") + entity,
                                         "fullyQualifiedName": face_label(path, face), "kind": "element"}]
         results.append({"ruleId": rule_id, "ruleIndex": index[rule_id], "level": level, "message": {"text": text},
                         "locations": [loc],
@@ -248,6 +316,9 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
         if entry["verdict"] == "error":
             add("CA003", "error", entry["error"], path, None, {"verdict": "error"})
             continue
+        if entry.get("share_failure"):
+            add("CA005", "error", f"{path}: {entry['share_failure']}", path, None,
+                {"verdict": "fail", "analysed_share": entry.get("analysed_share")})
         if not entry["faces"]:
             add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
                 {"verdict": entry["verdict"]})
@@ -258,7 +329,9 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
             props = {"verdict": f["verdict"], "face": f["face"], "value": f["value"],
                      "tolerance": entry["policy"]["tolerance"], "metric": entry["policy"]["metric"],
                      "peaks": {k: f["budget"][k]["peak"] for k in _DIRECTIONS}, "net": f["net"],
-                     "advised_net": f["advice"]["net"]}
+                     "advised_net": f["advice"]["net"], "units": file_units(doc, entry),
+                     "entity": None if f.get("entity") is None else f"#{f['entity']}",
+                     "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at")}
             add(rule_id, level, f"{face_label(path, f)}: {face_numbers(doc, entry, f)}", path, f, props)
     log = {
         "$schema": SARIF_SCHEMA,

@@ -53,12 +53,16 @@ class NetOrigin:
         The face's name where the file has one.
     kind : str
         One of :data:`NET_KINDS`.
+    entity : int or None
+        STEP files: the instance id of the face's ``ADVANCED_FACE`` entity (``#entity`` in the
+        file), None elsewhere or when the reader cannot tell.
     """
 
     file: str | None = None
     face: int | None = None
     name: str | None = None
     kind: str = "array"
+    entity: int | None = None
 
     def __post_init__(self):
         check_option("origin.kind", self.kind, NET_KINDS)

@@ -9,9 +9,13 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
       "files": [{
         "path": str, "units": "mm" | "model" | null,
         "faces_total": int, "skipped": {kind: count}, "warnings": [str],
+        "analysed_share": float | null (OBJ: share of the cage's area in analysed charts),
         "faces": [{
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
-          "net": [nu, nv], "degrees": [p, q] | null, "scheme": str,
+          "net": [nu, nv], "degrees": [p, q] | null, "units": "mm" | "model", "scheme": str,
+          "entity": int | null (STEP: the face's #id in the file), "entity_line": int | null (its line),
+          "peak_at": null | {"value", "index": [x, y], "uv": [u, v] | null, "xyz": [x, y, z]}
+                     (faces beyond the tolerance: where the ripple peaks),
           "method": "predicted" | "measured", "reason": str,
           "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
                      {"peak": float, "rms": float}},
@@ -64,6 +68,8 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "net": list(net.shape),
         "degrees": list(net.degrees) if net.degrees else None,
         "rational": net.rational,
+        "units": net.unit,
+        "entity": getattr(net.origin, "entity", None),
         "scheme": budget.scheme,
         "method": budget.method,
         "uniform": bool(net.knots is None or net.uniform),
@@ -77,16 +83,90 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
     }
 
 
+def peak_location(net, scheme=None, field: str = "total") -> dict:
+    """Where a face's ripple peaks: fine-grid index, surface parameters and position.
+
+    Parameters
+    ----------
+    net : ControlNet
+    scheme : str or Scheme, optional
+        As :func:`cadartifact.budget` (the scheme the face was analysed with).
+    field : str
+        ``"total"`` (ripple) or ``"deviation"``.
+
+    Returns
+    -------
+    dict
+        ``{"value", "index": [x, y] (analysis coordinates, spans), "uv": [u, v] | None (B-spline faces),
+        "xyz": [x, y, z]}``;
+        ``value`` is the budget's peak of ``field`` over the region its stats cover, ``xyz`` the point of
+        the face at ``uv`` (OCCT) or, for cages, of the limit surface there (model units).
+    """
+    import numpy as np
+
+    from .artifact_budget import budget
+
+    b = budget(net, scheme, keep_fields=True)
+    values = np.where(b.region, np.abs(b.scalar_fields[field]), -np.inf)
+    i, j = np.unravel_index(int(np.argmax(values)), values.shape)
+    x, y = float(b.fields.x[i]), float(b.fields.y[j])
+    uv = None
+    xyz = np.asarray(b.fields.surface)[i, j]  # cages: the limit surface there
+    if net.knots is not None:
+        from .exchange import evaluate_grid
+        from .frames import axis_frames
+
+        fu, fv = axis_frames(net)
+        uv = [float(fu.param(x)), float(fv.param(y))]
+        # the face's own point at that uv (the fine grid of a predicted face is the uniform model's)
+        xyz = evaluate_grid(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
+    return {"value": _f(values[i, j]), "index": [round(x, 9), round(y, 9)],
+            "uv": None if uv is None else [round(t, 9) for t in uv], "xyz": [_f(c) for c in xyz]}
+
+
 def face_record(net, advice) -> dict:
-    """One face's entry of the document from its :class:`~cadartifact.advisor.Advice`."""
+    """One face's entry of the document from its :class:`~cadartifact.advice.Advice`."""
     rec = budget_record(net, advice.current, advice.include_signal_error)
     rec["advice"] = advice.to_dict()
     return rec
 
 
+def analysed_share(result) -> float | None:
+    """Share of an OBJ cage's surface area that its analysed charts cover; None for B-rep files.
+
+    Parameters
+    ----------
+    result : LoadResult
+        With ``mesh`` (polygons) and ``charts`` (the analysed grid cells, ``face_ids``).
+
+    Returns
+    -------
+    float or None
+        ``sum(area of charted faces) / sum(area of all faces)``, polygon areas by fan triangulation
+        of the control polygons (1.0 for a mesh of zero area with every face charted).
+    """
+    import numpy as np
+
+    mesh = getattr(result, "mesh", None)
+    if mesh is None:
+        return None
+    v = np.asarray(mesh.vertices, float)
+    areas = np.zeros(len(mesh.faces))
+    for k, ids in enumerate(mesh.faces):
+        p = v[list(ids)]
+        areas[k] = 0.5 * np.linalg.norm(np.cross(p[1:-1] - p[0], p[2:] - p[0]), axis=-1).sum()
+    charted = np.zeros(len(mesh.faces), bool)
+    for chart in result.charts:
+        charted[np.asarray(chart.face_ids).ravel()] = True
+    total = float(areas.sum())
+    if not total > 0:
+        return float(charted.mean()) if len(charted) else None
+    return float(areas[charted].sum() / total)
+
+
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
                  faces=None, compare="auto", verify: bool = True, progress=None, keep=None,
-                 intent: str = "surface") -> dict:
+                 convert: bool = False, intent: str = "surface") -> dict:
     """Load every file, advise every analysable face, and build the document.
 
     Parameters
@@ -98,9 +178,12 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     faces : set of int, optional
         Only these face indices (per file); an index that no file has raises :class:`OptionError`.
     progress : callable, optional
-        ``progress(kind, total_or_None, label)``: "files" once with the count, "face" per face.
+        ``progress(kind, total_or_None, label)``: "files" once with the count of faces, "face" per face,
+        "file" after each file (``total`` its face count, ``label`` its path).
     keep : list, optional
         If given, ``(path, net, advice)`` tuples are appended (for writing resampled faces).
+    convert : bool
+        Convert revolution/extrusion/offset faces to B-splines (as :func:`cadartifact.read`).
 
     Returns
     -------
@@ -119,7 +202,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     paths = [Path(p) for p in paths]
     if not paths:
         raise OptionError("FILE", "at least one file", "none")
-    loaded = [read(p) for p in paths]  # read everything first: a bad file fails before any output
+    loaded = [read(p, convert=convert) for p in paths]  # read everything first: a bad file fails before any output
     for p, res in zip(paths, loaded):
         if res.skipped.get("degenerate"):
             # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
@@ -148,6 +231,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             adv = advise(net, tolerance, scheme, metric=metric, include_signal_error=include_signal_error,
                          compare=compare, verify=verify, intent=intent)
             rec = face_record(net, adv)
+            _locate(rec, path, net, "deviation" if include_signal_error else "total")
             entries.append(rec)
             if keep is not None:
                 keep.append((path, net, adv))
@@ -156,13 +240,31 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             summary["unreachable"] += 0 if adv.meets_tolerance else 1
             if progress:
                 progress("face", None, f"{path.name}#{net.origin.face}")
+        if progress:
+            progress("file", len(entries), str(path))
         doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
-                          "faces_total": res.faces_total, "skipped": dict(res.skipped),
+                          "faces_total": res.faces_total, "analysed_share": _f(analysed_share(res)),
+                          "skipped": dict(res.skipped),
                           "warnings": list(res.warnings), "faces": entries})
     units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
     return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
             "intent": "net" if include_signal_error else intent,
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
+
+
+def _locate(rec: dict, path, net, key: str) -> None:
+    """Where a face is in its file (``entity_line``: the STEP entity's line) and, for a face beyond the
+    tolerance, where its ripple peaks (``peak_at``, :func:`peak_location`); additive record fields."""
+    from .errors import CadArtifactError
+    from .exchange.step_text import entity_line
+
+    rec["entity_line"] = entity_line(path, rec.get("entity"))
+    rec["peak_at"] = None
+    if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
+        try:
+            rec["peak_at"] = peak_location(net, rec["scheme"], key)
+        except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
+            rec["peak_at"] = None
 
 
 def resampled_nets(kept) -> list:
@@ -257,6 +359,18 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
             [dict(r, file=f["path"]) for f in files for r in f["faces"]]}
 
 
+def kind_count(kind: str, n: int) -> str:
+    """``"3 irregular quads"``, ``"1 triangle"``, ``"2 planes"``: a count of skipped faces of one kind."""
+    if n == 1 or kind.endswith("s") or kind in ("degenerate", "conversion failed"):
+        return f"{n} {kind}"
+    return f"{n} {kind}es" if kind.endswith(("sh", "ch", "x")) else f"{n} {kind}s"
+
+
+def plural(n: int, word: str) -> str:
+    """``"1 face"``, ``"2 faces"``."""
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
+
+
 def _bar(share: float | None, width: int = 4) -> str:
     """A compact bar of a share of the tolerance: green up to half, yellow up to 1, red beyond."""
     if share is None:
@@ -267,58 +381,98 @@ def _bar(share: float | None, width: int = 4) -> str:
     return f"[{colour}]{'█' * filled}{'·' * (width - filled)} {pct:>4}[/]"
 
 
-def _units(units: str | None) -> str:
+def unit_name(units: str | None) -> str:
+    """How a unit is written in every report: ``"mm"``, or ``"model units"`` (OBJ, unknown)."""
     return "model units" if units in (None, "model") else units
 
 
-def render(doc: dict, console) -> None:
+_units = unit_name
+
+
+#: Below this console width ``render`` uses its narrow layout (``wide=None``).
+WIDE_COLUMNS = 110
+
+
+def _worst_direction(share: dict) -> str:
+    """``"X2 204%"``: the direction (X1, X2, diagonal) whose ripple takes most of the tolerance."""
+    name, value = max(((k, share.get(k) or 0.0) for k in ("x1", "x2", "diagonal")), key=lambda kv: kv[1])
+    label = {"x1": "X1", "x2": "X2", "diagonal": "diag"}[name]
+    pct = f"{value * 100:.0f}%" if value < 10 else f"{value:.0f}x"
+    return f"{label} {pct}"
+
+
+def _face_label(r: dict, limit: int = 24) -> str:
+    label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
+    return label if len(label) <= limit else label[:limit - 1] + "~"
+
+
+def render(doc: dict, console, wide: bool | None = None) -> None:
     """Print one rich table per file and a summary line.
 
     Each direction column shows that ripple's share of the tolerance (peak or RMS, as the
     document's metric), with a small bar; ``ripple`` is all of it together.
+
+    Parameters
+    ----------
+    doc : dict
+        The advise document.
+    console : rich.console.Console
+    wide : bool, optional
+        Every direction column (X1, X2, diagonal, lateral). Default: when the console is at least
+        :data:`WIDE_COLUMNS` wide; narrower consoles (80 columns) get face, net, ripple, the worst
+        direction, advised net and verdict, each cell whole (the rest is in ``--wide`` and the JSON).
     """
     from rich import box
     from rich.table import Table
 
+    if wide is None:
+        wide = console.width >= WIDE_COLUMNS
     t = doc["tolerance"]
+    key = "deviation" if doc["include_signal_error"] else "total"
     for f in doc["files"]:
         schemes = sorted({r["scheme"] for r in f["faces"]})
         methods = sorted({r["method"] for r in f["faces"]})
-        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); scheme {', '.join(schemes) or '-'}; "
-                   f"{', '.join(methods) or 'no face analysed'}")
+        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); "
+                   f"scheme {', '.join(schemes) or '-'}; {', '.join(methods) or 'no face analysed'}")
         table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
                       title_justify="left", caption_justify="left", pad_edge=False)
-        for col in ("face", "net", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple", "advised", "verdict"):
-            table.add_column(col, no_wrap=True)
-        rows = sorted(f["faces"], key=lambda r: -(r["share"]["deviation" if doc["include_signal_error"] else "total"]
-                                                  or 0.0))
+        cols = (("face", "net", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple", "advised", "verdict") if wide
+                else ("face", "net", "ripple", "worst", "advised", "verdict"))
+        for col in cols:
+            # the face label may fold (it is the only free text); numbers never wrap or shrink
+            table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
+        rows = sorted(f["faces"], key=lambda r: -(r["share"][key] or 0.0))
         for r in rows:
             sh = r["share"]
             adv = r["advice"]
-            label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
             if r["meets_tolerance"]:
                 verdict = "[green]within[/]"
-                if adv["points"] < r["net"][0] * r["net"][1]:
+                if wide and adv["points"] < r["net"][0] * r["net"][1]:
                     verdict += " [dim](coarser ok)[/]"
             elif adv["meets_tolerance"]:
                 verdict = "[red]exceeds[/]"
             else:
-                verdict = "[red]exceeds[/] [dim](out of reach)[/]"
+                verdict = "[red]exceeds[/] [dim](out of reach)[/]" if wide else "[red]unreachable[/]"
             advised = "x".join(map(str, adv["net"]))
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
                 advised += " [yellow]?[/]"
-            table.add_row(label[:24], "x".join(map(str, r["net"])), _bar(sh["x1"]), _bar(sh["x2"]),
-                          _bar(sh["diagonal"]), _bar(sh["lateral"]),
-                          _bar(sh["deviation" if doc["include_signal_error"] else "total"]), advised, verdict)
+            if wide:
+                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _bar(sh["x1"]), _bar(sh["x2"]),
+                              _bar(sh["diagonal"]), _bar(sh["lateral"]), _bar(sh[key]), advised, verdict)
+            else:
+                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _bar(sh[key]), _worst_direction(sh),
+                              advised, verdict)
         console.print(table)
-        skipped = ", ".join(f"{v} {k}" for k, v in sorted(f["skipped"].items()))
+        skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
+        share = f.get("analysed_share")
         if skipped:
-            console.print(f"  not analysed: {skipped}")
+            cover = "" if share is None else f" (the analysed charts cover {100 * share:.1f} % of the area)"
+            console.print(f"  not analysed: {skipped}{cover}")
         for w in f["warnings"]:
             console.print(f"  [yellow]warning:[/] {w}")
     s = doc["summary"]
-    console.print(f"[bold]{s['faces']} face(s) in {s['files']} file(s): {s['within']} within tolerance, "
+    console.print(f"[bold]{plural(s['faces'], 'face')} in {plural(s['files'], 'file')}: {s['within']} within tolerance, "
                   f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
     if any((ff["advice"].get("verification") or {}).get("meets") is False for fl in doc["files"] for ff in fl["faces"]):
         console.print("[yellow]?[/] the advised net did not verify on the real surface's interior "
@@ -349,5 +503,38 @@ class RichProgress:
     def __call__(self, kind, total, label):
         if kind == "files":
             self._task = self._p.add_task("advising faces", total=total)
-        elif self._task is not None:
+        elif kind == "face" and self._task is not None:
             self._p.update(self._task, advance=1, description=f"advising {label}")
+
+
+class LineProgress:
+    """Progress for logs and pipes (no terminal): one plain line per file on stderr, with the time taken.
+
+    Works as the ``progress`` callback of :func:`advise_files` (kind "file") and, through
+    :meth:`file_done`, of the gate and of ``view``.
+    """
+
+    def __init__(self, console, verb: str = "advised", total: int | None = None):
+        import time
+
+        self.console, self.verb, self.total, self.done = console, verb, total, 0
+        self._clock = time.perf_counter
+        self._start = self._clock()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def __call__(self, kind, total, label):
+        if kind == "file":
+            self.file_done(label, f"{plural(total, 'face')}")
+
+    def file_done(self, path: str, detail: str = "") -> None:
+        self.done += 1
+        count = f"{self.done}/{self.total}" if self.total else str(self.done)
+        now = self._clock()
+        took, self._start = now - self._start, now
+        self.console.print(f"cadartifact: [{count}] {self.verb} {path}" + (f": {detail}" if detail else "")
+                           + f" ({took:.1f} s)", markup=False, highlight=False, soft_wrap=True)

@@ -296,8 +296,11 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
         else:
             uv = BRepTools.UVBounds_s(face)
         name = face_name(face) if face_name is not None else None
+        entity_of = getattr(face_name, "entity", None)  # STEP: the face's #id in the file
+        entity = entity_of(face) if entity_of is not None else None
         try:
-            nets.append(net_from_surface(basis, origin=NetOrigin(file=file, face=index, name=name, kind=kind),
+            nets.append(net_from_surface(basis, origin=NetOrigin(file=file, face=index, name=name, kind=kind,
+                                                                 entity=entity),
                                          uv_bounds=uv))
         except InvalidNetError as exc:
             skipped["degenerate"] = skipped.get("degenerate", 0) + 1

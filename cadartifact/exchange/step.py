@@ -31,10 +31,19 @@ from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
 __all__ = ["check_file", "open_step", "read_step", "set_header", "read_iges", "read_brep", "write_step"]
 
 
-def _step_name(reader: STEPControl_Reader):
-    """A face -> name lookup through the STEP entity the face was transferred from."""
+def _step_name(reader: STEPControl_Reader, path=None):
+    """A face -> name lookup through the STEP entity the face was transferred from.
+
+    The returned callable also has ``.entity(face)``: the entity's ``#id`` in the file (None when
+    unknown). OCCT numbers a model's entities in file order; :func:`step_text.entity_lines` gives the
+    ids in that order, and an id is only reported when the file's record there is an ``ADVANCED_FACE``.
+    """
+    from .step_text import entity_lines
+
     session = reader.WS()  # the lookup needs the reader's session alive: keep references to both
     transfer = session.TransferReader()
+    model = session.Model()
+    state = {}
 
     def face_name(face, _keep=(reader, session)) -> str | None:
         entity = transfer.EntityFromShapeResult(face, 1)
@@ -44,6 +53,26 @@ def _step_name(reader: STEPControl_Reader):
         text = name.ToCString() if name is not None else ""
         return text or None
 
+    def face_entity(face, _keep=(reader, session)) -> int | None:
+        if path is None:
+            return None
+        if not state:
+            records = entity_lines(path)  # [(id, line, keyword)] in file order
+            # pybind hands out the same Python object for the same entity: index the model's faces by it
+            faces = {}
+            for i in range(1, model.NbEntities() + 1):
+                value = model.Value(i)
+                if type(value).__name__ == "StepShape_AdvancedFace":
+                    faces[value] = i
+            state.update(records=records, faces=faces)
+        entity = transfer.EntityFromShapeResult(face, 1)
+        i = state["faces"].get(entity) if entity is not None else None
+        records = state["records"]
+        if i is None or i > len(records) or records[i - 1][2] != "ADVANCED_FACE":
+            return None
+        return records[i - 1][0]
+
+    face_name.entity = face_entity
     return face_name
 
 
@@ -84,7 +113,7 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
         truncated, not STEP, binary), or a file without transferable shapes.
     """
     reader = open_step(path)
-    return reader.OneShape(), _step_name(reader)
+    return reader.OneShape(), _step_name(reader, path)
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:

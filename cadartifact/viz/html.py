@@ -71,6 +71,8 @@ margin-right:6px;overflow:hidden}
 figure{margin:14px 0 4px}figure img{max-width:100%;height:auto;border:1px solid #e6e9ee;border-radius:6px}
 figcaption{font-size:12px;color:#5b6575;margin-top:4px}
 footer{color:#8a93a3;font-size:12px;padding:0 28px 24px}
+nav.toc{background:#fff;border-radius:8px;padding:8px 16px;margin:0 0 16px;box-shadow:0 1px 2px rgba(0,0,0,.08)}
+nav.toc ol{margin:4px 0;padding-left:22px}nav.toc a{color:#1f2a3c}
 """
 
 
@@ -190,20 +192,15 @@ def _heatmap(entry: dict, doc: dict, tol: float, unit: str) -> str:
         return f'<p class="note">No heatmap: {_e(exc)}</p>'
     except Exception as exc:  # a picture (e.g. no OpenGL on this machine) must not cost the report
         return f'<p class="note">No heatmap: rendering failed ({_e(type(exc).__name__)}: {_e(exc)})</p>'
-    caption = (f"|{direction.replace('_', ' ')}| on the limit surface, 0 to the tolerance {tol:g} {_e(unit)}; red: "
-               "beyond it. Thin lines: the control net.")
+    caption = (f"|{direction.replace('_', ' ')}| on the limit surface, 0 to the tolerance {tol:g} {_e(unit)}; reds: "
+               "beyond it, darkest at the peak (magenta dot). Thin lines: the control net.")
     return f"<figure>{_img(png_bytes(image), title, 'heatmap')}<figcaption>{caption}</figcaption></figure>"
 
 
 def _response_maps(doc: dict) -> str:
     from .maps import maps_figure
 
-    counts: dict = {}
-    for entry in doc["files"]:
-        for f in entry.get("faces", []):
-            if f.get("scheme"):
-                counts[f["scheme"]] = counts.get(f["scheme"], 0) + 1
-    names = sorted(counts, key=lambda s: -counts[s])[:MAP_SCHEMES]
+    names, more = map_schemes(doc)
     if not names:
         return ""
     import io
@@ -217,9 +214,94 @@ def _response_maps(doc: dict) -> str:
     caption = ("Per scheme: signal kept |a|, artifact energy in % of the signal and lateral artifact, over the "
                "frequency square in cycles per control point (limit surface at refined vertices). Ripple appears "
                "where the design's detail approaches the net's Nyquist limit (1/2).")
-    return (f'<section class="file"><h2>Response maps of the schemes used</h2>'
+    if more:
+        caption += f" Not drawn (used by fewer faces): {', '.join(more)}; cadartifact maps -s NAME draws any."
+    return (f'<section class="file" id="maps"><h2>Response maps of the schemes used</h2>'
             f"<figure>{_img(buf.getvalue(), 'response maps: ' + ', '.join(names), 'maps')}"
             f"<figcaption>{caption}</figcaption></figure></section>")
+
+
+def map_schemes(doc: dict) -> tuple[list, list]:
+    """The schemes the faces use, most used first, one name per distinct scheme (``bicubic`` and
+    ``bspline(3,3)`` are one mask): ``(drawn, not drawn)``, at most :data:`MAP_SCHEMES` drawn."""
+    import numpy as np
+
+    from ..schemes import scheme as get_scheme
+
+    counts: dict = {}
+    for entry in doc["files"]:
+        for f in entry.get("faces", []):
+            if f.get("scheme"):
+                counts[f["scheme"]] = counts.get(f["scheme"], 0) + 1
+    groups: list = []  # [name, mask, count]
+    for name in sorted(counts, key=lambda s: (-counts[s], s)):
+        try:
+            mask = np.asarray(get_scheme(name).mask, float)
+        except CadArtifactError:
+            mask = None
+        for g in groups:
+            if mask is not None and g[1] is not None and g[1].shape == mask.shape and np.allclose(g[1], mask):
+                g[2] += counts[name]
+                break
+        else:
+            groups.append([name, mask, counts[name]])
+    groups.sort(key=lambda g: -g[2])
+    names = [g[0] for g in groups]
+    return names[:MAP_SCHEMES], names[MAP_SCHEMES:]
+
+
+def _contents(doc: dict) -> str:
+    """A table of contents: one link per file with its verdict and face count."""
+    items = []
+    for k, entry in enumerate(doc["files"]):
+        v = entry.get("verdict")
+        badge = f' <span class="badge b-{_e(v)}">{_e(v)}</span>' if v else ""
+        n = len(entry.get("faces") or [])
+        items.append(f'<li><a href="#file-{k}">{_e(entry.get("path"))}</a>{badge} '
+                     f'<span class="small">{n} face{"" if n == 1 else "s"}</span></li>')
+    items.append('<li><a href="#maps">Response maps of the schemes used</a></li>')
+    return f'<nav class="toc"><b>Contents</b><ol>{"".join(items)}</ol></nav>'
+
+
+def _relation(doc: dict) -> str:
+    """How the advise counts (within / exceeding) relate to the gate verdicts (pass / warn / fail)."""
+    faces = [f for e in doc["files"] for f in e.get("faces") or []]
+    exceeding = [f for f in faces if f.get("meets_tolerance") is False]
+    fail = sum(1 for f in exceeding if f.get("verdict") == "fail")
+    capped = sum(1 for f in exceeding if f.get("verdict") == "warn")
+    near = sum(1 for f in faces if f.get("meets_tolerance") and f.get("verdict") == "warn")
+    text = (f"{len(exceeding)} exceeding: faces whose value is above the tolerance; {fail} of them fail")
+    if capped:
+        text += (f" and {capped} are capped at warn (measured faces, outside the uniform theory, under policy "
+                 "measured = 'warn')")
+    text += (f"; the other {near} warn face{'' if near == 1 else 's'} {'is' if near == 1 else 'are'} within the "
+             "tolerance but above the warn fraction of it.")
+    return f'<p class="small">{_e(text)}</p>'
+
+
+def _advice_details(faces: list, doc: dict, unit: str) -> str:
+    """Per face, folded: how the advice was verified and what the other schemes would need."""
+    rows = []
+    for f in sorted(faces, key=lambda f: -_face_value(f, doc)):
+        adv = f.get("advice") or {}
+        ver, comp = adv.get("verification"), adv.get("comparison") or {}
+        if ver is None and not comp:
+            continue
+        bits = []
+        if ver is not None:
+            ok = "meets" if ver.get("meets") else "does not meet"
+            bits.append(f"verification ({_e(ver.get('method'))}, K = {2 ** int(ver.get('levels') or 0)}): "
+                        f"{_num(ver.get('value'))} {_e(unit)} {ok} the tolerance"
+                        + (f"; {_e(ver['note'])}" if ver.get("note") else ""))
+        if comp:
+            bits.append("other schemes: " + ", ".join(
+                f"{_e(k)} {'×'.join(map(str, v.get('net') or []))} ({v.get('points')} points"
+                f"{'' if v.get('meets_tolerance', True) else ', out of reach'})" for k, v in comp.items()))
+        label = f"face {_e(f.get('face'))}" + (f" {_e(f['name'])}" if f.get("name") else "")
+        rows.append(f"<li>{label}: {'; '.join(bits)}</li>")
+    if not rows:
+        return ""
+    return f'<details class="small"><summary>Advice details</summary><ul>{"".join(rows)}</ul></details>'
 
 
 def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
@@ -229,7 +311,10 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     from .. import __version__
 
     tol = doc.get("tolerance")
-    unit = unit_text(doc.get("units") or "mm")
+    units = {e.get("units") for e in doc["files"] if e.get("faces")}
+    # one unit per file: the header names it only when every file shares it
+    unit = unit_text(units.pop() if len(units) == 1 else doc.get("units") or "mm")
+    mixed = len({e.get("units") for e in doc["files"] if e.get("faces")}) > 1
     metric = doc.get("metric", "peak")
     warn_fraction = doc.get("warn_fraction") or 1.0
     what = "deviation (ripple and signal error)" if doc.get("include_signal_error") else "ripple"
@@ -239,7 +324,8 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              '<meta name="viewport" content="width=device-width, initial-scale=1">',
              f"<title>cadartifact {'gate' if gate else 'advise'} report</title><style>{_CSS}</style></head><body>"]
-    meta = [f"tolerance {_num(tol, 4)} {_e(unit)} on the {_e(metric)} {what}"]
+    meta = [f"tolerance {_num(tol, 4)} {'(in each file’s units)' if mixed else _e(unit)} on the {_e(metric)} "
+            f"{what}"]
     if gate:
         meta.append(f"warn from {_num(warn_fraction)} of the tolerance")
         meta.append(f"policy {_e(doc.get('policy') or 'defaults')}")
@@ -257,21 +343,32 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     parts.append('<div class="cards">' + "".join(
         f'<div class="card"><div class="n">{_e(v)}</div><div class="l">{_e(k)}</div></div>'
         for k, v in cards if v is not None) + "</div>")
+    if gate:
+        parts.append(_relation(doc))
+    parts.append(_contents(doc))
 
     heads = ["face", "net", "scheme", "method"] + [h for _, h in _DIRECTIONS] + [
         "deviation" if doc.get("include_signal_error") else "ripple", "advised", "verdict"]
     pictures = 0
-    for entry in doc["files"]:
+    for k, entry in enumerate(doc["files"]):
+        unit = unit_text(entry.get("units")) if entry.get("units") else unit_text(doc.get("units") or "mm")
         ftol = (entry.get("policy") or {}).get("tolerance") or tol
         fverdict = f' <span class="badge b-{_e(entry["verdict"])}">{_e(entry["verdict"])}</span>' \
             if entry.get("verdict") else ""
-        parts.append(f'<section class="file"><h2>{_e(entry.get("path"))}{fverdict}</h2>')
+        parts.append(f'<section class="file" id="file-{k}"><h2>{_e(entry.get("path"))}{fverdict}</h2>')
         sub = []
         if entry.get("faces_total") is not None:
             sub.append(f"{len(entry.get('faces', []))} analysed of {entry['faces_total']} faces")
-        skipped = ", ".join(f"{v} {k}" for k, v in sorted((entry.get("skipped") or {}).items()))
+        from ..report import kind_count
+
+        skipped = ", ".join(kind_count(kind, n) for kind, n in sorted((entry.get("skipped") or {}).items()))
         if skipped:
-            sub.append(f"not B-spline: {_e(skipped)}")
+            sub.append(f"not analysed: {_e(skipped)}")
+        if entry.get("analysed_share") is not None:
+            sub.append(f"analysed charts cover {100 * entry['analysed_share']:.1f} % of the area")
+        if entry.get("share_failure"):
+            parts.append(f'<div class="error">{_e(entry["share_failure"])}</div>')
+        sub.append(f"values in {_e(unit)}")
         if ftol is not None and ftol != tol:
             sub.append(f"tolerance {_num(ftol, 4)} {_e(unit)} (policy override)")
         if entry.get("ignored_faces"):
@@ -289,6 +386,7 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
             parts.append("</tbody></table></div>")
             parts.append('<div class="small">Bars: share of the tolerance per direction (full at 100 %, red '
                          f"beyond); below: the {_e(metric)} in {_e(unit)}.</div>")
+            parts.append(_advice_details(entry["faces"], doc, unit))
             if heatmaps and ftol:
                 if pictures < HEATMAP_FILES:
                     parts.append(_heatmap(entry, doc, float(ftol), unit))

@@ -65,6 +65,7 @@ _LABELS = {
 
 CMAP = "viridis"
 ABOVE_COLOUR = (0.86, 0.08, 0.08)  # red: beyond the tolerance
+PEAK_COLOUR = (0.40, 0.0, 0.04)  # dark red: the largest peak, when it is beyond the tolerance
 OUTSIDE_COLOUR = (0.75, 0.75, 0.75)  # grey: no value (glb only)
 DEFAULT_SIZE = (1200, 900)
 
@@ -177,16 +178,35 @@ def _cells(m: FaceMap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return pts, vals, quads[inside]
 
 
-def vertex_colours(values: np.ndarray, clim: tuple[float, float], cmap: str = CMAP) -> np.ndarray:
-    """RGBA ``uint8`` colours ``(n, 4)`` of magnitudes: the colormap over ``clim``, red above, grey for NaN."""
+def vertex_colours(values: np.ndarray, clim: tuple[float, float], cmap: str = CMAP,
+                   top: float | None = None) -> np.ndarray:
+    """RGBA ``uint8`` colours ``(n, 4)`` of magnitudes: the colormap over ``clim``, red above, grey for NaN.
+
+    With ``top > clim[1]`` (the tolerance) the values above it keep their structure: a second
+    segment runs linearly from :data:`ABOVE_COLOUR` at the tolerance to :data:`PEAK_COLOUR` at ``top``
+    (a face far over tolerance is no longer solid red).
+    """
     mpl = require("matplotlib", "heatmap colours")
     lo, hi = clim
     span = hi - lo if hi > lo else 1.0
     t = np.clip((np.nan_to_num(values, nan=lo) - lo) / span, 0.0, 1.0)
     rgba = np.asarray(mpl.colormaps[cmap](t), dtype=float)
-    rgba[values > hi, :3] = ABOVE_COLOUR
+    over = values > hi
+    if top is not None and top > hi and over.any():
+        s = np.clip((values[over] - hi) / (top - hi), 0.0, 1.0)[:, None]
+        rgba[over, :3] = (1 - s) * np.array(ABOVE_COLOUR) + s * np.array(PEAK_COLOUR)
+    else:
+        rgba[over, :3] = ABOVE_COLOUR
     rgba[~np.isfinite(values), :3] = OUTSIDE_COLOUR
     return np.round(rgba * 255).astype(np.uint8)
+
+
+def upper_limit(maps, tol: float | None) -> float | None:
+    """The top of the over-tolerance segment: the largest peak when it exceeds ``tol``, else None."""
+    if tol is None:
+        return None
+    top = max((m.peak for m in maps), default=0.0)
+    return top if top > tol else None
 
 
 @contextlib.contextmanager
@@ -238,27 +258,86 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
         try:
             plotter.set_background("white")
             extra = {"above_color": ABOVE_COLOUR} if tol is not None else {}
+            floor = noise_floor(maps)
+            top = upper_limit(maps, tol)
             for m in maps:
                 pts, vals, quads = _cells(m)
                 if len(quads) == 0:
                     continue
                 mesh = pv.PolyData(pts, np.hstack([np.full((len(quads), 1), 4), quads]).ravel())
-                mesh.point_data["value"] = np.nan_to_num(vals, nan=0.0)
-                plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
-                                 show_scalar_bar=False, **extra)
+                # rounding noise (1e-13 mm on a clean panel) is drawn as the zero it is
+                shown = np.where(np.nan_to_num(vals, nan=0.0) < floor, 0.0, np.nan_to_num(vals, nan=0.0))
+                if top is not None:  # two segments: the colours are computed here, drawn as they are
+                    mesh.point_data["rgb"] = vertex_colours(np.where(np.isfinite(vals), shown, np.nan), clim,
+                                                            cmap, top)[:, :3]
+                    plotter.add_mesh(mesh, scalars="rgb", rgb=True, smooth_shading=True, show_scalar_bar=False)
+                else:
+                    mesh.point_data["value"] = shown
+                    plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
+                                     show_scalar_bar=False, **extra)
                 if show_net:
                     nu, nv = m.net.shape
                     cage = pv.PolyData(np.asarray(m.net.points, float).reshape(-1, 3), lines=_net_lines(nu, nv))
-                    plotter.add_mesh(cage, color="black", line_width=1, opacity=0.5)
+                    # lighter when many faces share the view, so the colours stay readable
+                    plotter.add_mesh(cage, color="black", line_width=1, opacity=0.5 if len(maps) <= 4 else 0.2)
+                if m.peak > floor:  # a marker at the peak
+                    k = int(np.nanargmax(m.values))
+                    plotter.add_points(m.points.reshape(-1, 3)[k][None, :], color="magenta", point_size=12,
+                                       render_points_as_spheres=True)
             if face_labels:
-                centres = np.array([_centre(m) for m in maps])
-                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in maps], font_size=14,
+                worst = sorted(maps, key=lambda m: -m.peak)[:LABELLED_FACES]  # labels of all 40 would overlap
+                centres = np.array([_centre(m) for m in worst])
+                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in worst], font_size=14,
                                          point_size=1, shape_opacity=0.5, always_visible=True)
-            plotter.view_isometric()
+            normal = mean_normal(maps[0]) if len(maps) == 1 else None
+            if normal is not None:  # a face seen along its mean normal, not edge-on
+                up = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
+                plotter.view_vector(normal, viewup=up)
+            else:
+                plotter.view_isometric()
+            if len(maps) > 1:  # the whole-model view: an axis triad and a scale bar along the longest side
+                plotter.add_axes()
+                pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+                lo, hi = pts.min(axis=0), pts.max(axis=0)
+                k = int(np.argmax(hi - lo))
+                a, b = lo.copy(), lo.copy()
+                b[k] = hi[k]
+                plotter.add_ruler(a, b, title=unit_text(maps[0].net.unit), number_labels=3, font_size_factor=0.6,
+                                  label_size_factor=0.6)
             plotter.reset_camera()
             return plotter.screenshot(None, return_img=True)
         finally:
             plotter.close()
+
+
+#: Faces labelled with their index in a whole-model view (the worst ones).
+LABELLED_FACES = 6
+
+
+def noise_floor(maps) -> float:
+    """Values below ``1e-9`` of the scene's size are rounding noise: pictures draw them as 0."""
+    pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+    size = float(np.linalg.norm(np.ptp(pts, axis=0))) if len(pts) else 0.0
+    return 1e-9 * max(size, 1e-300)
+
+
+def mean_normal(m: FaceMap) -> np.ndarray | None:
+    """The unit mean normal of a face's fine-grid surface (area-weighted), None when the face curves
+    all round (a cylinder's normals cancel): then there is no single direction to look from."""
+    p = np.asarray(m.points, float)
+    if p.shape[0] < 2 or p.shape[1] < 2:
+        return None
+    du, dv = np.diff(p, axis=0)[:, :-1], np.diff(p, axis=1)[:-1, :]
+    n = np.cross(du, dv)
+    on_face = np.isfinite(m.values[:-1, :-1]) & np.isfinite(m.values[1:, 1:])  # cells inside the trim
+    if on_face.any():
+        n = n[on_face]
+    total = n.reshape(-1, 3).sum(axis=0)
+    length = float(np.linalg.norm(total))
+    area = float(np.linalg.norm(n, axis=-1).sum())
+    if not area > 0 or length < 0.2 * area:
+        return None
+    return total / length
 
 
 def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
@@ -283,7 +362,8 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     direction : str
         Names the colour bar (e.g. ``"X1 ripple [mm]"``).
     tol : float, optional
-        Colour scale 0..tol, red beyond (the bar's red end).
+        Colour scale 0..tol; beyond it a red segment up to the largest peak (the bar is broken at the
+        tolerance), so faces over tolerance keep their structure.
     title : str, optional
     window_size : (int, int)
         Width and height of the picture in pixels.
@@ -341,12 +421,27 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
             ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
             ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap)))
             ax.set_axis_off()
-            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}", fontsize=9, pad=2)
+            why = "" if mean_normal(m) is not None else "\n(curved all round: no single side to face, isometric view)"
+            ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}{why}", fontsize=9, pad=2)
     cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
-    colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
-    sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
-    bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
-    bar.set_label(label(direction, unit), fontsize=11)
+    top = upper_limit(maps, tol)
+    if top is not None:  # two segments: 0..tolerance (colormap), tolerance..peak (reds), broken at the tolerance
+        from matplotlib.colors import LinearSegmentedColormap, ListedColormap, TwoSlopeNorm
+
+        reds = LinearSegmentedColormap.from_list("over", [ABOVE_COLOUR, PEAK_COLOUR])
+        colours = ListedColormap(np.vstack([mpl.colormaps[cmap](np.linspace(0, 1, 256)),
+                                            reds(np.linspace(0, 1, 256))]))
+        sm = mpl.cm.ScalarMappable(norm=TwoSlopeNorm(vmin=clim[0], vcenter=tol, vmax=top), cmap=colours)
+        bar = fig.colorbar(sm, cax=cax)
+        bar.set_ticks([clim[0], tol / 2, tol, (tol + top) / 2, top])
+        bar.set_ticklabels(["0", f"{tol / 2:.3g}", f"tol {tol:.3g}", f"{(tol + top) / 2:.3g}",
+                            f"{top:.3g}"])
+        bar.ax.axhline(tol, color="black", linewidth=1.5)
+    else:
+        colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
+        sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
+        bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
+    bar.set_label(label(direction, unit_text(unit)), fontsize=11)
     bar.ax.tick_params(labelsize=9)
     if title:
         fig.text(0.01, 0.985, title, ha="left", va="top", fontsize=12)
@@ -403,37 +498,11 @@ def write_png(maps, out, **options) -> Path:
     return write_atomic(Path(out), png_bytes(render_image(maps, **options)))
 
 
-def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP) -> Path:
-    """Write the faces as one glb scene of triangle meshes with vertex colours (trimesh).
+def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP, direction: str | None = None) -> Path:
+    """Write the faces as one glb scene (see :func:`cadartifact.viz.glb.export_glb`: metres, extras)."""
+    from .glb import export_glb as _export
 
-    Parameters
-    ----------
-    maps : list of FaceMap
-    out : path-like
-        ``.glb`` file, written atomically.
-    tol : float, optional
-        Colour scale 0..tol with red beyond (as the picture), else 0..largest peak.
-
-    Returns
-    -------
-    Path
-        One mesh per face, named ``face_<index>``; each quad of the fine grid is two triangles.
-    """
-    trimesh = require("trimesh", "glb export")
-    if not maps:
-        raise CadArtifactError("nothing to export: no analysable face")
-    clim = colour_limits(maps, tol)
-    scene = trimesh.Scene()
-    for m in maps:
-        pts, vals, quads = _cells(m)
-        if len(quads) == 0:
-            continue
-        tris = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-        mesh = trimesh.Trimesh(vertices=pts, faces=tris, vertex_colors=vertex_colours(vals, clim, cmap),
-                               process=False)
-        name = f"face_{m.net.origin.face}"
-        scene.add_geometry(mesh, node_name=name, geom_name=name)
-    return write_atomic(Path(out), scene.export(file_type="glb"))
+    return _export(maps, out, tol=tol, cmap=cmap, direction=direction)
 
 
 def _check_out(option: str, path, suffix: str) -> Path:
@@ -447,7 +516,8 @@ def _check_out(option: str, path, suffix: str) -> Path:
 
 
 def view(path, *, direction: str = "total", tol: float | None = None, out=None, glb=None, faces=None,
-         scheme=None, window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto") -> ViewResult:
+         scheme=None, window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
+         progress=None) -> ViewResult:
     """Heatmap picture (and optionally a glb) of a file's faces.
 
     Parameters
@@ -457,7 +527,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
     direction : str
         One of :data:`DIRECTIONS`.
     tol : float, optional
-        Colour scale 0..tol, red beyond.
+        Colour scale 0..tol, then reds up to the peak.
     out : path-like, optional
         PNG to write; default ``<file stem>_<direction>.png`` in the current folder. ``False``: no PNG.
     glb : path-like, optional
@@ -467,6 +537,8 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
     scheme : str or Scheme, optional
     window_size, show_net, layout
         As :func:`render_image`.
+    progress : callable, optional
+        ``progress(message)`` at each stage: the file read, each face's fields, the picture, the glb.
 
     Returns
     -------
@@ -482,6 +554,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
     from ..exchange import read
 
     check_option("direction", direction, DIRECTIONS)
+    check_option("layout", layout, LAYOUTS)  # every option before any work (and any progress line)
     if tol is not None:
         try:
             tol = float(tol)
@@ -508,17 +581,24 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
             shown = ", ".join(str(f) for f in sorted(have)[:20]) + (", ..." if len(have) > 20 else "")
             raise OptionError("face", f"an analysable face index of {src.name} ({shown})", missing[0])
         nets = [n for n in nets if n.origin.face in wanted]
-    maps = face_maps(nets, direction, scheme)
+    say = progress or (lambda message: None)
+    say(f"read {src}: {len(nets)} face{'' if len(nets) == 1 else 's'} to draw")
+    maps = []
+    for k, net in enumerate(nets, 1):
+        maps += face_maps([net], direction, scheme)
+        say(f"fields of face {net.origin.face} ({k}/{len(nets)})")
     peak = max(m.peak for m in maps)
     unit = unit_text(nets[0].unit)
     if png is not None:
         what = f"face {nets[0].origin.face}" if len(nets) == 1 else f"{len(nets)} faces"
         title = f"{src.name}  ({what}): {_LABELS[direction]}, peak {number(peak)} {unit}"
         if tol is not None:
-            title += f", tolerance {tol:g} {unit} (red beyond)"
+            title += f", tolerance {tol:g} {unit} (reds beyond it, darkest at the peak)"
+        say(f"rendering {png}")
         write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
                   layout=layout)
     if glb_path is not None:
-        export_glb(maps, glb_path, tol=tol)
+        say(f"writing {glb_path}")
+        export_glb(maps, glb_path, tol=tol, direction=direction)
     return ViewResult(png=png, glb=glb_path, direction=direction, peak=peak,
                       faces=tuple(n.origin.face for n in nets))

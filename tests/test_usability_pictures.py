@@ -1,0 +1,62 @@
+"""A first day with the pictures (issue 12): GLB in metres with extras, maps options, noise, camera."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+pytest.importorskip("OCP")
+pytest.importorskip("pyvista")
+trimesh = pytest.importorskip("trimesh")
+
+from cadartifact.cli import app  # noqa: E402
+from cadartifact.exchange import read  # noqa: E402
+from cadartifact.viz import view as V  # noqa: E402
+
+SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+
+
+def test_glb_is_in_metres_with_extras(tmp_path):
+    path = SAMPLES / "hull_freeform.step"
+    glb = tmp_path / "hull.glb"
+    res = V.view(path, tol=0.05, out=False, glb=glb)
+    scene = trimesh.load(glb)
+    maps = V.face_maps(read(path).nets, "total")
+    size_mm = np.ptp(maps[0].points.reshape(-1, 3), axis=0)
+    mesh = next(iter(scene.geometry.values()))
+    np.testing.assert_allclose(np.ptp(mesh.vertices, axis=0), size_mm * 1e-3, rtol=1e-6)
+    assert set(np.unique(mesh.faces)) == set(range(len(mesh.vertices)))  # no unused vertex
+    extras = scene.metadata
+    assert extras["field"] == "total" and extras["units"] == "mm" and extras["coordinates"] == "m"
+    assert extras["tolerance"] == 0.05 and extras["peak"] == pytest.approx(res.peak)
+    assert mesh.metadata["peak"] == pytest.approx(maps[0].peak)
+
+
+def test_maps_grid_rejects_a_scheme(tmp_path):
+    result = CliRunner().invoke(app, ["maps", "--grid", "-s", "4-8", "--out", str(tmp_path / "g.png")])
+    assert result.exit_code == 2 and "--scheme" in result.stderr and "--grid" in result.stderr
+    assert not (tmp_path / "g.png").exists()
+
+
+def test_noise_floor_and_mean_normal():
+    net = read(SAMPLES / "clean_panel.step").nets[0]
+    m = V.face_maps([net], "total")[0]
+    assert m.peak < V.noise_floor([m])  # the clean panel's 1e-13 mm is noise: drawn as 0
+    n = V.mean_normal(m)
+    assert n is not None and abs(np.linalg.norm(n) - 1) < 1e-12
+    # the panel is nearly flat: its mean normal is the normal of its corner plane, by the net's corners
+    p = np.asarray(net.points, float)
+    corner = np.cross(p[-1, 0] - p[0, 0], p[0, -1] - p[0, 0])
+    assert abs(np.dot(n, corner / np.linalg.norm(corner))) > 0.99
+
+
+def test_over_tolerance_keeps_structure():
+    values = np.array([0.0, 0.5, 1.0, 2.0, 5.0, 10.0])
+    flat = V.vertex_colours(values, (0.0, 1.0))
+    assert len({tuple(c) for c in flat[values > 1]}) == 1  # the old scale: solid red
+    graded = V.vertex_colours(values, (0.0, 1.0), top=10.0)
+    over = graded[values > 1, :3].astype(int)
+    assert len({tuple(c) for c in over}) == 3 and np.all(np.diff(over[:, 0]) < 0)  # darker towards the peak
+    assert tuple(graded[-1, :3]) == tuple(np.round(np.array(V.PEAK_COLOUR) * 255).astype(int))
+    np.testing.assert_array_equal(graded[values <= 1], flat[values <= 1])
