@@ -6,7 +6,7 @@ Prints, per file, the best-of-N seconds of OCCT's bare ``STEPControl_Reader`` re
 (the baseline, measured in this same run) and of cadartifact's load + advise of every B-spline face,
 with the ratio (target < 1.5x with the fast options: no scheme comparison, no OCCT verification;
 the default options are shown too). Then per-face advice time for synthetic nets up to 100x100.
-Every run starts with cold caches (``separable.clear_caches``), as a gate that opens each file once.
+Every run starts with cold caches (``advice.clear_caches``), as a gate that opens each file once.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ def main():
     args = ap.parse_args()
     import cadartifact as ca
     from cadartifact.exchange import load
-    from cadartifact.separable import clear_caches
+    from cadartifact.advice import clear_caches
 
     ca.load  # warm imports
     print(f"{'file':34s} {'faces':>5s} {'OCCT read':>10s} {'advise fast':>12s} {'ratio':>6s} {'advise full':>12s} {'ratio':>6s}")

@@ -27,7 +27,7 @@ from .fitting import candidate_axis, candidate_net, fit_points
 from .intent import READINGS
 from .net import ControlNet
 
-__all__ = ["Advice", "advise", "resample", "OBJECTIVES", "NAMED_SCHEMES"]
+__all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
 
 NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 
@@ -606,3 +606,11 @@ def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: st
         raise OptionError("shape", f"at least {low[0]}x{low[1]} control points", (a, b))
     Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
     return candidate_net(net, Q, cu, cv)
+
+
+def clear_caches() -> None:
+    """Forget the cached per-axis operators (intent and candidate bases): benchmarks measure cold runs."""
+    from . import fitting, intent
+
+    intent._CACHE.clear()
+    fitting._CACHE.clear()

@@ -371,6 +371,20 @@ def plural(n: int, word: str) -> str:
     return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
+def _mm_pct(value, share) -> str:
+    """A value in model units with its share of the tolerance: ``0.0213 43%``."""
+    if value is None or share is None:
+        return "-"
+    pct = f"{share * 100:.0f}%" if share < 10 else f"{share:.0f}x"
+    colour = "green" if share <= 0.5 else "yellow" if share <= 1.0 else "red"
+    return f"{value:.3g} [{colour}]{pct}[/]"
+
+
+def _mm_bar(value, share) -> str:
+    """A value in model units and the share bar."""
+    return "-" if value is None else f"{value:.3g} {_bar(share)}"
+
+
 def _bar(share: float | None, width: int = 4) -> str:
     """A compact bar of a share of the tolerance: green up to half, yellow up to 1, red beyond."""
     if share is None:
@@ -429,15 +443,17 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
         wide = console.width >= WIDE_COLUMNS
     t = doc["tolerance"]
     key = "deviation" if doc["include_signal_error"] else "total"
+    value_name = "deviation" if key == "deviation" else "ripple"
     for f in doc["files"]:
         schemes = sorted({r["scheme"] for r in f["faces"]})
-        methods = sorted({r["method"] for r in f["faces"]})
-        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); "
-                   f"scheme {', '.join(schemes) or '-'}; {', '.join(methods) or 'no face analysed'}")
+        methods = sorted({f"{r['method']}, intent {r.get('intent', 'surface')}" for r in f["faces"]})
+        caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); cells: "
+                   f"{_units(f.get('units') or doc['units'])} and % of the tolerance; "
+                   f"scheme {', '.join(schemes) or '-'}; {'; '.join(methods) or 'no face analysed'}")
         table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
                       title_justify="left", caption_justify="left", pad_edge=False)
-        cols = (("face", "net", "X1 (u)", "X2 (v)", "diagonal", "lateral", "ripple", "advised", "verdict") if wide
-                else ("face", "net", "ripple", "worst", "advised", "verdict"))
+        cols = (("face", "net", "road", "X1 (u)", "X2 (v)", "diagonal", "lateral", value_name, "advised", "verdict")
+                if wide else ("face", "net", value_name, "worst", "advised", "verdict"))
         for col in cols:
             # the face label may fold (it is the only free text); numbers never wrap or shrink
             table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
@@ -457,13 +473,22 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
                 advised += " [yellow]?[/]"
+            mm = r["budget"]
             if wide:
-                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _bar(sh["x1"]), _bar(sh["x2"]),
-                              _bar(sh["diagonal"]), _bar(sh["lateral"]), _bar(sh[key]), advised, verdict)
-            else:
-                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _bar(sh[key]), _worst_direction(sh),
+                road = f"{r['method']}, {r.get('intent', 'surface')}"
+                table.add_row(_face_label(r), "x".join(map(str, r["net"])), road,
+                              *(_mm_bar(mm[k][doc["metric"]], sh[k]) for k in ("x1", "x2", "diagonal", "lateral", key)),
                               advised, verdict)
+            else:
+                table.add_row(_face_label(r), "x".join(map(str, r["net"])), _mm_pct(mm[key][doc["metric"]], sh[key]),
+                              _worst_direction(sh), advised, verdict)
         console.print(table)
+        for r in rows:  # why each direction of a changed net has its count
+            reasons = (r.get("advice") or {}).get("reasons") or {}
+            if reasons and not (r.get("advice") or {}).get("kept_today", True):
+                why = "; ".join(f"{d} {reasons[d]['today']}->{reasons[d]['advised']}: {reasons[d]['reason']}"
+                                for d in ("u", "v") if d in reasons)
+                console.print(f"  face {r['face']}: {why}", soft_wrap=False, overflow="fold")
         skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
         share = f.get("analysed_share")
         if skipped:

@@ -280,14 +280,22 @@ def _relation(doc: dict) -> str:
 
 
 def _advice_details(faces: list, doc: dict, unit: str) -> str:
-    """Per face, folded: how the advice was verified and what the other schemes would need."""
+    """Per face, folded: why each direction has its count, how the advice was verified, and what the other
+    schemes would need."""
     rows = []
     for f in sorted(faces, key=lambda f: -_face_value(f, doc)):
         adv = f.get("advice") or {}
         ver, comp = adv.get("verification"), adv.get("comparison") or {}
-        if ver is None and not comp:
+        reasons = adv.get("reasons") or {}
+        if ver is None and not comp and not reasons:
             continue
         bits = []
+        for d in ("u", "v"):
+            r = reasons.get(d)
+            if r:
+                bits.append(f"{d}: {r['today']} &rarr; {r['advised']} ({_e(r['reason'])})")
+        for note in adv.get("notes") or []:
+            bits.append(_e(note))
         if ver is not None:
             ok = "meets" if ver.get("meets") else "does not meet"
             bits.append(f"verification ({_e(ver.get('method'))}, K = {2 ** int(ver.get('levels') or 0)}): "
