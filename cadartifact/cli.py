@@ -366,6 +366,9 @@ def gate_cmd(
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
+    read_timeout: Optional[float] = typer.Option(None, "--read-timeout",
+                                                 help="Seconds OCCT's reader may take on one file (default 120 or "
+                                                      "$CADARTIFACT_READ_TIMEOUT); a file past it is an error."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -385,6 +388,8 @@ def gate_cmd(
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:
         raise OptionError("--jobs", "a number of processes >= 1", jobs)
+    if read_timeout is not None and not (0 < read_timeout < float("inf")):
+        raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
     cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme})
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
@@ -402,7 +407,7 @@ def gate_cmd(
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=err, transient=True, disable=not err.is_terminal) as bar:
         task = bar.add_task("gating files", total=len(files))
-        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify,
+        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify, read_timeout=read_timeout,
                            progress=lambda entry: bar.update(task, advance=1, description=f"gated {entry['path']}"))
     doc = build_document(entries, base_settings(pol, cli), pol)
 

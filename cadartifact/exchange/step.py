@@ -7,6 +7,9 @@ one-line :class:`~cadartifact.errors.FileFormatError` naming the file.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import tempfile
 from pathlib import Path
 
 from ..dependencies import require
@@ -24,11 +27,109 @@ from OCP.IGESControl import IGESControl_Reader  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
 from OCP.StepBasic import StepBasic_Product  # noqa: E402
 from OCP.STEPConstruct import STEPConstruct  # noqa: E402
+from OCP.StepShape import StepShape_FaceSurface  # noqa: E402
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer  # noqa: E402
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
 
-__all__ = ["check_file", "read_step", "read_iges", "read_brep", "write_step"]
+__all__ = ["check_file", "read_step", "read_step_audited", "read_iges", "read_brep", "write_step"]
+
+
+@contextlib.contextmanager
+def occt_path(path: Path):
+    """A file name OCCT can open: ``path`` itself, or a UTF-8 symlink to it in a temporary folder.
+
+    OCP passes names to OCCT as UTF-8 strings; a name that is not valid UTF-8 (Linux allows any bytes,
+    Python keeps them as surrogates) cannot cross, so OCCT reads it through a link with a plain name.
+    """
+    name = str(path)
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        pass
+    else:
+        yield name
+        return
+    with tempfile.TemporaryDirectory(prefix="cadartifact-") as tmp:
+        link = os.path.join(tmp, "input" + "".join(path.suffixes[-1:]).encode("ascii", "replace").decode())
+        try:
+            os.symlink(os.path.abspath(os.fsencode(path)), os.fsencode(link))
+        except OSError as exc:
+            raise InputError(path, f"file name is not valid UTF-8 and cannot be linked ({exc.strerror})") from None
+        yield link
+
+
+def _checks(check_list) -> dict[int, list[str]]:
+    """OCCT check messages (fails first, then warnings) by model entity number."""
+    out: dict[int, list[str]] = {}
+    check_list.Start()
+    while check_list.More():
+        check = check_list.Value()
+        msgs = [check.CFail(j) for j in range(1, check.NbFails() + 1)]
+        msgs += [check.CWarning(j) for j in range(1, check.NbWarnings() + 1)]
+        msgs = [" ".join(str(m).split()) for m in msgs if str(m).strip()]
+        if msgs:
+            out.setdefault(int(check_list.Number()), []).extend(msgs)
+        check_list.Next()
+    return out
+
+
+def _file_ids(path: Path, count: int) -> list[str] | None:
+    """The ``#id`` of each record in file order (OCCT's model keeps that order), or None if they do not match."""
+    import re
+
+    with open(path, "rb") as fh:
+        text = fh.read().decode("latin-1")
+    data = text[text.find("DATA;"):] if "DATA;" in text else text
+    ids = re.findall(r"(?:^|;)\s*#(\d+)\s*=", data)
+    return ["#" + i for i in ids] if len(ids) == count else None
+
+
+def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape) -> list[str]:
+    """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
+
+    Each names the entity (``#id``) and OCCT's own check messages on it and its surface (the
+    transfer process's check list, then the model's syntax checks).
+    """
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+
+    session = reader.WS()
+    model = session.Model()
+    entities = [model.Value(i) for i in range(1, model.NbEntities() + 1)]
+    # OCP's model.Number(entity) answers 0; pybind11 gives one wrapper per C++ object, so ids identify them
+    number = {id(e): i for i, e in enumerate(entities, start=1)}
+    declared = [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
+    if not declared:
+        return []
+    transfer = session.TransferReader()
+    got = set()
+    explorer = TopExp_Explorer(shape, TopAbs_FACE)
+    while explorer.More():
+        entity = transfer.EntityFromShapeResult(explorer.Current(), 1)
+        if entity is not None:
+            got.add(number.get(id(entity)))
+        explorer.Next()
+    dropped = [i for i in declared if i not in got]
+    if not dropped:
+        return []
+    checks = _checks(transfer.TransientProcess().CheckList(False))
+    for k, msgs in _checks(session.ModelCheckList(False)).items():
+        checks.setdefault(k, []).extend(msgs)
+    ids = _file_ids(path, len(entities))
+    label = (lambda i: ids[i - 1]) if ids else (lambda i: f"model entity {i}")
+    out = []
+    for i in dropped:
+        face = entities[i - 1]
+        related = [i]
+        geometry = face.FaceGeometry() if hasattr(face, "FaceGeometry") else None
+        if geometry is not None and id(geometry) in number:
+            related.append(number[id(geometry)])
+        said = [f"{label(k)}: {m}" for k in related for m in checks.get(k, [])]
+        why = "; ".join(said) if said else "no check message (face not reachable from a shape, or not translated)"
+        kind = "ADVANCED_FACE" if face.DynamicType().Name() == "StepShape_AdvancedFace" else "FACE_SURFACE"
+        out.append(f"face {label(i)} ({kind}) was dropped by OCCT's STEP transfer: {why[:300]}")
+    return out
 
 
 def _step_name(reader: STEPControl_Reader):
@@ -63,10 +164,16 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
         Missing/empty file, a file OCCT's STEP parser rejects (status != RetDone:
         truncated, not STEP, binary), or a file without transferable shapes.
     """
+    shape, face_name, _ = read_step_audited(path)
+    return shape, face_name
+
+
+def read_step_audited(path) -> tuple[TopoDS_Shape, object, list[str]]:
+    """:func:`read_step`, plus one message per face of the file the transfer dropped (see :func:`_dropped_faces`)."""
     path = check_file(path)
     reader = STEPControl_Reader()
-    with quiet_occt():
-        status = reader.ReadFile(str(path))
+    with quiet_occt(), occt_path(path) as name:
+        status = reader.ReadFile(name)
         if status != IFSelect_RetDone:
             raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
                                   "truncated, corrupt or not STEP)")
@@ -78,15 +185,16 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
             raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
         if reader.NbShapes() == 0 or reader.OneShape().IsNull():
             raise FileFormatError(path, "STEP file has no shape to transfer")
-        return reader.OneShape(), _step_name(reader)
+        shape = reader.OneShape()
+        return shape, _step_name(reader), _dropped_faces(path, reader, shape)
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:
     """Read an IGES file (no face names). Same errors as :func:`read_step`."""
     path = check_file(path)
     reader = IGESControl_Reader()
-    with quiet_occt():
-        status = reader.ReadFile(str(path))
+    with quiet_occt(), occt_path(path) as name:
+        status = reader.ReadFile(name)
         if status != IFSelect_RetDone:
             raise FileFormatError(path, "not a readable IGES file (OCCT's parser rejected it: "
                                   "truncated, corrupt or not IGES)")
@@ -131,9 +239,9 @@ def read_brep(path) -> tuple[TopoDS_Shape, None]:
     path = check_file(path)
     _check_brep_text(path)
     shape = TopoDS_Shape()
-    with quiet_occt():
+    with quiet_occt(), occt_path(path) as name:
         try:
-            ok = BRepTools.Read_s(shape, str(path), BRep_Builder())
+            ok = BRepTools.Read_s(shape, name, BRep_Builder())
         except Standard_Failure as exc:
             raise FileFormatError(path, f"not a readable BREP file: {exc}") from None
     if not ok or shape.IsNull():
