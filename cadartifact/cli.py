@@ -135,7 +135,9 @@ def fail(message: str, code: int = 2) -> "typer.Exit":
     from rich.markup import escape
 
     # escaped: messages quote user text and names like [tool.cadartifact] that rich would eat as markup
-    _console(stderr=True).print(f"[bold red]cadartifact: error:[/] {escape(message)}", soft_wrap=True)
+    from .errors import one_line
+
+    _console(stderr=True).print(f"[bold red]cadartifact: error:[/] {escape(one_line(message))}", soft_wrap=True)
     return typer.Exit(code)
 
 
@@ -553,8 +555,15 @@ def view_cmd(
 def main():  # console-script entry point
     import warnings
 
+    from .exchange.messages import LoadWarning
+
     # the reader's warnings are part of every report (tables, JSON); do not echo them with source lines
-    warnings.filterwarnings("ignore", message=r".*(no analysable face|skipped face)")
+    warnings.filterwarnings("ignore", category=LoadWarning)
+    for stream in (sys.stdout, sys.stderr):  # file names that are not UTF-8 print as \udcff instead of failing
+        try:
+            stream.reconfigure(errors="backslashreplace")
+        except (AttributeError, ValueError):
+            pass
     try:
         app()
     except KeyboardInterrupt:
