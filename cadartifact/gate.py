@@ -158,6 +158,14 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     from .exchange import read
     from .report import face_record
 
+    if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
+        from .errors import InputError
+
+        try:
+            os.listdir(path)
+        except OSError as exc:
+            raise InputError(path, f"cannot read this folder ({exc.strerror or exc}): its files are not gated") from None
+        raise InputError(path, "a folder, not a file")
     res = read(path, timeout=read_timeout)
     invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
     if invalid:

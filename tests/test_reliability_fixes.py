@@ -320,3 +320,25 @@ def test_skipped_charts_are_told_apart_and_warnings_stay_off_stderr(tmp_path):
     out = subprocess.run([sys.executable, "-m", "cadartifact.cli", "gate", str(path), "--tol", "1", "--jobs", "1"],
                          capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert out.returncode == 2 and "LoadWarning" not in out.stderr and "warn(" not in out.stderr, out.stderr
+
+
+def test_a_subfolder_the_gate_cannot_read_is_an_error(tmp_path, monkeypatch):
+    folder = tmp_path / "models"
+    (folder / "locked").mkdir(parents=True)
+    (folder / "good.step").write_bytes(HOOD.read_bytes())
+    real_scandir, real_listdir = os.scandir, os.listdir
+    locked = str(folder / "locked")
+
+    def deny(fn):
+        def wrapped(path=".", *a):
+            if os.fspath(path) == locked:  # root ignores permissions: refuse the listing here
+                raise PermissionError(13, "Permission denied", locked)
+            return fn(path, *a)
+        return wrapped
+
+    monkeypatch.setattr(os, "scandir", deny(real_scandir))
+    monkeypatch.setattr(os, "listdir", deny(real_listdir))
+    r, doc = gate(folder)
+    verdicts = {Path(f["path"]).name: f["verdict"] for f in doc["files"]}
+    assert verdicts == {"good.step": "pass", "locked": "error"} and r.exit_code == 2
+    assert "cannot read this folder (Permission denied)" in doc["files"][1]["error"]
