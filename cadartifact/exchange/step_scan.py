@@ -33,14 +33,19 @@ MAX_DEGREE = 25
 
 _RECORD = re.compile(r"\s*#(\d+)\s*=\s*((?:[^;']|'(?:[^']|'')*')*);")
 _FACE = re.compile(r"#(\d+)\s*=\s*(ADVANCED_FACE|FACE_SURFACE)\s*\(")
-# candidates (fast to find): a positive exponent of 6 or more, 7+ digits before a point, NaN/INF words
-_CANDIDATE = re.compile(r"[eE]\+?0*(?:[6-9]|\d{2,})|\d{7,}\.|[Nn][Aa][Nn]|[Ii][Nn][Ff]")
+# candidates (fast to find, one pattern each): a positive exponent of 6 or more, 7+ digits before a point
+_CANDIDATES = (re.compile(r"[eE]\+?0*(?:[6-9]|[1-9][0-9])"), re.compile(r"[0-9]{7,}\."))
+_HEAD = re.compile(r"\s*#(\d+)\s*=")
 # every real (and NaN/INF word) of a record's text, strings removed
 _REAL = re.compile(r"(?<![\w#.])[-+]?(?:\d+\.\d*|\.\d+)(?:[eE][-+]?\d+)?|(?<![\w.])(?:NAN|INF|INFINITY)(?![\w.])",
                    re.IGNORECASE)
 _STRING = re.compile(r"'(?:[^']|'')*'")
 _TOKEN = re.compile(r"\s*(?:('(?:[^']|'')*')|(\.[A-Z_0-9]+\.)|(#\d+)|"
                      r"([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?)|([A-Za-z_][A-Za-z_0-9]*)|([(),$*]))")
+
+
+#: Text made only of characters tokens are made of (then every character belongs to a token).
+_PLAIN = re.compile(r"[A-Za-z0-9_#.,()$*+'\-\s]*\Z")
 
 
 class _Keyword(str):
@@ -63,38 +68,35 @@ def parse_parameters(text: str):
     ValueError
         Text that is not a STEP record body.
     """
-    pos, end = 0, len(text)
+    if not _PLAIN.match(text) or text.count("'") % 2:  # characters no token holds (outside strings): find them the slow way
+        rest = _TOKEN.sub("", text)
+        if rest.strip():
+            raise ValueError(f"unexpected text {quote(rest.strip()[:40])}")
     stack: list[list] = [[]]
-    while True:
-        m = _TOKEN.match(text, pos)
-        if m is None:
-            if text[pos:].strip():
-                raise ValueError(f"unexpected text at {pos}: {quote(text[pos:pos + 40])}")
-            break
-        pos = m.end()
-        string, enum, ref, number, word, punct = m.groups()
-        top = stack[-1]
-        if string is not None or enum is not None or ref is not None:
-            top.append(string or enum or ref)
-        elif number is not None:
-            top.append(float(number) if ("." in number or "e" in number.lower()) else int(number))
-        elif word is not None:
+    top = stack[0]
+    for string, enum, ref, number, word, punct in _TOKEN.findall(text):  # one C pass, then plain tuples
+        if punct:
+            if punct == "(":
+                inner: list = []
+                if top and isinstance(top[-1], _Keyword):  # KEYWORD( ... ): a typed value or a part
+                    top[-1] = (str(top[-1]), inner)
+                else:
+                    top.append(inner)
+                stack.append(inner)
+                top = inner
+            elif punct == ")":
+                if len(stack) == 1:
+                    raise ValueError("unbalanced ')'")
+                stack.pop()
+                top = stack[-1]
+            elif punct in "$*":
+                top.append(punct)
+        elif ref or string or enum:
+            top.append(ref or string or enum)
+        elif number:
+            top.append(float(number) if ("." in number or "e" in number or "E" in number) else int(number))
+        elif word:
             top.append(_Keyword(word.upper()))
-        elif punct == "(":
-            inner: list = []
-            if top and isinstance(top[-1], _Keyword):  # KEYWORD( ... ): a typed value or a part
-                top[-1] = (str(top[-1]), inner)
-            else:
-                top.append(inner)
-            stack.append(inner)
-        elif punct == ")":
-            if len(stack) == 1:
-                raise ValueError("unbalanced ')'")
-            stack.pop()
-        elif punct in "$*":
-            top.append(punct)
-        if pos >= end:
-            break
     if len(stack) != 1:
         raise ValueError("unbalanced '('")
     out = stack[0]
@@ -245,53 +247,78 @@ def check_step_text(path, text: str) -> None:
         ``"PATH: #ID: problem"`` (see the module notes).
     """
     data = _data_section(text)
+    upper = data.upper()
+    hits = sorted({m.start() for pattern in _CANDIDATES for m in pattern.finditer(data)}
+                  | set(_find_all(upper, "NAN")) | set(_find_all(upper, "INF")))
     seen = -1
-    for m in _CANDIDATE.finditer(data):
-        if m.start() < seen:
+    for at in hits:
+        if at < seen:
             continue
-        start = data.rfind(";", 0, m.start()) + 1  # the record's start (a ';' in a string: judged alone)
-        rec = _RECORD.match(data, start)
-        if rec is None or rec.end() < m.end():
-            body, ident, seen = data[max(0, m.start() - 40):m.end() + 40], "?", m.end()
+        rec = _record_around(data, at)
+        if rec is None:
+            ident, body, seen = "?", data[max(0, at - 40):at + 40], at + 1
         else:
-            body, ident, seen = rec.group(2), rec.group(1), rec.end()
+            ident, body, seen = rec
         for tok in _REAL.finditer(_STRING.sub("''", body)):
             value = _real(tok.group(0))
             if value is None or not math.isfinite(value) or abs(value) > MAX_ABS:
                 raise FileFormatError(path, f"#{ident}: number {quote(tok.group(0))} is not finite or exceeds "
                                             f"{MAX_ABS:g} (no real model holds it)")
-    for m in _records_with(data, "B_SPLINE"):
-        body = m.group(2)
+    for ident, body, _ in _records_with(data, "B_SPLINE"):
         try:
             parts = parse_parameters(body)
         except (ValueError, RecursionError) as exc:
-            raise FileFormatError(path, f"#{m.group(1)}: malformed B-spline entity ({exc})") from None
+            raise FileFormatError(path, f"#{ident}: malformed B-spline entity ({exc})") from None
         spline = _spline(parts)
         if spline is None:
             continue
         problem = spline_problem(*spline)
         if problem:
-            raise FileFormatError(path, f"#{m.group(1)}: {spline[0]}: {problem}")
+            raise FileFormatError(path, f"#{ident}: {spline[0]}: {problem}")
+
+
+def _find_all(text: str, word: str):
+    pos = text.find(word)
+    while pos >= 0:
+        yield pos
+        pos = text.find(word, pos + 1)
+
+
+def _record_around(data: str, at: int):
+    """``(id, body, end)`` of the record holding position ``at``, or None (e.g. a ';' inside a string before it).
+
+    The record starts after the last ';' before ``at`` and ends at the first ';' after it that is
+    outside strings (an even number of quotes since the start: ``''`` escapes come in pairs).
+    """
+    start = data.rfind(";", 0, at) + 1
+    head = _HEAD.match(data, start)
+    if head is None or data.count("'", start, at) % 2:
+        return None
+    end = data.find(";", at)
+    while end >= 0 and data.count("'", start, end) % 2:
+        end = data.find(";", end + 1)
+    if end < 0:
+        return None
+    return head.group(1), data[head.end():end], end + 1
 
 
 def _records_with(data: str, word: str):
-    """The records (``_RECORD`` matches) whose text holds ``word``, each once, found from ``word`` (fast)."""
-    pos, last = 0, -1
+    """``(id, body, end)`` of each record whose text holds ``word`` (once each), found from ``word`` (fast)."""
+    pos = 0
     while True:
         hit = data.find(word, pos)
         if hit < 0:
             return
-        start = data.rfind(";", 0, hit) + 1
-        rec = _RECORD.match(data, start)
-        if rec is None or rec.end() <= hit:  # a ';' inside a string before the word: scan from further back
-            rec = next((r for r in _RECORD.finditer(data, max(0, start - 100_000), hit + 1) if r.end() > hit), None)
+        rec = _record_around(data, hit)
+        if rec is None:  # a ';' in a string before the word: the slow, exact way
+            m = next((r for r in _RECORD.finditer(data, max(0, data.rfind("#", 0, hit) - 100_000), hit + 1)
+                      if r.end() > hit), None)
+            rec = None if m is None else (m.group(1), m.group(2), m.end())
         if rec is None:
             pos = hit + len(word)
             continue
-        if rec.start() != last:
-            last = rec.start()
-            yield rec
-        pos = rec.end()
+        yield rec
+        pos = rec[2]
 
 
 def _real(token: str) -> float | None:
