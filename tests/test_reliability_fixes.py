@@ -342,3 +342,24 @@ def test_a_subfolder_the_gate_cannot_read_is_an_error(tmp_path, monkeypatch):
     verdicts = {Path(f["path"]).name: f["verdict"] for f in doc["files"]}
     assert verdicts == {"good.step": "pass", "locked": "error"} and r.exit_code == 2
     assert "cannot read this folder (Permission denied)" in doc["files"][1]["error"]
+
+
+def test_an_iges_face_the_transfer_skips_fails_the_gate(tmp_path):
+    from OCP.IGESControl import IGESControl_Writer
+
+    from cadartifact.exchange.occ import make_face
+
+    writer = IGESControl_Writer("MM", 1)
+    writer.AddShape(make_face(read(HOOD).nets[0]))
+    writer.ComputeModel()
+    good = tmp_path / "hood.igs"
+    assert writer.Write(str(good))
+    assert len(read(good).nets) == 1
+    text = good.read_text(encoding="latin-1")
+    bad = write(tmp_path, "bad.igs", text.replace("0.,0.,0.,0.,0.2,0.4", "0.,0.,0.,0.,0.4,0.2", 1))  # knots decrease
+    res = read(bad)
+    assert res.skipped == {"dropped": 1} and not res.nets
+    message = next(w for w in res.warnings if "was dropped" in w)
+    assert "D1" in message and "Knots are not in ascending order" in message
+    r, doc = gate(bad)
+    assert r.exit_code == 2 and "D1" in doc["files"][0]["error"]

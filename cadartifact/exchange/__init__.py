@@ -166,9 +166,15 @@ def read_occt(path: Path, fmt: str, convert: bool = False) -> LoadResult:
 
     if fmt == "step":
         shape, face_name, dropped = step.read_step_audited(path)
+    elif fmt == "iges":
+        shape, face_name, dropped = step.read_iges_audited(path)
     else:
-        shape, face_name = {"iges": step.read_iges, "brep": step.read_brep}[fmt](path)
-    nets, total, skipped, messages = occ.nets_from_shape(shape, file=str(path), convert=convert, face_name=face_name)
+        shape, face_name = step.read_brep(path)
+    if shape is None:  # every face dropped
+        nets, total, skipped, messages = [], 0, {}, []
+    else:
+        nets, total, skipped, messages = occ.nets_from_shape(shape, file=str(path), convert=convert,
+                                                             face_name=face_name)
     if dropped:
         skipped["dropped"] = len(dropped)
         total += len(dropped)

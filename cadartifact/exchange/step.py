@@ -32,7 +32,7 @@ from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Wr
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
 
-__all__ = ["check_file", "read_step", "read_step_audited", "read_iges", "read_brep", "write_step"]
+__all__ = ["check_file", "read_step", "read_step_audited", "read_iges", "read_iges_audited", "read_brep", "write_step"]
 
 
 @contextlib.contextmanager
@@ -191,6 +191,19 @@ def read_step_audited(path) -> tuple[TopoDS_Shape, object, list[str]]:
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:
     """Read an IGES file (no face names). Same errors as :func:`read_step`."""
+    shape, face_name, dropped = read_iges_audited(path)
+    if shape is None:
+        raise FileFormatError(path, f"IGES file has no shape to transfer ({dropped[0][:200]})")
+    return shape, face_name
+
+
+def read_iges_audited(path) -> tuple[TopoDS_Shape | None, None, list[str]]:
+    """:func:`read_iges`, plus one message per entity OCCT's transfer skipped ("... transfer failed :
+    entity skipped", with its check messages and those of the entities it refers to).
+
+    A file whose every face was skipped gives no shape (``None``) and the messages, not an error, so
+    that the caller can report the dropped faces.
+    """
     path = check_file(path)
     reader = IGESControl_Reader()
     with quiet_occt(), occt_path(path) as name:
@@ -202,9 +215,16 @@ def read_iges(path) -> tuple[TopoDS_Shape, None]:
             reader.TransferRoots()
         except Standard_Failure as exc:
             raise FileFormatError(path, f"IGES transfer failed: {exc}") from None
+        checks = _checks(reader.WS().TransferReader().TransientProcess().CheckList(False))
+        skipped = [k for k, msgs in sorted(checks.items()) if any("entity skipped" in m for m in msgs)]
+        others = [f"D{2 * k - 1}: {m}" for k, msgs in sorted(checks.items()) if k not in skipped for m in msgs]
+        dropped = [f"IGES entity D{2 * k - 1} was dropped by OCCT's transfer: "
+                   + "; ".join(checks[k] + others[:3])[:300] for k in skipped]
         if reader.NbShapes() == 0 or reader.OneShape().IsNull():
+            if dropped:
+                return None, None, dropped
             raise FileFormatError(path, "IGES file has no shape to transfer")
-        return reader.OneShape(), None
+        return reader.OneShape(), None, dropped
 
 
 def _check_brep_text(path: Path) -> None:
