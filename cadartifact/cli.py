@@ -167,6 +167,11 @@ def cli_errors(func=None, *, aliases: Optional[dict] = None):
             if isinstance(exc, OptionError) and exc.parameter in renames:  # name the option, not the library's name
                 exc = OptionError(renames[exc.parameter], exc.expected, exc.received)
             raise fail(str(exc), exc.exit_code) from None
+        except (typer.Exit, typer.Abort, UsageError, KeyboardInterrupt):
+            raise
+        except Exception as exc:  # noqa: BLE001 - no traceback and no exit 1 ("exceeds tolerance") for a failure
+            raise fail(f"unexpected failure ({type(exc).__name__}: {exc}); please report it with the input", 2) \
+                from None
 
     return wrapper
 

@@ -363,3 +363,16 @@ def test_an_iges_face_the_transfer_skips_fails_the_gate(tmp_path):
     assert "D1" in message and "Knots are not in ascending order" in message
     r, doc = gate(bad)
     assert r.exit_code == 2 and "D1" in doc["files"][0]["error"]
+
+
+def test_an_unexpected_exception_is_one_line_and_exit_2(monkeypatch):
+    import cadartifact.report as report
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("something\nbroke " + "x" * 2000)
+
+    monkeypatch.setattr(report, "advise_files", boom)
+    r = CliRunner().invoke(app, ["advise", str(HOOD), "--tol", "1"])
+    assert r.exit_code == 2 and "Traceback" not in r.output
+    assert len(r.stderr.strip().splitlines()) == 1 and "RuntimeError: something broke" in r.stderr
+    assert len(r.stderr) < 700
