@@ -157,15 +157,16 @@ def read_occt(path: Path, fmt: str, convert: bool = False) -> LoadResult:
 
     path = check_file(path)
     dropped: list[str] = []
+    ids = None
     if fmt == "step":
         from .step_scan import check_step_text
 
         with open(path, "rb") as fh:
-            check_step_text(path, fh.read().decode("latin-1"))
+            ids = check_step_text(path, fh.read().decode("latin-1"))
     from . import occ, step
 
     if fmt == "step":
-        shape, face_name, dropped = step.read_step_audited(path)
+        shape, face_name, dropped = step.read_step_audited(path, ids)
     elif fmt == "iges":
         shape, face_name, dropped = step.read_iges_audited(path)
     else:

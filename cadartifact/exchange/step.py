@@ -74,18 +74,7 @@ def _checks(check_list) -> dict[int, list[str]]:
     return out
 
 
-def _file_ids(path: Path, count: int) -> list[str] | None:
-    """The ``#id`` of each record in file order (OCCT's model keeps that order), or None if they do not match."""
-    import re
-
-    with open(path, "rb") as fh:
-        text = fh.read().decode("latin-1")
-    data = text[text.find("DATA;"):] if "DATA;" in text else text
-    ids = re.findall(r"(?:^|;)\s*#(\d+)\s*=", data)
-    return ["#" + i for i in ids] if len(ids) == count else None
-
-
-def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape) -> list[str]:
+def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None) -> list[str]:
     """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
 
     Each names the entity (``#id``) and OCCT's own check messages on it and its surface (the
@@ -116,8 +105,12 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape) 
     checks = _checks(transfer.TransientProcess().CheckList(False))
     for k, msgs in _checks(session.ModelCheckList(False)).items():
         checks.setdefault(k, []).extend(msgs)
-    ids = _file_ids(path, len(entities))
-    label = (lambda i: ids[i - 1]) if ids else (lambda i: f"model entity {i}")
+    if ids is None:
+        from .step_scan import record_ids
+
+        with open(path, "rb") as fh:
+            ids = record_ids(fh.read().decode("latin-1"))
+    label = (lambda i: ids[i - 1]) if len(ids) == len(entities) else (lambda i: f"model entity {i}")
     out = []
     for i in dropped:
         face = entities[i - 1]
@@ -168,8 +161,11 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
     return shape, face_name
 
 
-def read_step_audited(path) -> tuple[TopoDS_Shape, object, list[str]]:
-    """:func:`read_step`, plus one message per face of the file the transfer dropped (see :func:`_dropped_faces`)."""
+def read_step_audited(path, ids=None) -> tuple[TopoDS_Shape, object, list[str]]:
+    """:func:`read_step`, plus one message per face of the file the transfer dropped (see :func:`_dropped_faces`).
+
+    ``ids``: the file's record ids in order (:func:`~cadartifact.exchange.step_scan.record_ids`), if known.
+    """
     path = check_file(path)
     reader = STEPControl_Reader()
     with quiet_occt(), occt_path(path) as name:
@@ -186,7 +182,7 @@ def read_step_audited(path) -> tuple[TopoDS_Shape, object, list[str]]:
         if reader.NbShapes() == 0 or reader.OneShape().IsNull():
             raise FileFormatError(path, "STEP file has no shape to transfer")
         shape = reader.OneShape()
-        return shape, _step_name(reader), _dropped_faces(path, reader, shape)
+        return shape, _step_name(reader), _dropped_faces(path, reader, shape, ids)
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:

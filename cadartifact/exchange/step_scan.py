@@ -12,7 +12,8 @@ silently drops faces on absurd degrees and multiplicities. This scan (pure Pytho
   a control-point grid that is not rectangular, weights not of the grid's shape, or a weight
   that is not positive or outside ``[1/MAX_ABS, MAX_ABS]``.
 
-It also counts the faces the file declares (``ADVANCED_FACE`` / ``FACE_SURFACE`` entities), the
+A repeated entity id (``#3`` defined twice: OCCT would transfer both) is rejected too. It also
+counts the faces the file declares (``ADVANCED_FACE`` / ``FACE_SURFACE`` entities), the
 reference the reader compares its transferred faces with.
 """
 
@@ -24,7 +25,7 @@ import re
 from ..errors import FileFormatError
 from .messages import quote
 
-__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "declared_faces", "parse_parameters"]
+__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "declared_faces", "parse_parameters", "record_ids"]
 
 #: Largest magnitude of any real number (model units, knots, weights) a real model holds.
 MAX_ABS = 1e12
@@ -231,8 +232,21 @@ def spline_problem(kind: str, attrs: dict) -> str | None:
     return None
 
 
-def check_step_text(path, text: str) -> None:
-    """Raise :class:`FileFormatError` for the first impossible number or B-spline entity.
+_IDS = re.compile(r";\s*#(\d+)\s*=")
+
+
+def record_ids(text: str) -> list[str]:
+    """The ``#id`` of every record of the DATA section, in file order (OCCT's model keeps that order)."""
+    return ["#" + i for i in _IDS.findall(_data_section(text))]
+
+
+def check_step_text(path, text: str) -> list[str]:
+    """Raise :class:`FileFormatError` for a repeated entity id or the first impossible number or B-spline entity.
+
+    Returns
+    -------
+    list of str
+        :func:`record_ids` of the text (for naming entities later).
 
     Parameters
     ----------
@@ -247,6 +261,11 @@ def check_step_text(path, text: str) -> None:
         ``"PATH: #ID: problem"`` (see the module notes).
     """
     data = _data_section(text)
+    ids = ["#" + i for i in _IDS.findall(data)]
+    if len(set(ids)) != len(ids):
+        seen_ids: set[str] = set()
+        twice = next(i for i in ids if i in seen_ids or seen_ids.add(i))
+        raise FileFormatError(path, f"{twice} is defined twice (entity ids must be unique)")
     upper = data.upper()
     hits = sorted({m.start() for pattern in _CANDIDATES for m in pattern.finditer(data)}
                   | set(_find_all(upper, "NAN")) | set(_find_all(upper, "INF")))
@@ -275,6 +294,7 @@ def check_step_text(path, text: str) -> None:
         problem = spline_problem(*spline)
         if problem:
             raise FileFormatError(path, f"#{ident}: {spline[0]}: {problem}")
+    return ids
 
 
 def _find_all(text: str, word: str):
