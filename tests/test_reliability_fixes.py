@@ -380,3 +380,25 @@ def test_an_unexpected_exception_is_one_line_and_exit_2(monkeypatch):
     assert r.exit_code == 2 and "Traceback" not in r.output
     assert len(r.stderr.strip().splitlines()) == 1 and "RuntimeError: something broke" in r.stderr
     assert len(r.stderr) < 700
+
+
+def test_collapsed_pole_grids_give_the_same_checks_as_the_full_parse():
+    from cadartifact.exchange.step_scan import (_data_section, _grid_shape, _records_with, _spline,
+                                                collapse_grids, parse_parameters, spline_problem)
+
+    files = sorted((ROOT / "samples").glob("*.step"))
+    if REALDATA.exists():
+        files += sorted((REALDATA / "step").glob("*.st*p"))
+    seen = 0
+    for path in files:
+        data = _data_section(path.read_text(encoding="latin-1"))
+        for _, body, _ in _records_with(data, "B_SPLINE"):
+            for text in (body, body.replace("(#", "(#1,#", 1)):  # and with one row made ragged
+                fast, full = _spline(parse_parameters(collapse_grids(text))), _spline(parse_parameters(text))
+                assert fast[0] == full[0] and spline_problem(*fast) == spline_problem(*full)
+                dims = 2 if "SURFACE" in full[0] else 1
+                assert _grid_shape(fast[1]["poles"], dims) == _grid_shape(full[1]["poles"], dims)
+                for key in ("degrees", "mults", "knots", "weights"):
+                    assert fast[1].get(key) == full[1].get(key)
+            seen += 1
+    assert seen >= 20
