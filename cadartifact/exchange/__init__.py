@@ -15,6 +15,13 @@ A face whose poles are not finite or all coincide is skipped with a warning
 (counted as ``"degenerate"`` in ``skipped``); a file with no analysable face is
 a warning, not an error. Files that cannot be read raise
 :class:`~cadartifact.errors.InputError` subclasses with a ``"PATH: problem"`` message.
+
+Corrupt files
+-------------
+STEP text is pre-scanned for numbers no real model holds (:mod:`.step_scan`) before OCCT sees
+it; faces the STEP/IGES transfer dropped are counted as ``skipped["dropped"]`` with one warning
+each naming the entity and OCCT's check message; and OCCT's readers run in a child process
+(:mod:`.isolation`), so a reader that crashes or hangs raises ``FileFormatError`` for that file.
 """
 
 from __future__ import annotations
