@@ -4,9 +4,10 @@
 
 Per real STEP file (../shared/realdata/step): best-of-N wall time of
 ``STEPControl_Reader.ReadFile + TransferRoots`` (the baseline) and of ``read(path)``
-(the same read + transfer, plus walking every face and extracting the B-spline nets
-per index and the face names). The ratio's excess over 1 is the extraction overhead
-(target < 10 %). Also: OCCT grid evaluation speed (evaluate_grid) on the real nets at
+(the same read + transfer, plus the STEP text pre-scan, the dropped-face audit, walking every
+face and extracting the B-spline nets per index and the face names, in the reader child process).
+The ratio's excess over 1 is that overhead (target < 10 %). Then the cost of the child process
+alone: read() through the child vs in this process. Also: OCCT grid evaluation speed (evaluate_grid) on the real nets at
 the (8 nu) x (8 nv) grids the measured road uses, and OBJ load times.
 """
 
@@ -81,6 +82,31 @@ def main(argv=None) -> int:
               f"{1e3 * min(full):9.1f} {ratio:7.3f} {1e3 * extract:11.2f} {100 * extract / occt_part:9.1f}%")
     print(f"{'geometric mean':34s} {'':6s} {'':5s} {'':9s} {'':9s} {np.exp(np.mean(np.log(ratios))):7.3f} "
           f"{'':11s} {100 * np.exp(np.mean(np.log(shares))):9.1f}%")
+
+    print(f"\nReader isolation (best of {args.repeat}, interleaved): read() through the reader child process vs "
+          "the same read in this process (CADARTIFACT_READ_ISOLATION=0); 'prescan' = the STEP text bounds check "
+          "alone, over the in-process read")
+    print(f"{'file':34s} {'in-proc ms':>11s} {'child ms':>9s} {'ratio':>7s} {'prescan ms':>11s} {'prescan %':>10s}")
+    import os
+
+    from cadartifact.exchange.step_scan import check_step_text
+
+    iso_ratios = []
+    for path in files:
+        inproc, child, scan = [], [], []
+        for _ in range(args.repeat):
+            child.append(best_of(lambda: read(path), 1))
+            os.environ["CADARTIFACT_READ_ISOLATION"] = "0"
+            try:
+                inproc.append(best_of(lambda: read(path), 1))
+            finally:
+                del os.environ["CADARTIFACT_READ_ISOLATION"]
+            scan.append(best_of(lambda: check_step_text(path, path.read_bytes().decode("latin-1")), 1))
+        ratio = min(child) / min(inproc)
+        iso_ratios.append(ratio)
+        print(f"{path.name:34s} {1e3 * min(inproc):11.1f} {1e3 * min(child):9.1f} {ratio:7.3f} "
+              f"{1e3 * min(scan):11.1f} {100 * min(scan) / min(inproc):9.1f}%")
+    print(f"{'geometric mean':34s} {'':11s} {'':9s} {np.exp(np.mean(np.log(iso_ratios))):7.3f}")
 
     print("\nOCCT grid evaluation (evaluate_grid) on (8 nu) x (8 nv) grids")
     points = seconds = 0.0

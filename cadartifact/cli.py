@@ -94,7 +94,9 @@ def fail(message: str, code: int = 2) -> "typer.Exit":
     from rich.markup import escape
 
     # escaped: messages quote user text and names like [tool.cadartifact] that rich would eat as markup
-    _console(stderr=True).print(f"[bold red]cadartifact: error:[/] {escape(message)}", soft_wrap=True)
+    from .errors import one_line
+
+    _console(stderr=True).print(f"[bold red]cadartifact: error:[/] {escape(one_line(message))}", soft_wrap=True)
     return typer.Exit(code)
 
 
@@ -124,6 +126,11 @@ def cli_errors(func=None, *, aliases: Optional[dict] = None):
             if isinstance(exc, OptionError) and exc.parameter in renames:  # name the option, not the library's name
                 exc = OptionError(renames[exc.parameter], exc.expected, exc.received)
             raise fail(str(exc), exc.exit_code) from None
+        except (typer.Exit, typer.Abort, UsageError, KeyboardInterrupt):
+            raise
+        except Exception as exc:  # noqa: BLE001 - no traceback and no exit 1 ("exceeds tolerance") for a failure
+            raise fail(f"unexpected failure ({type(exc).__name__}: {exc}); please report it with the input", 2) \
+                from None
 
     return wrapper
 
@@ -422,6 +429,9 @@ def gate_cmd(
                                                 "them (overrides the policy's convert; default: skip them)."),
     wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
                                         help="Every column in the text report (default: at 110 columns or more)."),
+    read_timeout: Optional[float] = typer.Option(None, "--read-timeout",
+                                                 help="Seconds OCCT's reader may take on one file (default 120 or "
+                                                      "$CADARTIFACT_READ_TIMEOUT); a file past it is an error."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -442,6 +452,8 @@ def gate_cmd(
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:
         raise OptionError("--jobs", "a number of processes >= 1", jobs)
+    if read_timeout is not None and not (0 < read_timeout < float("inf")):
+        raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
     cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
                      "intent": intent, "convert": convert})
     pol = load_policy(policy) if policy is not None else find_policy()
@@ -468,7 +480,8 @@ def gate_cmd(
                 lines.file_done(entry["path"], entry["verdict"] + (f", {plural(len(entry['faces']), 'face')}"
                                                                    if entry.get("faces") else ""))
 
-        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify, progress=done)
+        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify, read_timeout=read_timeout,
+                           progress=done)
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:
@@ -636,6 +649,15 @@ def _unit_of(path) -> str:
 
 def main():  # console-script entry point
     quiet_warnings()
+    from .exchange.messages import LoadWarning
+
+    # the reader's warnings are part of every report (tables, JSON); do not echo them with source lines
+    warnings.filterwarnings("ignore", category=LoadWarning)
+    for stream in (sys.stdout, sys.stderr):  # file names that are not UTF-8 print as \udcff instead of failing
+        try:
+            stream.reconfigure(errors="backslashreplace")
+        except (AttributeError, ValueError):
+            pass
     try:
         app()
     except KeyboardInterrupt:

@@ -22,7 +22,11 @@ __all__ = [
     "MissingDependencyError",
     "ArtifactToleranceError",
     "check_option",
+    "one_line",
 ]
+
+#: Longest message :func:`one_line` lets through.
+MESSAGE_LIMIT = 600
 
 
 class CadArtifactError(Exception):
@@ -90,3 +94,9 @@ def check_option(parameter: str, value: str, choices: Iterable[str]) -> str:
     if value not in choices:
         raise OptionError(parameter, "one of " + ", ".join(repr(c) for c in choices), value)
     return value
+
+
+def one_line(message: str, limit: int = MESSAGE_LIMIT) -> str:
+    """``message`` on one line (whitespace runs collapsed), cut to ``limit`` characters with ``...``."""
+    text = " ".join(str(message).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."

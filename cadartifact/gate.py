@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import os
 
-from .errors import CadArtifactError
+from .errors import CadArtifactError, one_line
 from .gate_policy import FileSettings, Policy
 
 __all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
@@ -92,11 +92,12 @@ def _error_entry(path: str, settings: FileSettings | None, message: str) -> dict
             "policy": settings.to_dict() if settings else None}
 
 
-#: Skipped-face kinds that mean broken data (non-finite or all-coincident poles), not a face type.
-INVALID_SKIPS = ("degenerate", "conversion failed")
+#: Skipped-face kinds that mean broken data (non-finite or all-coincident poles, faces the STEP transfer
+#: dropped), not a face type.
+INVALID_SKIPS = ("degenerate", "conversion failed", "dropped")
 
 
-def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
+def gate_file(path: str, settings: FileSettings, verify: bool = False, read_timeout: float | None = None) -> dict:
     """Read, advise and judge one file; never raises (errors become an ``error`` entry).
 
     Parameters
@@ -105,6 +106,8 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
     settings : FileSettings
     verify : bool
         Verify the advice of failing faces on the real surface (slower).
+    read_timeout : float, optional
+        Seconds OCCT's reader may take on the file (see :func:`cadartifact.exchange.read`).
 
     Returns
     -------
@@ -133,14 +136,14 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False) -> dict:
         # result is turned into an error below
         with warnings.catch_warnings(), np.errstate(all="ignore"), _one_blas_thread():
             warnings.simplefilter("ignore")
-            return _gate_file(path, settings, verify)
+            return _gate_file(path, settings, verify, read_timeout)
     except CadArtifactError as exc:
         message = str(exc)
         if not message.startswith(str(path)):
             message = f"{path}: {message}"
-        return _error_entry(path, settings, message)
+        return _error_entry(path, settings, one_line(message))
     except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
-        return _error_entry(path, settings, f"{path}: analysis failed ({type(exc).__name__}: {exc})")
+        return _error_entry(path, settings, one_line(f"{path}: analysis failed ({type(exc).__name__}: {exc})"))
 
 
 def _one_blas_thread():
@@ -155,7 +158,7 @@ def _one_blas_thread():
     return threadpool_limits(limits=1, user_api="blas")
 
 
-def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
+def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None) -> dict:
     import numpy as np
 
     from .advice import advise
@@ -163,11 +166,19 @@ def _gate_file(path: str, settings: FileSettings, verify: bool) -> dict:
     from .exchange import read
     from .report import _locate, analysed_share, face_record, kind_count
 
-    res = read(path, convert=settings.convert)
+    if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
+        from .errors import InputError
+
+        try:
+            os.listdir(path)
+        except OSError as exc:
+            raise InputError(path, f"cannot read this folder ({exc.strerror or exc}): its files are not gated") from None
+        raise InputError(path, "a folder, not a file")
+    res = read(path, convert=settings.convert, timeout=read_timeout)
     invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
     if invalid:
-        detail = "; ".join(w for w in res.warnings if "no analysable face" not in w)
-        raise CadArtifactError(f"{invalid} face(s) with invalid control points could not be analysed"
+        detail = "; ".join(w.removeprefix(f"{path}: ") for w in res.warnings if "no analysable face" not in w)
+        raise CadArtifactError(f"{invalid} face(s) could not be read or have invalid control points"
                                + (f" ({detail})" if detail else ""))
     key = "deviation" if settings.include_signal_error else "total"
     faces = []
@@ -296,7 +307,8 @@ def _size(path: str) -> int:
         return 0
 
 
-def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None) -> list:
+def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None,
+             read_timeout: float | None = None) -> list:
     """Gate files (in parallel with ``jobs > 1``); results in input order, identical for any ``jobs``.
 
     Parameters
@@ -308,6 +320,8 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
         Worker processes; 1 runs in this process.
     progress : callable, optional
         ``progress(entry)`` after each file.
+    read_timeout : float, optional
+        Seconds OCCT's reader may take on one file (a file past it is an ``error`` entry).
 
     Returns
     -------
@@ -315,7 +329,7 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
         File entries (:func:`gate_file`).
     """
     done = progress or (lambda entry: None)
-    tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
+    tasks = [(os.fspath(p), s, verify, read_timeout) for p, s in zip(paths, settings)]
     jobs = max(1, min(int(jobs), len(tasks)))
     if jobs == 1 or not _workers_can_start():
         out = []

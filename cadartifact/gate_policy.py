@@ -372,9 +372,17 @@ def _is_cad(path: Path) -> bool:
 
 
 def _walk(folder: Path) -> list[Path]:
-    """CAD files under ``folder``, recursively, sorted by name per folder; hidden sub-folders are skipped."""
+    """CAD files under ``folder``, recursively, sorted by name per folder; hidden sub-folders are skipped.
+
+    A folder that cannot be listed is returned as it is: gating it gives an ``error`` entry (fail closed).
+    """
     found = []
-    for root, dirs, files in os.walk(folder):
+
+    def unreadable(exc: OSError):
+        if exc.filename is not None:
+            found.append(Path(exc.filename))
+
+    for root, dirs, files in os.walk(folder, onerror=unreadable):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         found.extend(Path(root) / f for f in sorted(files) if _is_cad(Path(f)))
     return found

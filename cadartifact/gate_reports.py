@@ -365,7 +365,8 @@ def write_atomic(path, text: str) -> Path:
     except OSError as exc:
         raise InputError(path, f"cannot write the report ({exc.strerror or exc})") from None
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+        # backslashreplace: a file name that is not UTF-8 is shown as \udcff, not a crash
+        with os.fdopen(fd, "w", encoding="utf-8", errors="backslashreplace", newline="") as fh:
             fh.write(text)
             fh.flush()
             os.fsync(fh.fileno())

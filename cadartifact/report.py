@@ -211,6 +211,9 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             why = next((w for w in res.warnings if re.search(r"#\d+: ", w)), "")
             m = re.search(r"#(\d+): (.*)", why)
             raise FileFormatError(p, f"face {m.group(1)}: {m.group(2)}" if m else "a face has invalid control points")
+        if res.skipped.get("dropped"):  # faces the STEP transfer lost: the file is not what it says
+            why = next((w for w in res.warnings if "was dropped" in w), "")
+            raise FileFormatError(p, why.removeprefix(f"{p}: ") or "a face could not be read")
     if faces is not None:  # a face index no file has is a usage error, not an empty (passing) report
         have = sorted({n.origin.face for r in loaded for n in r.nets})
         missing = sorted(set(faces) - set(have))
@@ -231,6 +234,10 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             adv = advise(net, tolerance, scheme, metric=metric, include_signal_error=include_signal_error,
                          compare=compare, verify=verify, intent=intent)
             rec = face_record(net, adv)
+            key = "deviation" if include_signal_error else "total"
+            if any(rec["budget"][k][metric] is None for k in {key, "total"}):  # face_record maps inf/NaN to None
+                raise FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
+                                            "(coordinates or weights too large?)")
             _locate(rec, path, net, "deviation" if include_signal_error else "total")
             entries.append(rec)
             if keep is not None:

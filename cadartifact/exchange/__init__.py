@@ -15,6 +15,13 @@ A face whose poles are not finite or all coincide is skipped with a warning
 (counted as ``"degenerate"`` in ``skipped``); a file with no analysable face is
 a warning, not an error. Files that cannot be read raise
 :class:`~cadartifact.errors.InputError` subclasses with a ``"PATH: problem"`` message.
+
+Corrupt files
+-------------
+STEP text is pre-scanned for numbers no real model holds (:mod:`.step_scan`) before OCCT sees
+it; faces the STEP/IGES transfer dropped are counted as ``skipped["dropped"]`` with one warning
+each naming the entity and OCCT's check message; and OCCT's readers run in a child process
+(:mod:`.isolation`), so a reader that crashes or hangs raises ``FileFormatError`` for that file.
 """
 
 from __future__ import annotations
@@ -65,7 +72,8 @@ class LoadResult:
         Every face in the file (B-rep faces; OBJ polygons).
     skipped : dict str -> int
         Faces not analysed, by kind: ``"plane"``, ``"cylinder"``, ``"cone"``, ``"sphere"``,
-        ``"torus"``, ``"revolution"``, ``"extrusion"``, ``"offset"``, ..., ``"degenerate"``;
+        ``"torus"``, ``"revolution"``, ``"extrusion"``, ``"offset"``, ..., ``"degenerate"``,
+        ``"dropped"`` (STEP faces OCCT's transfer lost: broken entities);
         for OBJ ``"triangle"``, ``"n-gon"``, ``"irregular quad"``.
     warnings : list of str
         Also issued through :func:`warnings.warn` (category ``LoadWarning``).
@@ -98,7 +106,7 @@ def _format_of(path: Path) -> str:
     return fmt
 
 
-def read(path: str | os.PathLike, *, convert: bool = False) -> LoadResult:
+def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | None = None) -> LoadResult:
     """Read every control net in a file.
 
     Parameters
@@ -108,17 +116,24 @@ def read(path: str | os.PathLike, *, convert: bool = False) -> LoadResult:
     convert : bool
         Convert revolution/extrusion/offset and other non-analytic freeform faces to
         B-splines with OCCT (kind ``"converted"``) instead of skipping them.
+    timeout : float, optional
+        Seconds OCCT's reader may take on a STEP/IGES/BREP file (default: 120, or
+        ``$CADARTIFACT_READ_TIMEOUT``); see :mod:`cadartifact.exchange.isolation`.
 
     Returns
     -------
     LoadResult
+        Faces the STEP transfer dropped are counted as ``skipped["dropped"]``, one warning each
+        naming the entity and OCCT's check message (the gate fails such a file).
 
     Raises
     ------
     UnsupportedFormatError
         Unknown extension (the message lists the supported ones).
     InputError, FileFormatError
-        Missing, empty, truncated or malformed file; non-manifold OBJ; OBJ without quads.
+        Missing, empty, truncated or malformed file; impossible numbers in a STEP file (see
+        :mod:`cadartifact.exchange.step_scan`); non-manifold OBJ; OBJ without quads; the
+        reader crashed or gave no answer in time.
     """
     path = Path(path)
     fmt = _format_of(path)
@@ -126,17 +141,57 @@ def read(path: str | os.PathLike, *, convert: bool = False) -> LoadResult:
         from .obj import read_obj
 
         return read_obj(path)
+    from .files import check_file
+    from . import isolation
+
+    check_file(path)
+    isolation.read_timeout(timeout)  # a bad timeout is a usage error before any work
+    if isolation.enabled():
+        result = isolation.call("cadartifact.exchange:read_occt", (path, fmt, convert), path=path,
+                                what=fmt.upper(), timeout=timeout)
+    else:
+        result = read_occt(path, fmt, convert)
+    for message in result.warnings:
+        warn(message)
+    return result
+
+
+def read_occt(path: Path, fmt: str, convert: bool = False) -> LoadResult:
+    """Read a STEP/IGES/BREP file in this process, without issuing warnings (the reader child's job).
+
+    STEP text is pre-scanned for impossible numbers first (:func:`~cadartifact.exchange.step_scan.check_step_text`).
+    """
+    from .files import check_file
+
+    path = check_file(path)
+    dropped: list[str] = []
+    ids = None
+    if fmt == "step":
+        from .step_scan import check_step_text
+
+        with open(path, "rb") as fh:
+            ids = check_step_text(path, fh.read().decode("latin-1"))
     from . import occ, step
 
-    reader = {"step": step.read_step, "iges": step.read_iges, "brep": step.read_brep}[fmt]
-    shape, face_name = reader(path)
-    nets, total, skipped, messages = occ.nets_from_shape(shape, file=str(path), convert=convert, face_name=face_name)
+    if fmt == "step":
+        shape, face_name, dropped = step.read_step_audited(path, ids)
+    elif fmt == "iges":
+        shape, face_name, dropped = step.read_iges_audited(path)
+    else:
+        shape, face_name = step.read_brep(path)
+    if shape is None:  # every face dropped
+        nets, total, skipped, messages = [], 0, {}, []
+    else:
+        nets, total, skipped, messages = occ.nets_from_shape(shape, file=str(path), convert=convert,
+                                                             face_name=face_name)
+    if dropped:
+        skipped["dropped"] = len(dropped)
+        total += len(dropped)
+        messages.extend(f"{path}: {m}" for m in dropped)
     if not nets:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
-        hint = "" if convert else "; try convert=True (--convert) for revolution/extrusion/offset faces"
+        hint = "" if convert or dropped else "; try convert=True (--convert) for revolution/extrusion/offset faces"
         messages.append(f"{path}: no analysable face among {total} faces (skipped: {kinds}){hint}")
-    for message in messages:
-        warn(message)
     return LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
 
 

@@ -15,12 +15,33 @@ than 3 vertices or a repeated vertex.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import FileFormatError
+from .messages import quote
+
+#: ASCII numbers only: Python's int()/float() also take other scripts' digits and "1_0".
+_INT = re.compile(r"[-+]?[0-9]+\Z")
+_FLOAT = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?\Z|[-+]?(?:nan|inf|infinity)\Z",
+                    re.IGNORECASE)
+#: A face vertex: ``v``, ``v/t``, ``v//n`` or ``v/t/n``.
+_FACE_ITEM = re.compile(r"([-+]?[0-9]+)(?:/(?:[-+]?[0-9]+)?(?:/[-+]?[0-9]+)?)?\Z")
+
+
+def _int(token: str) -> int:
+    if not _INT.match(token):
+        raise ValueError(token)
+    return int(token)
+
+
+def _float(token: str) -> float:
+    if not _FLOAT.match(token):
+        raise ValueError(token)
+    return float(token)
 
 __all__ = ["ObjData", "Tag", "parse_obj"]
 
@@ -71,10 +92,10 @@ def _tag(path, number: int, tokens: list[str]) -> Tag:
     """Parse ``t name ni/nf/ns args...`` (lenient: a malformed tag keeps its name only)."""
     name = tokens[1] if len(tokens) > 1 else ""
     try:
-        ni, nf, ns = (int(x) for x in tokens[2].split("/"))
+        ni, nf, ns = (_int(x) for x in tokens[2].split("/"))
         args = tokens[3:]
-        ints = tuple(int(x) for x in args[:ni])
-        floats = tuple(float(x) for x in args[ni:ni + nf])
+        ints = tuple(_int(x) for x in args[:ni])
+        floats = tuple(_float(x) for x in args[ni:ni + nf])
         strings = tuple(args[ni + nf:ni + nf + ns])
     except (IndexError, ValueError):
         return Tag(name)
@@ -110,7 +131,7 @@ def parse_obj(path) -> ObjData:
         key = tokens[0]
         if key == "v":
             try:
-                xyz = tuple(float(x) for x in tokens[1:4])
+                xyz = tuple(_float(x) for x in tokens[1:4])
             except ValueError:
                 raise FileFormatError(path, f"line {number}: vertex coordinates are not numbers") from None
             if len(xyz) != 3:
@@ -121,21 +142,22 @@ def parse_obj(path) -> ObjData:
         elif key == "f":
             ids = []
             for item in tokens[1:]:
-                head = item.split("/", 1)[0]
-                try:
-                    k = int(head)
-                except ValueError:
-                    raise FileFormatError(path, f"line {number}: face index {item!r} is not an integer") from None
+                m = _FACE_ITEM.match(item)
+                if m is None or item.endswith("/"):
+                    raise FileFormatError(path, f"line {number}: face vertex {quote(item)} is not v, v/t, v//n "
+                                          "or v/t/n with integer indices") from None
+                head = m.group(1)
+                k = int(head)
                 if k < 0:
                     k = len(coords) + k + 1
                 if k < 1 or k > len(coords):
-                    raise FileFormatError(path, f"line {number}: face refers to vertex {head}, "
+                    raise FileFormatError(path, f"line {number}: face refers to vertex {head if len(head) <= 40 else head[:40] + '...'}, "
                                           f"but only {len(coords)} vertices are defined so far")
                 ids.append(k - 1)
             if len(ids) < 3:
                 raise FileFormatError(path, f"line {number}: face has {len(ids)} vertices, needs at least 3")
             if len(set(ids)) != len(ids):
-                raise FileFormatError(path, f"line {number}: face repeats a vertex ({' '.join(tokens[1:])})")
+                raise FileFormatError(path, f"line {number}: face repeats a vertex ({quote(' '.join(tokens[1:]))})")
             faces.append(tuple(ids))
             face_lines.append(number)
         elif key == "t":
@@ -180,12 +202,17 @@ def read_obj(path):
     messages: list[str] = []
     nets, charts = [], []
     degenerate = 0
-    for chart in find_charts(mesh, topology):
+    for candidate, chart in enumerate(find_charts(mesh, topology)):
         origin = NetOrigin(file=str(path), face=len(charts), kind="quad-chart")
         try:
             net = ControlNet(points=mesh.vertices[chart.vertex_ids], degrees=None, origin=origin, unit="model")
         except InvalidNetError as exc:
-            messages.append(f"skipped chart: {exc}")
+            # charts are numbered by the nets kept: name a skipped one by its grid and its first mesh face
+            problem = str(exc).removeprefix(origin.label() + ": ")
+            nu, nv = chart.vertex_ids.shape
+            messages.append(f"skipped chart: {path}: grid {candidate} ({nu}x{nv} points, mesh faces from "
+                            f"{int(chart.face_ids.flat[0])}, line {data.face_lines[int(chart.face_ids.flat[0])]}): "
+                            f"{problem}")
             degenerate += 1
             continue
         charts.append(Chart(index=len(charts), vertex_ids=chart.vertex_ids, face_ids=chart.face_ids))

@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import FileFormatError
 from ..net import frozen_array
+from .messages import quote
 from .obj import Tag
 
 __all__ = ["QuadMesh", "Chart", "build_quadmesh", "find_charts"]
@@ -217,6 +218,12 @@ def build_quadmesh(path, vertices: np.ndarray, faces: list[tuple[int, ...]], tag
         pairs = [tag.ints[i:i + 2] for i in range(0, len(tag.ints) - 1, 2)]
         for i, (a, b) in enumerate(pairs):
             s = tag.floats[i] if i < len(tag.floats) else (tag.floats[0] if tag.floats else 0.0)
+            bad = next((k for k in (a, b) if not 0 <= k < n), None)
+            if bad is not None:  # also keeps indices >= 2**63 out of numpy's int64
+                raise FileFormatError(path, f"crease tag refers to vertex index {quote(str(bad))} (0-based), "
+                                      f"but the mesh has {n} vertices")
+            if s != s:
+                raise FileFormatError(path, f"crease tag on edge {a}-{b} has a NaN sharpness")
             crease_edges.append((a, b))
             sharpness.append(s)
     mesh = QuadMesh(

@@ -7,6 +7,9 @@ one-line :class:`~cadartifact.errors.FileFormatError` naming the file.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import tempfile
 from pathlib import Path
 
 from ..dependencies import require
@@ -24,11 +27,103 @@ from OCP.IGESControl import IGESControl_Reader  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
 from OCP.StepBasic import StepBasic_Product  # noqa: E402
 from OCP.STEPConstruct import STEPConstruct  # noqa: E402
+from OCP.StepShape import StepShape_FaceSurface  # noqa: E402
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer  # noqa: E402
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
 
-__all__ = ["check_file", "open_step", "read_step", "set_header", "read_iges", "read_brep", "write_step"]
+__all__ = ["check_file", "open_step", "read_step", "read_step_audited", "set_header", "read_iges",
+           "read_iges_audited", "read_brep", "write_step"]
+
+
+@contextlib.contextmanager
+def occt_path(path: Path):
+    """A file name OCCT can open: ``path`` itself, or a UTF-8 symlink to it in a temporary folder.
+
+    OCP passes names to OCCT as UTF-8 strings; a name that is not valid UTF-8 (Linux allows any bytes,
+    Python keeps them as surrogates) cannot cross, so OCCT reads it through a link with a plain name.
+    """
+    name = str(path)
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        pass
+    else:
+        yield name
+        return
+    with tempfile.TemporaryDirectory(prefix="cadartifact-") as tmp:
+        link = os.path.join(tmp, "input" + "".join(path.suffixes[-1:]).encode("ascii", "replace").decode())
+        try:
+            os.symlink(os.path.abspath(os.fsencode(path)), os.fsencode(link))
+        except OSError as exc:
+            raise InputError(path, f"file name is not valid UTF-8 and cannot be linked ({exc.strerror})") from None
+        yield link
+
+
+def _checks(check_list) -> dict[int, list[str]]:
+    """OCCT check messages (fails first, then warnings) by model entity number."""
+    out: dict[int, list[str]] = {}
+    check_list.Start()
+    while check_list.More():
+        check = check_list.Value()
+        msgs = [check.CFail(j) for j in range(1, check.NbFails() + 1)]
+        msgs += [check.CWarning(j) for j in range(1, check.NbWarnings() + 1)]
+        msgs = [" ".join(str(m).split()) for m in msgs if str(m).strip()]
+        if msgs:
+            out.setdefault(int(check_list.Number()), []).extend(msgs)
+        check_list.Next()
+    return out
+
+
+def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None) -> list[str]:
+    """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
+
+    Each names the entity (``#id``) and OCCT's own check messages on it and its surface (the
+    transfer process's check list, then the model's syntax checks).
+    """
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+
+    session = reader.WS()
+    model = session.Model()
+    entities = [model.Value(i) for i in range(1, model.NbEntities() + 1)]
+    # OCP's model.Number(entity) answers 0; pybind11 gives one wrapper per C++ object, so ids identify them
+    number = {id(e): i for i, e in enumerate(entities, start=1)}
+    declared = [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
+    if not declared:
+        return []
+    transfer = session.TransferReader()
+    got = set()
+    explorer = TopExp_Explorer(shape, TopAbs_FACE)
+    while explorer.More():
+        entity = transfer.EntityFromShapeResult(explorer.Current(), 1)
+        if entity is not None:
+            got.add(number.get(id(entity)))
+        explorer.Next()
+    dropped = [i for i in declared if i not in got]
+    if not dropped:
+        return []
+    checks = _checks(transfer.TransientProcess().CheckList(False))
+    for k, msgs in _checks(session.ModelCheckList(False)).items():
+        checks.setdefault(k, []).extend(msgs)
+    if ids is None:
+        from .step_scan import record_ids
+
+        with open(path, "rb") as fh:
+            ids = record_ids(fh.read().decode("latin-1"))
+    label = (lambda i: ids[i - 1]) if len(ids) == len(entities) else (lambda i: f"model entity {i}")
+    out = []
+    for i in dropped:
+        face = entities[i - 1]
+        related = [i]
+        geometry = face.FaceGeometry() if hasattr(face, "FaceGeometry") else None
+        if geometry is not None and id(geometry) in number:
+            related.append(number[id(geometry)])
+        said = [f"{label(k)}: {m}" for k in related for m in checks.get(k, [])]
+        why = "; ".join(said) if said else "no check message (face not reachable from a shape, or not translated)"
+        kind = "ADVANCED_FACE" if face.DynamicType().Name() == "StepShape_AdvancedFace" else "FACE_SURFACE"
+        out.append(f"face {label(i)} ({kind}) was dropped by OCCT's STEP transfer: {why[:300]}")
+    return out
 
 
 def _step_name(reader: STEPControl_Reader, path=None):
@@ -112,16 +207,53 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
         Missing/empty file, a file OCCT's STEP parser rejects (status != RetDone:
         truncated, not STEP, binary), or a file without transferable shapes.
     """
-    reader = open_step(path)
-    return reader.OneShape(), _step_name(reader, path)
+    shape, face_name, _ = read_step_audited(path)
+    return shape, face_name
+
+
+def read_step_audited(path, ids=None) -> tuple[TopoDS_Shape, object, list[str]]:
+    """:func:`read_step`, plus one message per face of the file the transfer dropped (see :func:`_dropped_faces`).
+
+    ``ids``: the file's record ids in order (:func:`~cadartifact.exchange.step_scan.record_ids`), if known.
+    """
+    path = check_file(path)
+    reader = STEPControl_Reader()
+    with quiet_occt(), occt_path(path) as name:
+        status = reader.ReadFile(name)
+        if status != IFSelect_RetDone:
+            raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
+                                  "truncated, corrupt or not STEP)")
+        if reader.NbRootsForTransfer() == 0:
+            raise FileFormatError(path, "STEP file has no shape to transfer")
+        try:
+            reader.TransferRoots()
+        except Standard_Failure as exc:
+            raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
+        if reader.NbShapes() == 0 or reader.OneShape().IsNull():
+            raise FileFormatError(path, "STEP file has no shape to transfer")
+        shape = reader.OneShape()
+        return shape, _step_name(reader, path), _dropped_faces(path, reader, shape, ids)
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:
     """Read an IGES file (no face names). Same errors as :func:`read_step`."""
+    shape, face_name, dropped = read_iges_audited(path)
+    if shape is None:
+        raise FileFormatError(path, f"IGES file has no shape to transfer ({dropped[0][:200]})")
+    return shape, face_name
+
+
+def read_iges_audited(path) -> tuple[TopoDS_Shape | None, None, list[str]]:
+    """:func:`read_iges`, plus one message per entity OCCT's transfer skipped ("... transfer failed :
+    entity skipped", with its check messages and those of the entities it refers to).
+
+    A file whose every face was skipped gives no shape (``None``) and the messages, not an error, so
+    that the caller can report the dropped faces.
+    """
     path = check_file(path)
     reader = IGESControl_Reader()
-    with quiet_occt():
-        status = reader.ReadFile(str(path))
+    with quiet_occt(), occt_path(path) as name:
+        status = reader.ReadFile(name)
         if status != IFSelect_RetDone:
             raise FileFormatError(path, "not a readable IGES file (OCCT's parser rejected it: "
                                   "truncated, corrupt or not IGES)")
@@ -129,9 +261,16 @@ def read_iges(path) -> tuple[TopoDS_Shape, None]:
             reader.TransferRoots()
         except Standard_Failure as exc:
             raise FileFormatError(path, f"IGES transfer failed: {exc}") from None
+        checks = _checks(reader.WS().TransferReader().TransientProcess().CheckList(False))
+        skipped = [k for k, msgs in sorted(checks.items()) if any("entity skipped" in m for m in msgs)]
+        others = [f"D{2 * k - 1}: {m}" for k, msgs in sorted(checks.items()) if k not in skipped for m in msgs]
+        dropped = [f"IGES entity D{2 * k - 1} was dropped by OCCT's transfer: "
+                   + "; ".join(checks[k] + others[:3])[:300] for k in skipped]
         if reader.NbShapes() == 0 or reader.OneShape().IsNull():
+            if dropped:
+                return None, None, dropped
             raise FileFormatError(path, "IGES file has no shape to transfer")
-        return reader.OneShape(), None
+        return reader.OneShape(), None, dropped
 
 
 def _check_brep_text(path: Path) -> None:
@@ -166,9 +305,9 @@ def read_brep(path) -> tuple[TopoDS_Shape, None]:
     path = check_file(path)
     _check_brep_text(path)
     shape = TopoDS_Shape()
-    with quiet_occt():
+    with quiet_occt(), occt_path(path) as name:
         try:
-            ok = BRepTools.Read_s(shape, str(path), BRep_Builder())
+            ok = BRepTools.Read_s(shape, name, BRep_Builder())
         except Standard_Failure as exc:
             raise FileFormatError(path, f"not a readable BREP file: {exc}") from None
     if not ok or shape.IsNull():

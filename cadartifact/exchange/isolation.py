@@ -1,0 +1,286 @@
+"""OCCT's readers in a long-lived child process, so that a crash or a hang costs one file, not the run.
+
+OCCT's STEP transfer can segfault on a corrupt file (a flipped byte, a deleted line) or loop for
+minutes. :func:`call` runs a reader function in a child process that imports OCP once and serves
+requests over a pipe (length-prefixed pickles); this process never imports OCP to read.
+
+- A child that dies (a signal, an abort) is reported as ``FileFormatError("PATH: the STEP reader
+  crashed on this file (SIGSEGV)")`` and a new child is started for the next file.
+- A child that gives no answer within the timeout is killed: ``"... gave no answer in N s"``.
+  The timeout is :data:`DEFAULT_TIMEOUT` seconds, or the environment variable
+  ``CADARTIFACT_READ_TIMEOUT``, or the ``timeout`` argument (``gate --read-timeout``).
+- ``CADARTIFACT_READ_ISOLATION=0`` reads in this process (debugging; a crash then ends the run).
+
+The child's own stdout and stderr go to ``/dev/null`` (OCCT prints parse errors there directly).
+Its results are the same objects an in-process read returns (``LoadResult``, pickled).
+"""
+
+from __future__ import annotations
+
+import atexit
+import importlib
+import os
+import pickle
+import select
+import signal
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
+
+__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "read_timeout", "shutdown"]
+
+#: Seconds a reader may take on one file before it is stopped.
+DEFAULT_TIMEOUT = 120.0
+#: Seconds the child may take to start (import OCP) before its first request.
+START_TIMEOUT = 120.0
+ENV_TIMEOUT = "CADARTIFACT_READ_TIMEOUT"
+ENV_ISOLATION = "CADARTIFACT_READ_ISOLATION"
+
+_HEADER = struct.Struct("!Q")
+
+
+def enabled() -> bool:
+    """Whether readers run in the child process (``CADARTIFACT_READ_ISOLATION`` is not ``0``)."""
+    return os.environ.get(ENV_ISOLATION, "1").strip().lower() not in ("0", "false", "no", "off")
+
+
+def read_timeout(timeout: float | None = None) -> float:
+    """The timeout in seconds: ``timeout`` if given, else ``$CADARTIFACT_READ_TIMEOUT``, else the default.
+
+    Raises
+    ------
+    OptionError
+        A timeout that is not a positive finite number.
+    """
+    source = "timeout"
+    if timeout is None:
+        raw = os.environ.get(ENV_TIMEOUT)
+        if raw is None or not raw.strip():
+            return DEFAULT_TIMEOUT
+        source = ENV_TIMEOUT
+        try:
+            timeout = float(raw)
+        except ValueError:
+            raise OptionError(source, "a positive number of seconds", raw) from None
+    if not (isinstance(timeout, (int, float)) and 0 < timeout < float("inf")):
+        raise OptionError(source, "a positive number of seconds", timeout)
+    return float(timeout)
+
+
+# ---------------------------------------------------------------- framing
+def _write_frame(fd: int, payload: bytes) -> None:
+    data = _HEADER.pack(len(payload)) + payload
+    view = memoryview(data)
+    while view:
+        n = os.write(fd, view)
+        view = view[n:]
+
+
+def _read_exact(fd: int, n: int, deadline: float | None) -> bytes | None:
+    """``n`` bytes from ``fd``; None at end of file; TimeoutError past ``deadline`` (monotonic)."""
+    chunks, got = [], 0
+    while got < n:
+        if deadline is not None:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise TimeoutError
+            ready, _, _ = select.select([fd], [], [], remaining)
+            if not ready:
+                raise TimeoutError
+        chunk = os.read(fd, min(n - got, 1 << 20))
+        if not chunk:
+            return None
+        chunks.append(chunk)
+        got += len(chunk)
+    return b"".join(chunks)
+
+
+def _read_frame(fd: int, deadline: float | None) -> bytes | None:
+    head = _read_exact(fd, _HEADER.size, deadline)
+    if head is None:
+        return None
+    return _read_exact(fd, _HEADER.unpack(head)[0], deadline)
+
+
+# ---------------------------------------------------------------- parent side
+class _Child:
+    """One child process serving requests."""
+
+    def __init__(self):
+        env = dict(os.environ)
+        # the child must import this very package, wherever it was imported from
+        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+        self.proc = subprocess.Popen([sys.executable, "-m", "cadartifact.exchange.isolation"],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                     env=env, close_fds=True)
+        self.ready = False
+
+    def kill(self) -> None:
+        try:
+            self.proc.kill()
+        except OSError:
+            pass
+        self.proc.wait()
+        for f in (self.proc.stdin, self.proc.stdout):
+            try:
+                f.close()
+            except OSError:
+                pass
+
+
+_lock = threading.Lock()
+_child: _Child | None = None
+
+
+def shutdown() -> None:
+    """Stop the child process (it is started again on the next :func:`call`)."""
+    global _child
+    with _lock:
+        if _child is not None:
+            _child.kill()
+            _child = None
+
+
+def _died_message(child: _Child) -> str:
+    child.proc.wait()
+    code = child.proc.returncode
+    if code is not None and code < 0:
+        try:
+            return signal.Signals(-code).name
+        except ValueError:
+            return f"signal {-code}"
+    return f"exit status {code}"
+
+
+def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float | None = None):
+    """Run ``module:function(*args)`` in the reader child process and return its result.
+
+    Parameters
+    ----------
+    function : str
+        ``"package.module:function"``, importable in the child.
+    args : tuple
+        Picklable arguments.
+    path : path-like
+        The file being read (named in the errors).
+    what : str
+        The reader's name in the errors (``"STEP"``, ``"IGES"``, ``"BREP"``).
+    timeout : float, optional
+        Seconds (see :func:`read_timeout`).
+
+    Raises
+    ------
+    CadArtifactError
+        What the function raised (same class and message).
+    FileFormatError
+        The child crashed, gave no answer in time, or failed unexpectedly.
+    """
+    global _child
+    limit = read_timeout(timeout)
+    # relative paths are relative to this process's working directory, which may change between calls
+    request = pickle.dumps((function, args, os.getcwd()), protocol=pickle.HIGHEST_PROTOCOL)
+    with _lock:
+        for attempt in (0, 1):
+            if _child is None or _child.proc.poll() is not None:
+                if _child is not None:
+                    _child.kill()
+                if _child is None:
+                    atexit.register(shutdown)  # once per child: a closed pipe ends it anyway, this reaps it
+                _child = _Child()
+            child = _child
+            try:
+                if not child.ready:  # the first answer is "ready", once OCP is imported
+                    hello = _read_frame(child.proc.stdout.fileno(), time.monotonic() + START_TIMEOUT)
+                    if hello != b"ready":
+                        raise BrokenPipeError
+                    child.ready = True
+                _write_frame(child.proc.stdin.fileno(), request)
+                reply = _read_frame(child.proc.stdout.fileno(), time.monotonic() + limit)
+            except TimeoutError:
+                child.kill()
+                _child = None
+                raise FileFormatError(path, f"the {what} reader gave no answer in {limit:g} s and was stopped "
+                                      f"(corrupt file? for a very large file raise {ENV_TIMEOUT} or "
+                                      "--read-timeout)") from None
+            except (BrokenPipeError, ConnectionResetError):
+                reply = None
+                if not child.ready and attempt == 0:  # the child did not start: try once more
+                    child.kill()
+                    _child = None
+                    continue
+            if reply is None:
+                why = _died_message(child)
+                child.kill()
+                _child = None
+                raise FileFormatError(path, f"the {what} reader crashed on this file ({why})")
+            break
+    return _unpack(reply, path, what)
+
+
+def _unpack(reply: bytes, path, what: str):
+    kind, *rest = pickle.loads(reply)
+    if kind == "ok":
+        return rest[0]
+    if kind == "error":
+        module, name, err_path, problem, message = rest
+        try:
+            cls = getattr(importlib.import_module(module), name)
+        except (ImportError, AttributeError):
+            cls = CadArtifactError
+        if issubclass(cls, InputError) and problem is not None:
+            return _raise(cls(err_path, problem))
+        exc = cls.__new__(cls)
+        Exception.__init__(exc, message)
+        return _raise(exc)
+    name, message = rest
+    raise FileFormatError(path, f"the {what} reader failed ({name}: {' '.join(message.split())[:200]})")
+
+
+def _raise(exc):
+    raise exc
+
+
+# ---------------------------------------------------------------- child side
+def _serve() -> None:
+    """The child's loop: one request frame in, one reply frame out, until the pipe closes."""
+    fd_in, fd_out = os.dup(0), os.dup(1)
+    devnull = os.open(os.devnull, os.O_RDWR)
+    for fd in (0, 1, 2):  # OCCT writes to the console directly; nothing may reach the protocol pipe
+        os.dup2(devnull, fd)
+    import warnings
+
+    warnings.simplefilter("ignore")  # the warnings travel in the results
+    try:
+        import cadartifact.exchange.step  # noqa: F401  (OCP, once)
+    except Exception:  # noqa: BLE001 - OCP missing: each request reports it
+        pass
+    _write_frame(fd_out, b"ready")
+    while True:
+        frame = _read_frame(fd_in, None)
+        if frame is None:
+            return
+        try:
+            function, args, cwd = pickle.loads(frame)
+            os.chdir(cwd)
+            module, _, name = function.partition(":")
+            value = getattr(importlib.import_module(module), name)(*args)
+            reply = ("ok", value)
+        except CadArtifactError as exc:
+            reply = ("error", type(exc).__module__, type(exc).__qualname__, getattr(exc, "path", None),
+                     getattr(exc, "problem", None), str(exc))
+        except BaseException as exc:  # noqa: BLE001 - every failure must reach the parent as an answer
+            reply = ("exception", type(exc).__name__, str(exc))
+        try:
+            payload = pickle.dumps(reply, protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception as exc:  # noqa: BLE001
+            payload = pickle.dumps(("exception", type(exc).__name__, f"unpicklable result: {exc}"))
+        _write_frame(fd_out, payload)
+
+
+if __name__ == "__main__":
+    _serve()

@@ -1,0 +1,267 @@
+"""A seeded mutation generator for STEP and OBJ files, and the contract every outcome must meet.
+
+Used by ``tests/test_fuzz.py`` (a few hundred inputs in CI) and ``benchmarks/fuzz_campaign.py``
+(10 000 and more). ``mutations(sources, n, seed)`` yields the same inputs for the same arguments.
+
+Mutation kinds (:data:`KINDS`): byte flips, truncation, deleted / duplicated lines, a number
+replaced by NaN / inf / 1e308 / 1e154, a broken entity reference, decreasing knots, a changed
+multiplicity or degree, a zero weight, an OBJ face index out of range, an odd file name (spaces,
+non-ASCII, not UTF-8, a leading dash), an empty file and the other format's extension.
+
+The contract (:func:`check_entry`): the gate's entry for the file is either an ``error`` with a
+one-line message naming the file, or a complete report whose ``faces_total`` equals the faces the
+file declares (an independent count of its text: ``ADVANCED_FACE`` / ``FACE_SURFACE`` records, OBJ
+``f`` statements) and whose numbers are all finite; never an exception.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+REALDATA = ROOT.parent / "shared" / "realdata"
+
+KINDS = ("flip", "truncate", "delete-line", "duplicate-line", "nan", "inf", "1e308", "1e154", "broken-ref",
+         "decreasing-knots", "multiplicity", "degree", "zero-weight", "obj-index", "odd-name", "empty",
+         "wrong-ext")
+
+#: Faces a STEP text declares (simple instances), counted independently of the reader.
+_STEP_FACE = re.compile(rb"#\d+\s*=\s*(?:ADVANCED_FACE|FACE_SURFACE)\s*\(")
+_NUMBER = re.compile(rb"(?<![#\w.])[-+]?\d+\.\d*(?:E[-+]?\d+)?")
+_REF = re.compile(rb"(?<=[(,])#\d+")
+_KNOTS = re.compile(rb"B_SPLINE_(?:SURFACE|CURVE)_WITH_KNOTS\(")
+_WEIGHTS = re.compile(rb"RATIONAL_B_SPLINE_(?:SURFACE|CURVE)\(\s*\(+")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One mutated input: where it came from, the mutation, and the bytes to write under ``name``."""
+
+    source: str
+    kind: str
+    name: str
+    data: bytes
+
+
+def default_sources(*, small: bool = True) -> list[Path]:
+    """The samples, plus the real files present (``small``: those under 150 KB, for CI)."""
+    files = sorted((ROOT / "samples").glob("*.step")) + [ROOT / "samples" / "cage.obj"]
+    if REALDATA.exists():
+        real = sorted((REALDATA / "step").glob("*.st*p")) + sorted((REALDATA / "obj").glob("*.obj"))
+        files += [p for p in real if not small or p.stat().st_size < 150_000]
+    return files
+
+
+def declared_faces(data: bytes, fmt: str) -> int:
+    """Faces the text declares: STEP face records or OBJ ``f`` statements (continuation lines joined)."""
+    if fmt == "step":
+        return len(_STEP_FACE.findall(data))
+    text = data.decode("utf-8", errors="replace").replace("\\\n", " ")
+    return sum(1 for line in text.splitlines() if line.split("#", 1)[0].split()[:1] == ["f"])
+
+
+def _replace_span(data: bytes, start: int, end: int, new: bytes) -> bytes:
+    return data[:start] + new + data[end:]
+
+
+def _random_match(pattern, data: bytes, rng: random.Random, limit: int = 2000):
+    matches = []
+    for i, m in enumerate(pattern.finditer(data)):
+        if i >= limit:
+            break
+        matches.append(m)
+    return rng.choice(matches) if matches else None
+
+
+def _lines(data: bytes, fmt: str) -> list[int]:
+    """Start offsets of the mutable lines (STEP: inside the DATA section)."""
+    starts = [0] + [m.end() for m in re.finditer(rb"\n", data)]
+    if fmt == "step":
+        data_at = data.find(b"DATA;")
+        starts = [s for s in starts if s > data_at] or starts
+    return [s for s in starts if s < len(data)]
+
+
+def _number(data: bytes, fmt: str, rng, value_step: bytes, value_obj: bytes) -> bytes:
+    if fmt == "obj":
+        lines = [m for m in re.finditer(rb"^v ([^\n]*)", data, re.M)]
+        if not lines:
+            return data
+        m = rng.choice(lines)
+        parts = m.group(1).split()
+        if parts:
+            parts[rng.randrange(min(3, len(parts)))] = value_obj
+        return _replace_span(data, m.start(1), m.end(1), b" ".join(parts))
+    m = _random_match(_NUMBER, data[data.find(b"DATA;"):], rng)
+    if m is None:
+        return data
+    off = data.find(b"DATA;")
+    return _replace_span(data, off + m.start(), off + m.end(), value_step)
+
+
+def _knot_record(data: bytes, rng):
+    """``(start, end)`` of a random B-spline-with-knots record's text, or None."""
+    m = _random_match(_KNOTS, data, rng)
+    if m is None:
+        return None
+    end = data.find(b";", m.end())
+    return (m.start(), end) if end > 0 else None
+
+
+def _lists(text: bytes) -> list[tuple[int, int]]:
+    """Spans of innermost parenthesised lists of plain numbers in ``text``."""
+    return [(m.start(1), m.end(1)) for m in re.finditer(rb"\(([-+0-9.E, \r\n]+)\)", text)]
+
+
+def mutate(data: bytes, fmt: str, kind: str, rng: random.Random) -> tuple[str, bytes]:
+    """One mutation of a good ``fmt`` ("step" or "obj") file: ``(file name, content)``."""
+    ext = "." + ("stp" if fmt == "step" and rng.random() < 0.2 else fmt)
+    name = f"mutant{ext}"
+    if kind == "flip":
+        buf = bytearray(data)
+        for _ in range(rng.randint(1, 4)):
+            pos = rng.randrange(len(buf))
+            buf[pos] ^= 1 << rng.randrange(8)
+        return name, bytes(buf)
+    if kind == "truncate":
+        return name, data[: rng.randrange(1, len(data))]
+    if kind in ("delete-line", "duplicate-line"):
+        starts = _lines(data, fmt)
+        s = rng.choice(starts)
+        e = data.find(b"\n", s)
+        e = len(data) if e < 0 else e + 1
+        return name, (data[:s] + data[e:]) if kind == "delete-line" else (data[:e] + data[s:e] + data[e:])
+    if kind in ("nan", "inf", "1e308", "1e154"):
+        step_value = {"nan": b"NaN", "inf": b"1.E400", "1e308": b"1.E308", "1e154": b"1.E154"}[kind]
+        obj_value = {"nan": b"nan", "inf": b"inf", "1e308": b"1e308", "1e154": b"1e154"}[kind]
+        return name, _number(data, fmt, rng, step_value, obj_value)
+    if kind == "broken-ref" and fmt == "step":
+        m = _random_match(_REF, data, rng)
+        if m is not None:
+            new = rng.choice([b"#999999999", b"#0", b"#" + str(rng.randrange(1, 50)).encode()])
+            return name, _replace_span(data, m.start(), m.end(), new)
+        return name, data
+    if kind in ("decreasing-knots", "multiplicity", "degree") and fmt == "step":
+        span = _knot_record(data, rng)
+        if span is None:
+            return name, data
+        rec = data[span[0]:span[1]]
+        if kind == "degree":
+            m = re.search(rb"WITH_KNOTS\('[^']*',(\d+)", rec)
+            if m is None:
+                return name, data
+            new = rng.choice([b"0", b"2", b"4", b"26", b"2147483648"])
+            rec = rec[:m.start(1)] + new + rec[m.end(1):]
+        else:
+            lists = _lists(rec)
+            ints = [(a, b) for a, b in lists if b"." not in rec[a:b]]
+            reals = [(a, b) for a, b in lists if b"." in rec[a:b]]
+            pick = ints if kind == "multiplicity" else reals
+            if not pick:
+                return name, data
+            a, b = rng.choice(pick)
+            items = rec[a:b].split(b",")
+            if kind == "multiplicity":
+                i = rng.randrange(len(items))
+                items[i] = rng.choice([b"0", b"11", str(int(items[i].strip() or 1) + 1).encode()])
+            elif len(items) >= 2:
+                i = rng.randrange(len(items) - 1)
+                items[i], items[i + 1] = items[i + 1], items[i]
+            rec = rec[:a] + b",".join(items) + rec[b:]
+        return name, data[:span[0]] + rec + data[span[1]:]
+    if kind == "zero-weight" and fmt == "step":
+        m = _random_match(_WEIGHTS, data, rng)
+        if m is None:  # no rational entity: a zero coordinate list instead
+            return name, _number(data, fmt, rng, b"0.", b"0")
+        num = _NUMBER.search(data, m.end())
+        if num is None:
+            return name, data
+        return name, _replace_span(data, num.start(), num.end(), rng.choice([b"0.", b"-1.", b"1.E-300"]))
+    if kind == "obj-index" and fmt == "obj":
+        faces = list(re.finditer(rb"^f ([^\n]*)", data, re.M))
+        if not faces:
+            return name, data
+        m = rng.choice(faces)
+        items = m.group(1).split()
+        i = rng.randrange(len(items))
+        nv = len(re.findall(rb"^v ", data, re.M))
+        items[i] = rng.choice([b"0", str(nv + 1).encode(), str(-nv - 1).encode(), b"99999999999999999999",
+                               b"1//", b"1/2/3/4", "\u0663".encode()])
+        return name, _replace_span(data, m.start(1), m.end(1), b" ".join(items))
+    if kind == "odd-name":
+        base = rng.choice(["with space", "ünïcödé", "-dash", "quote'\"", "semi;colon", "x" * 200])
+        raw = rng.choice([base.encode("utf-8"), b"bad\xff\xfe"])
+        return os.fsdecode(raw) + ext, data
+    if kind == "empty":
+        return name, b""
+    if kind == "wrong-ext":
+        return "mutant" + (".obj" if fmt == "step" else ".step"), data
+    # a kind that does not apply to this format: a byte flip instead
+    return mutate(data, fmt, "flip", rng)
+
+
+def mutations(sources, n: int, seed: int = 14, kinds=KINDS):
+    """``n`` :class:`Case` objects, round-robin over ``kinds`` and random over ``sources`` (seeded)."""
+    rng = random.Random(seed)
+    cache = {}
+    for i in range(n):
+        kind = kinds[i % len(kinds)]
+        src = Path(rng.choice(list(sources)))
+        if src not in cache:
+            cache[src] = src.read_bytes()
+        fmt = "obj" if src.suffix.lower() == ".obj" else "step"
+        name, data = mutate(cache[src], fmt, kind, random.Random(rng.getrandbits(64)))
+        yield Case(source=src.name, kind=kind, name=name, data=data)
+
+
+def write_case(case: Case, folder: Path) -> Path:
+    """Write a case under ``folder`` and return its path."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = Path(os.fsdecode(os.fsencode(str(folder)) + b"/" + os.fsencode(case.name)))
+    path.write_bytes(case.data)
+    return path
+
+
+def classify(entry: dict, case: Case) -> str:
+    """The outcome class of one gate entry: ``pass/warn/fail``, ``error:<why>``, or a violation."""
+    if entry["verdict"] != "error":
+        return entry["verdict"]
+    text = entry["error"]
+    for needle, label in (("crashed", "error:crash"), ("gave no answer", "error:timeout"),
+                          ("analysis failed (", "error:unexpected-exception"), ("was dropped", "error:dropped"),
+                          ("not finite or exceeds", "error:bounds"), ("B_SPLINE", "error:bounds"),
+                          ("OCCT's parser rejected", "error:parse"), ("line ", "error:obj-syntax")):
+        if needle in text:
+            return label
+    return "error:other"
+
+
+def check_entry(entry: dict, path: Path, case: Case) -> list[str]:
+    """Contract violations of one gate entry (empty when the outcome is documented)."""
+    problems = []
+    fmt = "obj" if path.suffix.lower() == ".obj" else "step" if path.suffix.lower() in (".step", ".stp") else None
+    try:
+        json.dumps(entry, allow_nan=False)
+    except ValueError:
+        problems.append("non-finite number in the report")
+    if entry["verdict"] == "error":
+        msg = entry["error"]
+        if "\n" in msg.strip() or "Traceback" in msg:
+            problems.append("error message is not one line")
+        if len(msg) > 1000:
+            problems.append(f"error message of {len(msg)} characters")
+        if "analysis failed (" in msg:
+            problems.append(f"unexpected exception: {msg[:300]}")
+        return problems
+    if fmt is None:
+        problems.append("a file of unknown format was gated")
+        return problems
+    declared = declared_faces(case.data, fmt)
+    if entry["faces_total"] != declared:
+        problems.append(f"{entry['faces_total']} faces reported, {declared} declared")
+    return problems

@@ -1,0 +1,86 @@
+"""Fuzz: a few hundred seeded mutations of the samples and the small real files through the gate.
+
+Every input ends in a documented outcome (:func:`fuzzing.check_entry`): a one-line ``error`` entry,
+or a complete report with as many faces as the file declares and finite numbers; never an
+exception, a crash of this process or a hang (the reader child is stopped after ``READ_TIMEOUT``).
+Most inputs go through :func:`cadartifact.gate.gate_file` in this process (fast); a few through the
+``cadartifact`` command in a subprocess (exit code, stderr, JSON). ``benchmarks/fuzz_campaign.py``
+runs the same generator over 10 000 inputs and more.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import fuzzing  # noqa: E402
+
+pytest.importorskip("OCP")
+
+#: Inputs per chunk x chunks (chunks spread the inputs over the xdist workers).
+PER_CHUNK, CHUNKS = 50, 6
+READ_TIMEOUT = 15.0
+TOL = 0.05
+
+
+@pytest.fixture(scope="module")
+def sources():
+    return fuzzing.default_sources(small=True)
+
+
+@pytest.mark.parametrize("chunk", range(CHUNKS))
+def test_mutated_inputs_meet_the_contract_in_process(sources, tmp_path, chunk):
+    from cadartifact.gate import gate_file
+    from cadartifact.gate_policy import FileSettings
+
+    settings = FileSettings(tolerance=TOL)
+    violations, classes = [], {}
+    for i, case in enumerate(fuzzing.mutations(sources, PER_CHUNK, seed=1400 + chunk)):
+        path = fuzzing.write_case(case, tmp_path / str(i))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            entry = gate_file(str(path), settings, read_timeout=READ_TIMEOUT)
+        cls = fuzzing.classify(entry, case)
+        classes[cls] = classes.get(cls, 0) + 1
+        for problem in fuzzing.check_entry(entry, path, case):
+            violations.append(f"{case.source} {case.kind} -> {problem}")
+    assert not violations, "\n".join(violations)
+    assert sum(classes.values()) == PER_CHUNK
+
+
+def test_mutated_inputs_through_the_command_line(sources, tmp_path):
+    cases = list(fuzzing.mutations(sources, 8, seed=77, kinds=("flip", "truncate", "nan", "broken-ref",
+                                                                 "multiplicity", "obj-index", "odd-name",
+                                                                 "decreasing-knots")))
+    for i, case in enumerate(cases):
+        path = fuzzing.write_case(case, tmp_path / str(i))
+        gate = subprocess.run([sys.executable, "-m", "cadartifact.cli", "gate", str(path), "--tol", str(TOL),
+                               "--format", "json", "--jobs", "1", "--read-timeout", str(READ_TIMEOUT)],
+                              capture_output=True, timeout=300, cwd=tmp_path)
+        assert gate.returncode in (0, 1, 2) and b"Traceback" not in gate.stderr, (case.kind, gate.stderr)
+        doc = json.loads(gate.stdout)  # a complete document whatever happened
+        assert doc["exit_code"] == gate.returncode
+        assert not fuzzing.check_entry(doc["files"][0], path, case), (case.kind, doc["files"][0])
+        advise = subprocess.run([sys.executable, "-m", "cadartifact.cli", "advise", str(path), "--tol", str(TOL),
+                                 "--json", "--no-compare", "--no-verify"], capture_output=True, timeout=300,
+                                cwd=tmp_path)
+        assert advise.returncode in (0, 1, 2) and b"Traceback" not in advise.stderr, (case.kind, advise.stderr)
+        if advise.returncode == 2:
+            assert advise.stdout == b"" and len(advise.stderr.strip().splitlines()) == 1, advise.stderr
+        else:
+            json.loads(advise.stdout)
+        if doc["files"][0]["verdict"] == "error":  # what the gate could not read, advise refuses too
+            assert advise.returncode == 2, (case.kind, doc["files"][0]["error"])
+
+
+def test_the_generator_is_seeded(sources):
+    a = [(c.source, c.kind, c.name, c.data) for c in fuzzing.mutations(sources, 40, seed=5)]
+    b = [(c.source, c.kind, c.name, c.data) for c in fuzzing.mutations(sources, 40, seed=5)]
+    assert a == b and len({c[3] for c in a}) > 30
+    assert {c[1] for c in a} == set(fuzzing.KINDS)
