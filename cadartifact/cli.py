@@ -366,6 +366,17 @@ def gate_cmd(
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
+    cache: Optional[Path] = typer.Option(None, "--cache",
+                                         help="Keep results in this folder, keyed by file content, policy and "
+                                              "version: unchanged files are not analysed again (policy: cache)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                            help="Run on a Dask cluster: a scheduler address (tcp://host:8786) or "
+                                                 "'local' (a LocalCluster of --jobs workers). Needs "
+                                                 "cadartifact[dask]."),
+    ship: bool = typer.Option(False, "--ship", help="With --scheduler: send the files' bytes to the workers (no "
+                                                    "shared storage)."),
+    scheduler_timeout: float = typer.Option(10.0, "--scheduler-timeout",
+                                            help="Seconds to wait for the scheduler."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -396,14 +407,26 @@ def gate_cmd(
         raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
                                       "installation", str(report))
 
-    err = _console(stderr=True)
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    workers = jobs or os.cpu_count() or 1
+    cluster = result_cache = None
+    if scheduler is not None:
+        from .gate_cluster import ClusterOptions, require_distributed
 
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=err, transient=True, disable=not err.is_terminal) as bar:
-        task = bar.add_task("gating files", total=len(files))
-        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify,
-                           progress=lambda entry: bar.update(task, advance=1, description=f"gated {entry['path']}"))
+        cluster = ClusterOptions(scheduler.strip(), workers=workers, ship=ship, timeout=scheduler_timeout)
+        require_distributed()  # a missing extra is a usage error before any work
+    elif ship:
+        raise OptionError("--ship", "--scheduler too (files are shipped to Dask workers)", "--ship alone")
+    cache = cache if cache is not None else pol.cache
+    if cache is not None:
+        from .gate_cache import GateCache
+
+        result_cache = GateCache(cache)
+
+    from .gate_progress import GateProgress
+
+    with GateProgress(_console(stderr=True), len(files)) as progress:
+        entries = run_gate(files, settings, jobs=workers, verify=verify, progress=progress, cache=result_cache,
+                           cluster=cluster)
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:

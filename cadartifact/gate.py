@@ -276,7 +276,8 @@ def _size(path: str) -> int:
         return 0
 
 
-def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None) -> list:
+def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None,
+             cache=None, cluster=None) -> list:
     """Gate files (in parallel with ``jobs > 1``); results in input order, identical for any ``jobs``.
 
     Parameters
@@ -287,15 +288,27 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
     jobs : int
         Worker processes; 1 runs in this process.
     progress : callable, optional
-        ``progress(entry)`` after each file.
+        ``progress(entry)`` after each file; with a ``cache``, ``progress(entry, cached=bool)``.
+    cache : cadartifact.gate_cache.GateCache, optional
+        Take unchanged files' entries from it, store the new ones.
+    cluster : cadartifact.gate_cluster.ClusterOptions, optional
+        Run the analysis on a Dask cluster instead of this machine's processes.
 
     Returns
     -------
     list of dict
         File entries (:func:`gate_file`).
     """
-    done = progress or (lambda entry: None)
+    done = progress or (lambda entry, **kw: None)
     tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
+    if cache is not None:  # the seam to cadartifact.gate_cache: it runs only the misses
+        return cache.run(tasks, lambda todo, finished: _execute(todo, jobs, finished, cluster), done)
+    return _execute(tasks, jobs, done, cluster)
+
+
+def _execute(tasks: list, jobs: int, done, cluster=None) -> list:
+    if cluster is not None:  # the seam to cadartifact.gate_cluster (imports distributed)
+        return cluster.run(tasks, done)
     jobs = max(1, min(int(jobs), len(tasks)))
     if jobs == 1 or not _workers_can_start():
         out = []

@@ -10,6 +10,7 @@ table is passed over), or given with ``--policy FILE``::
     include_signal_error = false  # let the tolerance cover the attenuation too
     scheme = "bicubic"            # default: each face's own B-spline degrees (Catmull-Clark for OBJ)
     measured = "warn"             # or "fail": see below
+    cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
 
     [[override]]                  # applied in order to files matching glob; later ones win
     glob = "legacy/**"
@@ -63,7 +64,8 @@ METRICS = ("peak", "rms")
 MEASURED = ("warn", "fail")
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
-TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured", "override")
+TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured", "cache",
+            "override")
 OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured",
                  "ignore_faces")
 
@@ -128,12 +130,15 @@ class Policy:
     values : dict
         Top-level settings given in the file.
     overrides : tuple of (glob, dict)
+    cache : Path or None
+        The result cache folder (``cache = "..."``, relative to ``root``); not a per-file setting.
     """
 
     source: str | None = None
     root: Path = field(default_factory=Path.cwd)
     values: dict = field(default_factory=dict)
     overrides: tuple = ()
+    cache: Path | None = None
 
     def settings_for(self, path, cli: dict | None = None) -> FileSettings:
         """Resolve the settings of ``path``: defaults < policy < matching overrides (in order) < ``cli``.
@@ -242,10 +247,15 @@ def parse_policy(table: dict, source: str, root: Path) -> Policy:
         raise PolicyError(source, None, "the policy must be a table of keys")
     values = {}
     overrides = []
+    cache = None
     for key, value in table.items():
         if key not in TOP_KEYS:
             raise _unknown(source, key, TOP_KEYS)
-        if key == "override":
+        if key == "cache":
+            if not isinstance(value, str) or not value:
+                raise PolicyError(source, key, f"expected a folder path, received {value!r}")
+            cache = root / value
+        elif key == "override":
             if not isinstance(value, list) or not all(isinstance(t, dict) for t in value):
                 raise PolicyError(source, key, f"expected [[override]] tables, received {value!r}")
             for n, tbl in enumerate(value, 1):
@@ -260,7 +270,7 @@ def parse_policy(table: dict, source: str, root: Path) -> Policy:
                 overrides.append((vals.pop("glob"), vals))
         else:
             values[key] = _check_value(source, key, value)
-    return Policy(source=source, root=root, values=values, overrides=tuple(overrides))
+    return Policy(source=source, root=root, values=values, overrides=tuple(overrides), cache=cache)
 
 
 def _check_value_named(source: str, where: str, key: str, value):
