@@ -34,6 +34,7 @@ EXTRA = 'pip install "cadartifact[dask]"'
 
 #: Test hook: ``NAME`` (a file's base name) makes the worker gating it exit at once, every time;
 #: ``NAME:MARKER`` only while the file MARKER does not exist (it is created first: one death).
+#: Several specs are separated by commas.
 KILL_ENV = "CADARTIFACT_TEST_WORKER_EXIT"
 
 #: Worker deaths a task is allowed on the local cluster before Dask gives up on it.
@@ -88,19 +89,16 @@ def require_distributed():
 
 # ---------------------------------------------------------------- worker side
 def _maybe_die(path: str) -> None:
-    spec = os.environ.get(KILL_ENV)
-    if not spec:
-        return
-    name, _, marker = spec.partition(":")
-    if os.path.basename(path) != name:
-        return
-    if marker:
-        try:
-            fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-        except FileExistsError:
-            return
-        os.close(fd)
-    os._exit(17)
+    for spec in filter(None, os.environ.get(KILL_ENV, "").split(",")):
+        name, _, marker = spec.partition(":")
+        if os.path.basename(path) != name:
+            continue
+        if marker:
+            try:
+                os.close(os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+            except FileExistsError:
+                continue
+        os._exit(17)
 
 
 def gate_task(path: str, payload: bytes | None, settings, verify: bool) -> dict:
