@@ -33,6 +33,9 @@ __all__ = ["CACHE_FORMAT", "GateCache", "cache_key", "file_digest"]
 
 CACHE_FORMAT = "cadartifact.gate-cache/1"
 
+_UMASK = os.umask(0)
+os.umask(_UMASK)
+
 
 def _canonical(obj) -> str:
     """Canonical JSON: sorted keys, no spaces, strict floats (repr round-trips exactly)."""
@@ -170,6 +173,7 @@ class GateCache:
             fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{key[:16]}.", suffix=".tmp")
             with os.fdopen(fd, "w", encoding="ascii") as fh:
                 fh.write(text)
+            os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes it private; the cache may be shared
             os.replace(tmp, target)
             return True
         except OSError:
