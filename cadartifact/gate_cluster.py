@@ -148,6 +148,11 @@ def _connect(options: ClusterOptions):
     for name in ("distributed", "distributed.nanny", "distributed.scheduler", "distributed.worker"):
         logging.getLogger(name).setLevel(logging.CRITICAL)
     if options.address == "local":
+        from .gate import _workers_can_start
+
+        if not _workers_can_start():  # spawned workers re-import __main__ by path: '<stdin>' cannot be
+            raise CadArtifactError("--scheduler local: worker processes cannot be started from a program read "
+                                   "from standard input; run it from a file, or give a scheduler address")
         with dask.config.set({"distributed.scheduler.allowed-failures": LOCAL_ALLOWED_FAILURES}):
             cluster = distributed.LocalCluster(n_workers=int(options.workers), threads_per_worker=1,
                                                processes=True, host="127.0.0.1", dashboard_address=None,
