@@ -212,3 +212,26 @@ def test_cli_cache_errors_are_one_line(tmp_path, monkeypatch):
     (tmp_path / "cadartifact.toml").write_text("tolerance = 1\ncache = 3\n")
     result = run(SAMPLES / "clean_panel.step")
     assert result.exit_code == 2 and "'cache'" in result.output and "expected a folder path" in result.output
+
+
+def test_progress_counts_done_cached_and_failed():
+    import io
+
+    from rich.console import Console
+
+    from cadartifact.gate_progress import GateProgress
+
+    entries = [({"path": "a.step", "verdict": "pass"}, True), ({"path": "b.step", "verdict": "fail"}, False),
+               ({"path": "c.step", "verdict": "error"}, False)]
+    buf = io.StringIO()
+    with GateProgress(Console(file=buf, force_terminal=False, width=100), 3) as progress:
+        for e, cached in entries:
+            progress(e, cached=cached)
+    assert buf.getvalue().splitlines() == ["[1/3] pass  a.step (cached)", "[2/3] fail  b.step", "[3/3] error c.step"]
+    assert (progress.done, progress.cached, progress.failed) == (3, 1, 2)
+    buf = io.StringIO()
+    with GateProgress(Console(file=buf, force_terminal=True, width=100), 3) as progress:
+        for e, cached in entries:
+            progress(e, cached=cached)
+        progress._bar.refresh()
+        assert "1 cached, 2 failed" in buf.getvalue()

@@ -241,3 +241,27 @@ def test_an_unreachable_scheduler_is_a_one_line_error_within_the_timeout(tmp_pat
     assert time.monotonic() - start < 15
     assert result.exit_code == 2 and len(result.output.strip().splitlines()) == 1, result.output
     assert "cannot reach the Dask scheduler" in result.output and "within 2 s" in result.output
+
+
+def test_local_cluster_from_a_stdin_program_is_a_one_line_error(monkeypatch):
+    import types
+
+    from cadartifact.errors import CadArtifactError
+    from cadartifact.gate_cluster import ClusterOptions, run_on_cluster
+
+    pytest.importorskip("distributed")
+    fake = types.ModuleType("__main__")
+    fake.__file__ = "<stdin>"
+    monkeypatch.setitem(sys.modules, "__main__", fake)
+    with pytest.raises(CadArtifactError, match="standard input"):
+        run_on_cluster([("x.step", None, False)], ClusterOptions("local"), lambda e: None)
+
+
+@pytest.mark.parametrize("kwargs, option", [({"address": " "}, "--scheduler"), ({"timeout": 0}, "--scheduler-timeout"),
+                                            ({"workers": 0}, "--jobs")])
+def test_cluster_options_are_checked(kwargs, option):
+    from cadartifact.errors import OptionError
+    from cadartifact.gate_cluster import ClusterOptions
+
+    with pytest.raises(OptionError, match=option):
+        ClusterOptions(**{"address": "local", **kwargs})
