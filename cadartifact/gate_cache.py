@@ -8,11 +8,12 @@ key, hence a miss. The file's path is not part of the key: an identical copy els
 its entry is relocated to the new path (every string that names the old path, i.e. the ``path`` and
 the ``"<path>: ..."`` messages; an entry naming the old path in any other way is not reused).
 
-Layout: one JSON file per key, ``DIR/<key[:2]>/<key>.json``, written to a temporary file in the
+Layout: one file per key, ``DIR/<key[:2]>/<key>.json`` (a JSON header line with the format, key,
+path and checksum, then the entry as JSON), written to a temporary file in the
 same folder and moved into place with ``os.replace``, so concurrent writers (two CI jobs, a Dask
 client on each of several machines sharing the folder) never expose a partial entry: the last
 writer of a key wins, and every writer of a key writes the same result. Each entry carries a
-SHA-256 of its own content; an entry that does not parse, names another key, or fails its checksum
+SHA-256 of its key, path and body; an entry that does not parse, names another key, or fails its checksum
 is ignored (a miss) and rewritten after the analysis, never trusted.
 
 Error entries (unreadable files, crashed workers) are never stored: a file the gate could not read
@@ -81,6 +82,10 @@ def cache_key(digest: str, settings, verify: bool) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
+def _checksum(key: str, path: str, body: bytes) -> str:
+    return hashlib.sha256(key.encode() + b"\0" + path.encode("utf-8", "surrogatepass") + b"\0" + body).hexdigest()
+
+
 class _NotRelocatable(Exception):
     pass
 
@@ -142,15 +147,20 @@ class GateCache:
         except OSError:
             return None
         try:
-            data = json.loads(raw)
-            body = {"format": data["format"], "key": data["key"], "path": data["path"], "entry": data["entry"]}
-            valid = (data["format"] == CACHE_FORMAT and data["key"] == key and isinstance(data["path"], str)
-                     and isinstance(data["entry"], dict)
-                     and data["checksum"] == hashlib.sha256(_ordered(body).encode()).hexdigest())
+            head, sep, body = raw.partition(b"\n")
+            if not sep:
+                raise ValueError("no header line")
+            meta = json.loads(head)
+            valid = (isinstance(meta, dict) and meta.get("format") == CACHE_FORMAT and meta.get("key") == key
+                     and isinstance(meta.get("path"), str)
+                     and meta.get("sha256") == _checksum(key, meta["path"], body))
             if not valid:
                 raise ValueError("invalid entry")
-            return relocate(data["entry"], data["path"], path)
-        except (ValueError, KeyError, TypeError, _NotRelocatable, RecursionError):
+            entry = json.loads(body)
+            if not isinstance(entry, dict):
+                raise ValueError("invalid entry")
+            return relocate(entry, meta["path"], path)
+        except (ValueError, TypeError, _NotRelocatable, RecursionError):  # UnicodeDecodeError is a ValueError
             self.rejected += 1
             return None
 
@@ -158,21 +168,25 @@ class GateCache:
         """Write ``entry`` under ``key`` atomically; False (and nothing written) for an error entry or a failed write.
 
         A cache that cannot be written is not an error of the gate: the entry is simply not cached.
+        The file is a header line (format, key, path, SHA-256 of key, path and body) and the body,
+        the entry as JSON in its own key order (the reports follow it).
         """
         if entry.get("error") or entry.get("verdict") == "error":
             return False
-        body = {"format": CACHE_FORMAT, "key": key, "path": entry["path"], "entry": entry}
         try:
-            text = _ordered({**body, "checksum": hashlib.sha256(_ordered(body).encode()).hexdigest()})
-        except (TypeError, ValueError):  # not JSON-representable: never cache what cannot round-trip
+            body = _ordered(entry).encode("ascii")
+            path = entry["path"]
+            head = _ordered({"format": CACHE_FORMAT, "key": key, "path": path,
+                             "sha256": _checksum(key, path, body)}).encode("ascii")
+        except (TypeError, ValueError, KeyError):  # not JSON-representable: never cache what cannot round-trip
             return False
         target = self._file(key)
         tmp = None
         try:
             target.parent.mkdir(exist_ok=True)
             fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{key[:16]}.", suffix=".tmp")
-            with os.fdopen(fd, "w", encoding="ascii") as fh:
-                fh.write(text)
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(head + b"\n" + body)
             os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes it private; the cache may be shared
             os.replace(tmp, target)
             return True

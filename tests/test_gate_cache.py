@@ -112,14 +112,15 @@ def test_a_corrupt_entry_is_ignored_and_rewritten(tmp_path, counted, damage):
         entry_file.write_text(text[: len(text) // 2])
     elif damage == "garbage":
         entry_file.write_bytes(b"\x00\xff not json")
-    elif damage == "tamper":  # valid JSON, but a verdict flipped: the checksum no longer matches
-        data = json.loads(text)
-        data["entry"]["verdict"] = "fail" if data["entry"]["verdict"] == "pass" else "pass"
-        entry_file.write_text(json.dumps(data))
-    else:  # a whole, valid entry of another file under this key
-        data = json.loads(text)
-        data["key"] = "0" * 64
-        entry_file.write_text(json.dumps(data))
+    elif damage == "tamper":  # valid JSON, but the verdict flipped: the checksum no longer matches
+        head, body = text.split("\n", 1)
+        assert '"verdict":"pass"' in body
+        entry_file.write_text(head + "\n" + body.replace('"verdict":"pass"', '"verdict":"fail"'))
+    else:  # a whole entry, but of another key
+        head, body = text.split("\n", 1)
+        meta = json.loads(head)
+        meta["key"] = "0" * 64
+        entry_file.write_text(json.dumps(meta) + "\n" + body)
     counted.clear()
     cache = GateCache(tmp_path / "c")
     second, *_ = gated(files, cache)
