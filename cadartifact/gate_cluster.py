@@ -1,7 +1,8 @@
 """The gate on a Dask cluster (``cadartifact gate --scheduler ADDRESS``).
 
-Each file is one Dask task running :func:`cadartifact.gate.gate_file` on a worker; the entries that
-come back are the records the local gate builds, put back in input order, so every report is the
+Each file is gated by :func:`cadartifact.gate.gate_file` on a worker, in a Dask task of its own
+when it is big, or with a few other small files (a Dask task costs milliseconds, as much as a small
+STEP file: :func:`_batches`); the entries that come back are the records the local gate builds, put back in input order, so every report is the
 same byte for byte as ``--jobs 1`` whatever the cluster, the worker count or the completion order.
 ``--scheduler local`` starts a :class:`distributed.LocalCluster` of ``--jobs`` worker processes with
 one thread each (the analysis holds the GIL; one BLAS thread per worker, as in the local pool).
@@ -110,14 +111,21 @@ def gate_task(path: str, payload: bytes | None, settings, verify: bool) -> dict:
         return gate_file(path, settings, verify)
     import tempfile
 
-    from .gate_cache import relocate
-
     with tempfile.TemporaryDirectory(prefix="cadartifact-ship-") as tmp:
         local = os.path.join(tmp, os.path.basename(path) or "input")
         with open(local, "wb") as fh:
             fh.write(payload)
         entry = gate_file(local, settings, verify)
     return _relocate_shipped(entry, local, path)
+
+
+def gate_batch(items: list) -> list:
+    """Gate ``(path, payload, settings, verify)`` items one after the other on a worker (one Dask task).
+
+    Small files go several to a task: a Dask task costs milliseconds of scheduling, as much as
+    gating a small STEP file.
+    """
+    return [gate_task(*item) for item in items]
 
 
 def _relocate_shipped(entry: dict, local: str, path: str) -> dict:
@@ -232,6 +240,35 @@ def run_on_cluster(tasks: list, options: ClusterOptions, done) -> list:
             cluster.close()
 
 
+#: A task holds files until their bytes add up to this much (a file as big or bigger goes alone) ...
+BATCH_BYTES = 256 * 1024
+#: ... or it holds this many files.
+BATCH_FILES = 16
+
+
+def _batches(tasks: list, threads: int) -> list:
+    """Task indices grouped into Dask tasks: biggest files first, small files batched.
+
+    Biggest first (size: a cheap proxy for cost) balances the workers' loads, and the small ones
+    batched at the end keep the tail short; a batch is also kept small enough that every thread
+    gets a few of them.
+    """
+    order = sorted(range(len(tasks)), key=lambda i: -_size(tasks[i][0]))
+    per_thread = max(1, len(tasks) // (4 * max(1, threads)))
+    limit = min(BATCH_FILES, per_thread)
+    out, batch, held = [], [], 0
+    for i in order:
+        size = _size(tasks[i][0])
+        if batch and (held + size > BATCH_BYTES or len(batch) >= limit):
+            out.append(batch)
+            batch, held = [], 0
+        batch.append(i)
+        held += size
+    if batch:
+        out.append(batch)
+    return out
+
+
 def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
@@ -239,58 +276,66 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     token = uuid.uuid4().hex[:12]
     results: list = [None] * len(tasks)
 
-    def submit(i: int, tag: str):
-        """A future for task ``i``, or None when it was settled here (a file --ship cannot read)."""
-        path, settings, verify = tasks[i]
-        payload = _payload(path) if options.ship else None
-        if options.ship and payload is None:  # unreadable here: reported as the local gate reports it
-            from .gate import gate_file
+    def submit(batch: list, tag: str):
+        """A future for the files of ``batch`` that could be sent (--ship settles unreadable ones here)."""
+        items, sent = [], []
+        for i in batch:
+            path, settings, verify = tasks[i]
+            payload = _payload(path) if options.ship else None
+            if options.ship and payload is None:  # unreadable here: reported as the local gate reports it
+                from .gate import gate_file
 
-            results[i] = gate_file(path, settings, verify)
-            done(results[i])
-            return None
-        return client.submit(gate_task, path, payload, settings, verify, key=f"cadartifact-gate-{tag}-{i}-{token}",
-                             retries=options.retries, pure=False)
+                results[i] = gate_file(path, settings, verify)
+                done(results[i])
+                continue
+            items.append((path, payload, settings, verify))
+            sent.append(i)
+        if not items:
+            return None, sent
+        fut = client.submit(gate_batch, items, key=f"cadartifact-gate-{tag}-{sent[0]}-{token}",
+                            retries=options.retries, pure=False)
+        return fut, sent
 
-    # biggest files first (a cheap proxy for their cost) balances the workers' loads; a bounded
-    # window of tasks in flight keeps shipped bytes from piling up in the client and the scheduler
-    order = sorted(range(len(tasks)), key=lambda i: -_size(tasks[i][0]))
     threads = sum(client.nthreads().values()) or 1
-    window = max(16, 4 * threads)
+    # a bounded window of tasks in flight keeps shipped bytes from piling up in the client and the
+    # scheduler; by path, the whole vault is submitted at once (cheaper for the scheduler)
+    window = max(16, 4 * threads) if options.ship else None
     futures, killed = {}, []
     pending = as_completed()
-    queue = iter(order)
+    queue = iter(_batches(tasks, threads))
 
     def top_up():
-        while len(futures) < window:
-            i = next(queue, None)
-            if i is None:
+        while window is None or len(futures) < window:
+            batch = next(queue, None)
+            if batch is None:
                 return
-            fut = submit(i, "a")
+            fut, sent = submit(batch, "a")
             if fut is not None:
-                futures[fut] = i
+                futures[fut] = sent
                 pending.add(fut)
 
     top_up()
     while futures:
         fut = next(pending)
-        i = futures.pop(fut)
+        batch = futures.pop(fut)
         try:
-            results[i] = fut.result()
+            entries = fut.result()
         except KilledWorker:
-            killed.append(i)  # perhaps only a neighbour of the culprit on a dying worker: re-run alone below
-        except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
-            results[i] = _failed_entry(tasks[i], exc)
-        if results[i] is not None:
-            done(results[i])
+            killed += batch  # perhaps only neighbours of the culprit on a dying worker: re-run alone below
+            entries = None
+        except Exception as exc:  # fail closed: an unexpected failure must not let the files pass
+            entries = [_failed_entry(tasks[i], exc) for i in batch]
+        for i, entry in zip(batch, entries or ()):
+            results[i] = entry
+            done(entry)
         fut.release()
         top_up()
     for i in sorted(killed):
-        fut = submit(i, "alone")
+        fut, _ = submit([i], "alone")
         if fut is None:
             continue
         try:
-            results[i] = fut.result()
+            results[i] = fut.result()[0]
         except KilledWorker as exc:
             results[i] = _killed_entry(tasks[i][0], tasks[i][1], exc.allowed_failures + 1)
         except Exception as exc:
