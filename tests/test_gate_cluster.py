@@ -265,3 +265,21 @@ def test_cluster_options_are_checked(kwargs, option):
 
     with pytest.raises(OptionError, match=option):
         ClusterOptions(**{"address": "local", **kwargs})
+
+
+def test_batches_partition_the_files_biggest_first_small_ones_grouped(tmp_path):
+    from cadartifact.gate_cluster import BATCH_BYTES, BATCH_FILES, _batches
+
+    sizes = [BATCH_BYTES * 2, 10, 20, BATCH_BYTES // 2, 30] + [100] * 200
+    tasks = []
+    for k, size in enumerate(sizes):
+        f = tmp_path / f"f{k}.step"
+        f.write_bytes(b"x" * size)
+        tasks.append((str(f), None, False))
+    batches = _batches(tasks, threads=2)
+    assert sorted(i for b in batches for i in b) == list(range(len(tasks)))
+    assert batches[0] == [0]  # the biggest alone, first
+    assert all(len(b) <= BATCH_FILES for b in batches)
+    assert all(len(b) == 1 or sum(sizes[i] for i in b) <= BATCH_BYTES for b in batches)
+    assert len(batches) >= 4 * 2  # a few per thread
+    assert [len(b) for b in _batches(tasks[:6], threads=2)] == [1] * 6  # few files: one per task
