@@ -122,7 +122,9 @@ def main():
             t = time.perf_counter()
             entries = run_gate(files, settings, **kw)
             dt = time.perf_counter() - t
-            print(f"  {label:34s} {dt:8.2f} s  {len(files) / dt:8.1f} files/s", flush=True)
+            load = os.getloadavg()[0]  # on a shared machine the figures mean little without it
+            print(f"  {label:34s} {dt:8.2f} s  {len(files) / dt:8.1f} files/s   (load average {load:.1f})",
+                  flush=True)
             return dt, to_json(build_document(entries, base, policy))
 
         cache = folder / "cache"

@@ -119,12 +119,18 @@ def gate_task(path: str, payload: bytes | None, settings, verify: bool) -> dict:
     return _relocate_shipped(entry, local, path)
 
 
-def gate_batch(items: list) -> list:
+def gate_batch(items: list, version: str | None = None) -> list:
     """Gate ``(path, payload, settings, verify)`` items one after the other on a worker (one Dask task).
 
     Small files go several to a task: a Dask task costs milliseconds of scheduling, as much as
-    gating a small STEP file.
+    gating a small STEP file. ``version``: the client's cadartifact version; a worker running another
+    one refuses (its results would differ, and be cached under the client's version).
     """
+    from . import __version__
+
+    if version is not None and version != __version__:
+        raise RuntimeError(f"the worker runs cadartifact {__version__}, the client {version}: install the same "
+                           "version on both")
     return [gate_task(*item) for item in items]
 
 
@@ -161,7 +167,9 @@ def _connect(options: ClusterOptions):
         if not _workers_can_start():  # spawned workers re-import __main__ by path: '<stdin>' cannot be
             raise CadArtifactError("--scheduler local: worker processes cannot be started from a program read "
                                    "from standard input; run it from a file, or give a scheduler address")
-        with dask.config.set({"distributed.scheduler.allowed-failures": LOCAL_ALLOWED_FAILURES}):
+        # non-daemonic workers may start processes of their own (the gate may read a file in a child)
+        with dask.config.set({"distributed.scheduler.allowed-failures": LOCAL_ALLOWED_FAILURES,
+                              "distributed.worker.daemon": False}):
             cluster = distributed.LocalCluster(n_workers=int(options.workers), threads_per_worker=1,
                                                processes=True, host="127.0.0.1", dashboard_address=None,
                                                silence_logs=logging.CRITICAL)
@@ -273,6 +281,8 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
+    from . import __version__
+
     token = uuid.uuid4().hex[:12]
     results: list = [None] * len(tasks)
 
@@ -292,7 +302,7 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
             sent.append(i)
         if not items:
             return None, sent
-        fut = client.submit(gate_batch, items, key=f"cadartifact-gate-{tag}-{sent[0]}-{token}",
+        fut = client.submit(gate_batch, items, __version__, key=f"cadartifact-gate-{tag}-{sent[0]}-{token}",
                             retries=options.retries, pure=False)
         return fut, sent
 

@@ -205,6 +205,17 @@ def test_scheduler_and_workers_by_path_and_by_shipped_bytes(vault, dask_pair, mo
 
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
+def test_workers_of_another_version_fail_closed(vault, dask_pair, monkeypatch):
+    import cadartifact
+    from cadartifact.gate_cluster import ClusterOptions
+
+    monkeypatch.setattr(cadartifact, "__version__", cadartifact.__version__ + ".other")
+    entries = run_gate(vault["files"][:2], vault["settings"][:2], cluster=ClusterOptions(dask_pair))
+    assert all(e["verdict"] == "error" and "install the same version" in e["error"] for e in entries)
+
+
+@pytest.mark.cluster
+@pytest.mark.xdist_group("dask")
 def test_a_worker_killed_mid_run_loses_no_file(vault, dask_pair, tmp_path):
     from distributed import Client
 
