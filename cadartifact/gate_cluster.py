@@ -167,9 +167,10 @@ def _connect(options: ClusterOptions):
         if not _workers_can_start():  # spawned workers re-import __main__ by path: '<stdin>' cannot be
             raise CadArtifactError("--scheduler local: worker processes cannot be started from a program read "
                                    "from standard input; run it from a file, or give a scheduler address")
-        # non-daemonic workers may start processes of their own (the gate may read a file in a child)
+        # non-daemonic workers may start processes of their own (the gate may read a file in a child);
+        # the workers' statistical profiler would take its share of the cores from the analysis
         with dask.config.set({"distributed.scheduler.allowed-failures": LOCAL_ALLOWED_FAILURES,
-                              "distributed.worker.daemon": False}):
+                              "distributed.worker.daemon": False, "distributed.worker.profile.enabled": False}):
             cluster = distributed.LocalCluster(n_workers=int(options.workers), threads_per_worker=1,
                                                processes=True, host="127.0.0.1", dashboard_address=None,
                                                silence_logs=logging.CRITICAL)
