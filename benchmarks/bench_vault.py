@@ -125,12 +125,15 @@ def main():
                 if not first:
                     first.append(time.perf_counter())
 
-            t = time.perf_counter()
+            t, c0 = time.perf_counter(), os.times()
             entries = run_gate(files, settings, progress=progress, **kw)
-            dt = time.perf_counter() - t
-            load = os.getloadavg()[0]  # on a shared machine the figures mean little without it
-            print(f"  {label:34s} {dt:8.2f} s  {len(files) / dt:8.1f} files/s   first result after "
-                  f"{first[0] - t:5.2f} s (load average {load:.1f})", flush=True)
+            dt, c1 = time.perf_counter() - t, os.times()
+            # CPU time of this process and of the (reaped) cluster processes: on a shared machine the
+            # wall time says how much of the cores we got, the CPU time how much work was done
+            cpu = sum(getattr(c1, k) - getattr(c0, k) for k in ("user", "system", "children_user", "children_system"))
+            load = os.getloadavg()[0]
+            print(f"  {label:34s} {dt:8.2f} s  {len(files) / dt:8.1f} files/s   CPU {cpu:6.1f} s   first result "
+                  f"after {first[0] - t:5.2f} s   (load average {load:.1f})", flush=True)
             return dt, to_json(build_document(entries, base, policy))
 
         cache = folder / "cache"
