@@ -432,6 +432,17 @@ def gate_cmd(
     read_timeout: Optional[float] = typer.Option(None, "--read-timeout",
                                                  help="Seconds OCCT's reader may take on one file (default 120 or "
                                                       "$CADARTIFACT_READ_TIMEOUT); a file past it is an error."),
+    cache: Optional[Path] = typer.Option(None, "--cache",
+                                         help="Keep results in this folder, keyed by file content, policy and "
+                                              "version: unchanged files are not analysed again (policy: cache)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                            help="Run on a Dask cluster: a scheduler address (tcp://host:8786) or "
+                                                 "'local' (a LocalCluster of --jobs workers). Needs "
+                                                 "cadartifact[dask]."),
+    ship: bool = typer.Option(False, "--ship", help="With --scheduler: send the files' bytes to the workers (no "
+                                                    "shared storage)."),
+    scheduler_timeout: float = typer.Option(10.0, "--scheduler-timeout",
+                                            help="Seconds to wait for the scheduler."),
 ):
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
@@ -466,22 +477,26 @@ def gate_cmd(
         raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
                                       "installation", str(report))
 
-    err = _console(stderr=True)
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    workers = jobs or os.cpu_count() or 1
+    cluster = result_cache = None
+    if scheduler is not None:
+        from .gate_cluster import ClusterOptions, require_distributed
 
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=err, transient=True, disable=not err.is_terminal) as bar:
-        task = bar.add_task("gating files", total=len(files))
-        lines = None if err.is_terminal else LineProgress(err, "gated", len(files))
+        cluster = ClusterOptions(scheduler.strip(), workers=workers, ship=ship, timeout=scheduler_timeout)
+        require_distributed()  # a missing extra is a usage error before any work
+    elif ship:
+        raise OptionError("--ship", "--scheduler too (files are shipped to Dask workers)", "--ship alone")
+    cache = cache if cache is not None else pol.cache
+    if cache is not None:
+        from .gate_cache import GateCache
 
-        def done(entry):
-            bar.update(task, advance=1, description=f"gated {entry['path']}")
-            if lines is not None:
-                lines.file_done(entry["path"], entry["verdict"] + (f", {plural(len(entry['faces']), 'face')}"
-                                                                   if entry.get("faces") else ""))
+        result_cache = GateCache(cache)
 
-        entries = run_gate(files, settings, jobs=jobs or os.cpu_count() or 1, verify=verify, read_timeout=read_timeout,
-                           progress=done)
+    from .gate_progress import GateProgress
+
+    with GateProgress(_console(stderr=True), len(files)) as progress:
+        entries = run_gate(files, settings, jobs=workers, verify=verify, progress=progress, cache=result_cache,
+                           cluster=cluster, read_timeout=read_timeout)
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:

@@ -308,7 +308,7 @@ def _size(path: str) -> int:
 
 
 def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None,
-             read_timeout: float | None = None) -> list:
+             cache=None, cluster=None, read_timeout: float | None = None) -> list:
     """Gate files (in parallel with ``jobs > 1``); results in input order, identical for any ``jobs``.
 
     Parameters
@@ -319,7 +319,11 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
     jobs : int
         Worker processes; 1 runs in this process.
     progress : callable, optional
-        ``progress(entry)`` after each file.
+        ``progress(entry)`` after each file; with a ``cache``, ``progress(entry, cached=bool)``.
+    cache : cadartifact.gate_cache.GateCache, optional
+        Take unchanged files' entries from it, store the new ones.
+    cluster : cadartifact.gate_cluster.ClusterOptions, optional
+        Run the analysis on a Dask cluster instead of this machine's processes.
     read_timeout : float, optional
         Seconds OCCT's reader may take on one file (a file past it is an ``error`` entry).
 
@@ -328,8 +332,18 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
     list of dict
         File entries (:func:`gate_file`).
     """
-    done = progress or (lambda entry: None)
-    tasks = [(os.fspath(p), s, verify, read_timeout) for p, s in zip(paths, settings)]
+    done = progress or (lambda entry, **kw: None)
+    if read_timeout is not None:  # the reader's child process (and spawned workers) read it from the environment
+        os.environ["CADARTIFACT_READ_TIMEOUT"] = repr(float(read_timeout))
+    tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
+    if cache is not None:  # the seam to cadartifact.gate_cache: it runs only the misses
+        return cache.run(tasks, lambda todo, finished: _execute(todo, jobs, finished, cluster), done)
+    return _execute(tasks, jobs, done, cluster)
+
+
+def _execute(tasks: list, jobs: int, done, cluster=None) -> list:
+    if cluster is not None:  # the seam to cadartifact.gate_cluster (imports distributed)
+        return cluster.run(tasks, done)
     jobs = max(1, min(int(jobs), len(tasks)))
     if jobs == 1 or not _workers_can_start():
         out = []

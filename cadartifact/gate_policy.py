@@ -13,6 +13,7 @@ table is passed over), or given with ``--policy FILE``::
     measured = "warn"             # or "fail": see below
     convert = false               # convert revolution/extrusion/offset faces to B-splines and gate them
     min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
+    cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
 
     [[override]]                  # applied in order to files matching glob; later ones win
     glob = "legacy/**"
@@ -67,7 +68,7 @@ MEASURED = ("warn", "fail")
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
 TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "convert",
-            "min_analysed_share", "override")
+            "min_analysed_share", "cache", "override")
 OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
                  "convert", "min_analysed_share", "ignore_faces")
 
@@ -142,12 +143,15 @@ class Policy:
     values : dict
         Top-level settings given in the file.
     overrides : tuple of (glob, dict)
+    cache : Path or None
+        The result cache folder (``cache = "..."``, relative to ``root``); not a per-file setting.
     """
 
     source: str | None = None
     root: Path = field(default_factory=Path.cwd)
     values: dict = field(default_factory=dict)
     overrides: tuple = ()
+    cache: Path | None = None
 
     def settings_for(self, path, cli: dict | None = None) -> FileSettings:
         """Resolve the settings of ``path``: defaults < policy < matching overrides (in order) < ``cli``.
@@ -264,10 +268,15 @@ def parse_policy(table: dict, source: str, root: Path) -> Policy:
         raise PolicyError(source, None, "the policy must be a table of keys")
     values = {}
     overrides = []
+    cache = None
     for key, value in table.items():
         if key not in TOP_KEYS:
             raise _unknown(source, key, TOP_KEYS)
-        if key == "override":
+        if key == "cache":
+            if not isinstance(value, str) or not value:
+                raise PolicyError(source, key, f"expected a folder path, received {value!r}")
+            cache = root / value
+        elif key == "override":
             if not isinstance(value, list) or not all(isinstance(t, dict) for t in value):
                 raise PolicyError(source, key, f"expected [[override]] tables, received {value!r}")
             for n, tbl in enumerate(value, 1):
@@ -282,7 +291,7 @@ def parse_policy(table: dict, source: str, root: Path) -> Policy:
                 overrides.append((vals.pop("glob"), vals))
         else:
             values[key] = _check_value(source, key, value)
-    return Policy(source=source, root=root, values=values, overrides=tuple(overrides))
+    return Policy(source=source, root=root, values=values, overrides=tuple(overrides), cache=cache)
 
 
 def _check_value_named(source: str, where: str, key: str, value):
