@@ -14,6 +14,8 @@ from enum import Enum
 from pathlib import Path
 from typing import List, Optional
 
+import warnings
+
 import typer
 from typer.core import TyperGroup
 

@@ -261,7 +261,7 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFi
 
 
 #: The measured road's period, in multiples of the net's points: a longer bridge is a smoother one.
-MEASURED_EXTENSION = 4
+MEASURED_EXTENSION = 3
 
 
 def measured_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFields:
@@ -303,9 +303,26 @@ def _bridged_bands(field: np.ndarray, frames, scheme) -> tuple[dict, np.ndarray,
     ext = np.roll(ext, (fu.shift, fv.shift), axis=(0, 1))  # x = 0 at fine index `shift`
     spec = np.fft.rfft2(ext, axes=(0, 1))
     bands = band_split(spec, fu, fv)
+    # the lateral weights are not a band: they would weigh what the continuation leaves far outside the
+    # face; weigh the face's own ripple instead, extended by even reflection (it has no smooth part)
+    bands["lateral"] = _lateral_of(bands["total"], fu, fv)
     smooth = bands["signal_error"] + sandwich(V[0], poly, V[1])
     bands["signal_error"] = np.zeros_like(smooth)
     return bands, smooth, _baseband(spec, fu, fv, poly)
+
+
+def _lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
+    """The lateral part of a domain ripple field (SPEC §3 weights per alias band), by one 2-D FFT of its
+    even-reflection (open) or periodic extension."""
+    ext = ripple
+    for axis, frame in enumerate((fu, fv)):
+        if not frame.periodic and ext.shape[axis] > 2:
+            inner = np.take(ext, np.arange(ext.shape[axis] - 2, 0, -1), axis=axis)
+            ext = np.concatenate([ext, inner], axis=axis)
+    A, B = ext.shape[:2]
+    w = _band_masks(np.fft.fftfreq(A, d=1.0 / fu.K), np.fft.rfftfreq(B, d=1.0 / fv.K))["lateral"]
+    out = np.fft.irfft2(np.fft.rfft2(ext, axes=(0, 1)) * w[:, :, None], s=(A, B), axes=(0, 1))
+    return out[: ripple.shape[0], : ripple.shape[1]]
 
 
 def _poly_fit(field: np.ndarray, frames, degrees) -> tuple[list, np.ndarray]:

@@ -46,10 +46,13 @@ def test_verdict_rule(value, t, f):
     assert got == value
     assert verdict == ("fail" if value > t else "warn" if value >= f * t else "pass")
     assert f"{t:g}" in reason
-    capped = face_verdict(record(value, method="measured"), FileSettings(tolerance=t, warn_fraction=f))[0]
+    # the cap follows faces outside the uniform theory (non-uniform knots, varying weights), not the road
+    outside = dict(record(value, method="measured"), uniform=False)
+    capped = face_verdict(outside, FileSettings(tolerance=t, warn_fraction=f))[0]
     assert capped == ("warn" if verdict == "fail" else verdict)
-    strict = face_verdict(record(value, method="measured"), FileSettings(tolerance=t, warn_fraction=f,
-                                                                         measured="fail"))[0]
+    assert face_verdict(dict(record(value, method="measured"), uniform=True), FileSettings(tolerance=t))[0] == \
+        face_verdict(record(value), FileSettings(tolerance=t))[0]
+    strict = face_verdict(outside, FileSettings(tolerance=t, warn_fraction=f, measured="fail"))[0]
     assert strict == verdict
 
 

@@ -84,8 +84,9 @@ def test_gate_at_80_columns_cuts_no_cell_and_splits_no_value(gate_doc):
 def test_progress_line_per_file_on_stderr_when_not_a_terminal(tmp_path):
     result = invoke(["gate", SAMPLES / "clean_panel.step", SAMPLES / "cage.obj", "--tol", "1", "-j", "1",
                      "-f", "json"])
-    lines = [line for line in result.stderr.splitlines() if line.startswith("cadartifact: [")]
-    assert len(lines) == 2 and "[1/2] gated" in lines[0] and "[2/2] gated" in lines[1], result.stderr
+    lines = [line for line in result.stderr.splitlines() if line.lstrip().startswith(("cadartifact: [", "["))]
+    assert len(lines) == 2 and "[1/2]" in lines[0] and "[2/2]" in lines[1], result.stderr
+    assert "clean_panel.step" in lines[0] and "cage.obj" in lines[1]
     json.loads(result.stdout)  # stdout stays the report alone
     result = invoke(["advise", SAMPLES / "clean_panel.step", "--tol", "1", "--no-verify", "--no-compare",
                      "--json"])
@@ -162,7 +163,7 @@ def test_peak_location_is_the_budget_peak_on_the_surface():
 
     net = read(SAMPLES / "wavy_panel_diagonal.step").nets[0]
     at = peak_location(net)
-    assert at["value"] == pytest.approx(budget(net).stats["total"].peak, rel=1e-9)
+    assert at["value"] == pytest.approx(budget(net).stats["total"].peak, rel=1e-8)  # the document rounds to 1e-9
     u0, u1, v0, v1 = net.uv_bounds
     assert u0 - 1e-9 <= at["uv"][0] <= u1 + 1e-9 and v0 - 1e-9 <= at["uv"][1] <= v1 + 1e-9
     # the second road: OCCT projects the reported point back onto the face at the reported uv
