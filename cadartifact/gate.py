@@ -333,12 +333,21 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
         File entries (:func:`gate_file`).
     """
     done = progress or (lambda entry, **kw: None)
-    if read_timeout is not None:  # the reader's child process (and spawned workers) read it from the environment
-        os.environ["CADARTIFACT_READ_TIMEOUT"] = repr(float(read_timeout))
     tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
-    if cache is not None:  # the seam to cadartifact.gate_cache: it runs only the misses
-        return cache.run(tasks, lambda todo, finished: _execute(todo, jobs, finished, cluster), done)
-    return _execute(tasks, jobs, done, cluster)
+    # the reader's child process (and spawned workers) take the timeout from the environment, for this run only
+    saved = os.environ.get("CADARTIFACT_READ_TIMEOUT")
+    if read_timeout is not None:
+        os.environ["CADARTIFACT_READ_TIMEOUT"] = repr(float(read_timeout))
+    try:
+        if cache is not None:  # the seam to cadartifact.gate_cache: it runs only the misses
+            return cache.run(tasks, lambda todo, finished: _execute(todo, jobs, finished, cluster), done)
+        return _execute(tasks, jobs, done, cluster)
+    finally:
+        if read_timeout is not None:
+            if saved is None:
+                os.environ.pop("CADARTIFACT_READ_TIMEOUT", None)
+            else:
+                os.environ["CADARTIFACT_READ_TIMEOUT"] = saved
 
 
 def _execute(tasks: list, jobs: int, done, cluster=None) -> list:

@@ -14,8 +14,8 @@ they claim:
 - ``car_hood_coarse.step``: 8x6 bicubic hood (1200x900 mm dome) with a swage line along x that
   only one row of control points carries (a 12 mm crease on the row at y = 360 mm, 180 mm
   spacing): the net is far too coarse for the feature it has to shape, so it ripples.
-- ``clean_panel.step``: 10x10 bicubic, z a quadratic in x and y (index-space polynomial
-  net of degree 2): no artifact for any scheme reproducing degree >= 2.
+- ``clean_panel.step``: 10x10 bicubic, a twisted plane (z bilinear in x and y) sampled at the
+  control points' Greville abscissae: the bicubic reproduces it, so it carries no ripple.
 - ``cage.obj``: 8x8-vertex grid with a bump, one 3x3-quad corner removed (an L shape,
   whose inner corner is an irregular boundary vertex of valence 4), and an OpenSubdiv tag.
 """
@@ -71,9 +71,16 @@ def car_hood() -> ControlNet:
 
 
 def clean_panel() -> ControlNet:
-    x, y = grid(10, 10, 200.0, 150.0)
-    z = 0.0015 * (x - 100.0) ** 2 - 0.001 * (y - 75.0) ** 2 + 0.02 * x * 0.5 + 0.0005 * x * y
-    return ControlNet.from_points(np.stack([x, y, z], -1), (3, 3), origin=NetOrigin(name="clean_panel", kind="bspline"))
+    from cadartifact.net import clamped_uniform_knots, greville
+
+    # the points sample a twisted plane (bilinear in x and y) at their Greville abscissae: the bicubic
+    # reproduces it exactly, so neither road sees any ripple
+    knots = clamped_uniform_knots(10, 3)
+    g = greville(knots, 3, 10)
+    x, y = np.meshgrid(200.0 * g, 150.0 * g, indexing="ij")
+    z = 0.0015 * (x - 100.0) * (y - 75.0) + 0.04 * x - 0.02 * y
+    return ControlNet(points=np.stack([x, y, z], -1), degrees=(3, 3), knots=(knots, knots),
+                      origin=NetOrigin(name="clean_panel", kind="bspline"))
 
 
 def cage_obj() -> str:

@@ -94,12 +94,18 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
         return []
     transfer = session.TransferReader()
     got = set()
+    count = 0
     explorer = TopExp_Explorer(shape, TopAbs_FACE)
     while explorer.More():
+        count += 1
         entity = transfer.EntityFromShapeResult(explorer.Current(), 1)
         if entity is not None:
             got.add(number.get(id(entity)))
         explorer.Next()
+    if count >= len(declared) and len(got) < count:
+        # every declared face has a transferred face: the shape-to-entity map is what failed (assemblies
+        # whose parts are placed through CONTEXT_DEPENDENT_SHAPE_REPRESENTATION), nothing was lost
+        return []
     dropped = [i for i in declared if i not in got]
     if not dropped:
         return []
