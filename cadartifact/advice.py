@@ -400,7 +400,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component, intent=intent,
                      keep_fields=True)
     work = analysis_net(net, sch)
-    scorers = {lv: _make_scorer(net, work, sch, intent, lv, metric, component, current if lv == levels else None)
+    # one intent for both check grids (only the grid's density differs): the fields of today's budget
+    scorers = {lv: _make_scorer(net, work, sch, intent, lv, metric, component, current)
                for lv in sorted({min(SEARCH_LEVELS, levels), levels})}
     fine = scorers[levels]
     coarse = scorers[min(SEARCH_LEVELS, levels)]
@@ -408,18 +409,18 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     t = tolerance
     reserve = 1.0 / (1.0 - INTENT_MARGIN)
 
-    def value(sc, a, b):
+    def value(sc, a, b, own_ripple=True):
         """The candidate's value against the tolerance: its error against the intent (with the intent's
         reserve) and, for the surface reading, its own ripple as the gate will read it (so the advice
-        passes the gate)."""
+        passes the gate; a budget per candidate, so only where the fine grid confirms)."""
         if objective == "ripple":
             return _ripple_of(sc, a, b, sch, metric, component)
         dev = sc.value(a, b) * reserve
-        if dev > t or intent == "net":  # the net reading bounds the deviation from the shape itself
+        if dev > t or intent == "net" or not own_ripple:  # the net reading bounds the deviation from the shape
             return dev
         return max(dev, _ripple_of(sc, a, b, sch, metric, component))
 
-    shape, reachable = _frontier(lambda a, b: value(coarse, a, b) <= t, low, high, work.shape)
+    shape, reachable = _frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
     a, b = shape
     # confirm on the fine grid: grow until it agrees, then shrink each direction while it holds
     while value(fine, a, b) > t and (a < high[0] or b < high[1]):
@@ -483,10 +484,11 @@ def _make_scorer(net, work, sch, reading, levels, metric, component, current=Non
     from .fields import artifact_fields
     from .intent import design_intent
 
-    it = design_intent(work, sch, levels)
     if current is not None and current.fields is not None:
         fields = current.fields
+        it = design_intent(work, sch, current.levels)
     else:
+        it = design_intent(work, sch, levels)
         method = "measured" if work.knots is not None else "predicted"
         fields = artifact_fields(it, sch, method, "surface")
     if fields.baseband is None:  # a net-reading budget keeps no base band: build the surface reading

@@ -114,7 +114,7 @@ def _crop(a: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
     return a[np.ix_(iu, iv)]
 
 
-def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> dict:
+def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool = True) -> dict:
     """Split a periodic fine-grid deviation, given by its half spectrum, into bands over the domain.
 
     Parameters
@@ -131,7 +131,7 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> dict:
     A, B = fu.K * fu.period, fv.K * fv.period
     masks = _band_masks(_fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1]))
     out = {name: _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
-           for name, m in masks.items()}
+           for name, m in masks.items() if lateral or name != "lateral"}
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out
 
@@ -302,7 +302,7 @@ def _bridged_bands(field: np.ndarray, frames, scheme) -> tuple[dict, np.ndarray,
     ext = _bridge(_bridge(rest, fu, 0, own[0]), fv, 1, own[1])
     ext = np.roll(ext, (fu.shift, fv.shift), axis=(0, 1))  # x = 0 at fine index `shift`
     spec = np.fft.rfft2(ext, axes=(0, 1))
-    bands = band_split(spec, fu, fv)
+    bands = band_split(spec, fu, fv, lateral=False)
     # the lateral weights are not a band: they would weigh what the continuation leaves far outside the
     # face; weigh the face's own ripple instead, extended by even reflection (it has no smooth part)
     bands["lateral"] = _lateral_of(bands["total"], fu, fv)
