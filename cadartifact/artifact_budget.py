@@ -219,6 +219,17 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
     return res
 
 
+def check_tolerance(tolerance) -> float:
+    """A tolerance as a positive finite float (model units), or :class:`OptionError`."""
+    try:
+        value = float(tolerance)
+    except (TypeError, ValueError):
+        raise OptionError("tolerance", "a positive number of model units", tolerance) from None
+    if not math.isfinite(value) or value <= 0:
+        raise OptionError("tolerance", "a positive number of model units", tolerance)
+    return value
+
+
 def analysis_net(net: ControlNet, scheme) -> ControlNet:
     """The net as the scheme reads it: a face under its own degrees keeps its knots and weights;
     under another scheme its points are a cage (uniform parametrisation of that scheme)."""
@@ -279,12 +290,7 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     check_option("region", region, REGIONS)
     check_option("intent", intent, READINGS)
     if tolerance is not None:
-        try:
-            tolerance = float(tolerance)
-        except (TypeError, ValueError):
-            raise OptionError("tolerance", "a positive number of model units", tolerance) from None
-        if not math.isfinite(tolerance) or tolerance <= 0:
-            raise OptionError("tolerance", "a positive number of model units", tolerance)
+        tolerance = check_tolerance(tolerance)
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))

@@ -181,8 +181,8 @@ def open_step(path) -> STEPControl_Reader:
     """A STEP reader that has read and transferred ``path`` (same checks and errors as :func:`read_step`)."""
     path = check_file(path)
     reader = STEPControl_Reader()
-    with quiet_occt():
-        status = reader.ReadFile(str(path))
+    with quiet_occt(), occt_path(path) as name:
+        status = reader.ReadFile(name)
         if status != IFSelect_RetDone:
             raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
                                   "truncated, corrupt or not STEP)")
@@ -223,21 +223,9 @@ def read_step_audited(path, ids=None) -> tuple[TopoDS_Shape, object, list[str]]:
     ``ids``: the file's record ids in order (:func:`~cadartifact.exchange.step_scan.record_ids`), if known.
     """
     path = check_file(path)
-    reader = STEPControl_Reader()
-    with quiet_occt(), occt_path(path) as name:
-        status = reader.ReadFile(name)
-        if status != IFSelect_RetDone:
-            raise FileFormatError(path, "not a readable STEP file (OCCT's parser rejected it: "
-                                  "truncated, corrupt or not STEP)")
-        if reader.NbRootsForTransfer() == 0:
-            raise FileFormatError(path, "STEP file has no shape to transfer")
-        try:
-            reader.TransferRoots()
-        except Standard_Failure as exc:
-            raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
-        if reader.NbShapes() == 0 or reader.OneShape().IsNull():
-            raise FileFormatError(path, "STEP file has no shape to transfer")
-        shape = reader.OneShape()
+    reader = open_step(path)
+    shape = reader.OneShape()
+    with quiet_occt():
         return shape, _step_name(reader, path), _dropped_faces(path, reader, shape, ids)
 
 
