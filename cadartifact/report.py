@@ -387,11 +387,6 @@ def _mm_pct(value, share) -> str:
     return f"{value:.3g} [{colour}]{pct}[/]"
 
 
-def _mm_bar(value, share) -> str:
-    """A value in model units and the share bar."""
-    return "-" if value is None else f"{value:.3g} {_bar(share)}"
-
-
 def _bar(share: float | None, width: int = 4) -> str:
     """A compact bar of a share of the tolerance: green up to half, yellow up to 1, red beyond."""
     if share is None:
@@ -455,7 +450,8 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
         schemes = sorted({r["scheme"] for r in f["faces"]})
         methods = sorted({f"{r['method']}, intent {r.get('intent', 'surface')}" for r in f["faces"]})
         caption = (f"tolerance {t:g} {_units(f.get('units') or doc['units'])} ({doc['metric']}); cells: "
-                   f"{_units(f.get('units') or doc['units'])} and % of the tolerance; "
+                   f"{_units(f.get('units') or doc['units'])} and % of the tolerance; road: meas(ured) or "
+                   f"pred(icted) / intent; "
                    f"scheme {', '.join(schemes) or '-'}; {'; '.join(methods) or 'no face analysed'}")
         table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
                       title_justify="left", caption_justify="left", pad_edge=False)
@@ -482,9 +478,9 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
                 advised += " [yellow]?[/]"
             mm = r["budget"]
             if wide:
-                road = f"{r['method']}, {r.get('intent', 'surface')}"
+                road = f"{'pred' if r['method'] == 'predicted' else 'meas'}/{r.get('intent', 'surface')}"
                 table.add_row(_face_label(r), "x".join(map(str, r["net"])), road,
-                              *(_mm_bar(mm[k][doc["metric"]], sh[k]) for k in ("x1", "x2", "diagonal", "lateral", key)),
+                              *(_mm_pct(mm[k][doc["metric"]], sh[k]) for k in ("x1", "x2", "diagonal", "lateral", key)),
                               advised, verdict)
             else:
                 table.add_row(_face_label(r), "x".join(map(str, r["net"])), _mm_pct(mm[key][doc["metric"]], sh[key]),
