@@ -67,3 +67,26 @@ def test_over_tolerance_keeps_structure():
     assert len({tuple(c) for c in over}) == 3 and np.all(np.diff(over[:, 0]) < 0)  # darker towards the peak
     assert tuple(graded[-1, :3]) == tuple(np.round(np.array(V.PEAK_COLOUR) * 255).astype(int))
     np.testing.assert_array_equal(graded[values <= 1], flat[values <= 1])
+
+
+def test_a_tile_says_why_it_shows_little_surface():
+    """A face that curves all round, one mostly turned away, and one trimmed to a corner each say so."""
+    import dataclasses
+
+    from cadartifact.net import ControlNet
+
+    t = np.linspace(0, 2 * np.pi, 12)
+    tube = ControlNet.from_points(np.stack([np.cos(t)[:, None] * np.ones(6), np.sin(t)[:, None] * np.ones(6),
+                                            np.ones(12)[:, None] * np.linspace(0, 5, 6)], axis=-1), degrees=(3, 3))
+    assert "curved all round" in V.little_surface_reason(V.face_maps([tube], "total")[0])
+    half = np.linspace(0, 1.6 * np.pi, 12)  # mean normal exists, but little of the arch faces it
+    arch = ControlNet.from_points(np.stack([np.cos(half)[:, None] * np.ones(6), np.sin(half)[:, None] * np.ones(6),
+                                            np.ones(12)[:, None] * np.linspace(0, 5, 6)], axis=-1), degrees=(3, 3))
+    assert "faces the viewer" in V.little_surface_reason(V.face_maps([arch], "total")[0])
+    gx, gy = np.meshgrid(np.arange(8.0), np.arange(8.0), indexing="ij")
+    flat = ControlNet.from_points(np.stack([gx, gy, np.zeros((8, 8))], axis=-1), degrees=(3, 3))
+    m = V.face_maps([flat], "total")[0]
+    assert V.little_surface_reason(m) == ""
+    values = np.array(m.values, float)
+    values[values.shape[0] // 3:, :] = np.nan
+    assert "trimmed to" in V.little_surface_reason(dataclasses.replace(m, values=values))

@@ -340,6 +340,26 @@ def mean_normal(m: FaceMap) -> np.ndarray | None:
     return total / length
 
 
+def little_surface_reason(m: FaceMap) -> str:
+    """Why a face's tile shows little surface, or ``""``: it curves all round, it is mostly turned away
+    from any one viewing direction, or its trim keeps a small part of its net's surface."""
+    why = []
+    normal = mean_normal(m)
+    if normal is None:
+        why.append("curved all round: no single side to face, isometric view")
+    else:
+        p = np.asarray(m.points, float)
+        n = np.cross(np.diff(p, axis=0)[:, :-1], np.diff(p, axis=1)[:-1, :])
+        area = float(np.linalg.norm(n, axis=-1).sum())
+        facing = float(np.abs(n @ normal).sum()) / area if area > 0 else 1.0
+        if facing < 0.6:
+            why.append(f"strongly curved: {facing:.0%} of its area faces the viewer")
+    kept = float(np.isfinite(m.values).mean()) if m.values.size else 1.0
+    if kept < 0.5:
+        why.append(f"trimmed to {kept:.0%} of its net's surface")
+    return "; ".join(why)
+
+
 def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
     """Cut the white margin around a rendered scene."""
     ink = np.any(img < 250, axis=-1)
@@ -421,7 +441,8 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
             ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
             ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap)))
             ax.set_axis_off()
-            why = "" if mean_normal(m) is not None else "\n(curved all round: no single side to face, isometric view)"
+            why = little_surface_reason(m)
+            why = f"\n({why})" if why else ""
             ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}{why}", fontsize=9, pad=2)
     cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
     top = upper_limit(maps, tol)
