@@ -5,7 +5,7 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
     {
       "schema": "cadartifact.advise/1",
       "tolerance": float, "units": "mm", "metric": "peak" | "rms",
-      "include_signal_error": bool,
+      "intent": "surface" | "net", "include_signal_error": bool,
       "files": [{
         "path": str, "units": "mm" | "model" | null,
         "faces_total": int, "skipped": {kind: count}, "warnings": [str],
@@ -16,17 +16,23 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
           "entity": int | null (STEP: the face's #id in the file), "entity_line": int | null (its line),
           "peak_at": null | {"value", "index": [x, y], "uv": [u, v] | null, "xyz": [x, y, z]}
                      (faces beyond the tolerance: where the ripple peaks),
-          "method": "predicted" | "measured", "reason": str,
+          "method": "predicted" | "measured", "reason": str, "intent": "surface" | "net",
+          "uniform": bool (uniform knots and constant weights, or a cage), "notes": [str],
           "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
                      {"peak": float, "rms": float}},
           "share": {same keys: value / tolerance under the metric},
           "meets_tolerance": bool,
-          "advice": {"net": [n'u, n'v], "points": int, "budget": {...}, "share": {...},
-                     "meets_tolerance": bool, "binding": "u" | "v" | null,
-                     "verification": {"method", "levels", "value", "meets", "coarser": {...},
-                                      OCCT only: "uniform_match", "clamped_ends", "value_clamped";
-                                      "note" when one step coarser also meets on the interior} | null,
-                     "comparison": {scheme: {"net", "points", "meets_tolerance"}}}
+          "advice": {"net": [n'u, n'v], "points": int, "intent": str, "objective": "deviation" | "ripple",
+                     "budget": {"deviation" (the advised net against the intent), "boundary" (its borders
+                                against today's), its own "x1" ... "total": {"peak", "rms"}},
+                     "share": {...}, "today": {"peak", "rms", "boundary"} (today's net, scored the same way),
+                     "meets_tolerance": bool, "binding": "u" | "v" | null, "kept_today": bool,
+                     "reasons": {"u" | "v": {"today", "advised", "change", "coarser_value", "binding", "reason"}},
+                     "verification": {"method": "occt" | "today", "levels", "region": "face", "value", "rms",
+                                      "meets", "coarser": {"shape", "value", "meets"},
+                                      "samples" (net reading: distance to today's points)} | null,
+                     "comparison": {scheme: {"net", "points", "meets_tolerance", "objective"}},
+                     "notes": [str]}
         }]
       }],
       "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int},
