@@ -24,6 +24,7 @@ from .artifact_budget import METRICS, Budget, Stat, analysis_net, budget, check_
 from .errors import OptionError, check_option
 from .fields import baseband_at, intent_normals, project
 from .fitting import candidate_axis, candidate_net, fit_points
+from .frames import fine_positions
 from .intent import READINGS
 from .density_search import _frontier, _gallop  # noqa: F401  (tests import them here)
 from .net import ControlNet
@@ -493,9 +494,8 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
             continue
 
         def ok(a, b, other=other):
-            pts = fine.intent.evaluate(np.linspace(0, fu.spans, a), np.linspace(0, fv.spans, b)) \
-                if fine.reading == "net" else baseband_at(fine.fields, np.linspace(0, fu.spans, a),
-                                                          np.linspace(0, fv.spans, b))
+            xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
+            pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
             cage = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
             return budget(cage, other, metric=metric, component=component, levels=1,
                           method="predicted").stats["total"].get(metric) <= tolerance

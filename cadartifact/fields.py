@@ -144,9 +144,13 @@ def baseband_at(fields: "ArtifactFields", x: np.ndarray, y: np.ndarray) -> np.nd
     direct DFT sums, no FFT grid).
     """
     bb = fields.baseband
+    if "separable" in bb:
+        lu, lv = bb["separable"]
+        return sandwich(lu(x), bb["points"], lv(y))
     mats = []
     for frame, f, pts in zip(bb["frames"], bb["freqs"], (x, y)):
-        z = np.asarray(pts, float) - frame.offset
+        # the fine grid was rolled by the whole fine steps of `shift`: evaluate on that same grid
+        z = np.asarray(pts, float) + frame.shift / frame.K
         ph = 2 * np.pi * np.outer(z, f)
         N = frame.K * frame.period
         mats.append((np.cos(ph) / N, np.sin(ph) / N))
@@ -251,6 +255,8 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFi
     -------
     ArtifactFields
     """
+    if getattr(scheme, "tensor", False) and not any(getattr(scheme, "dual", (False, False))):
+        return _predicted_separable(intent, scheme, reading)
     fu, fv = intent.frames
     B = fv.K * fv.period
     h = B // 2 + 1
@@ -258,6 +264,61 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFi
     limit_spec = _fine_spectrum(intent) * T[:, :, None]
     poly = _coef_matrix(intent, trend_image_coef(intent, scheme))
     return _finish(intent, limit_spec, poly, None, "predicted", reading)
+
+
+def _axis_synthesis(intent: Intent, scheme, axis: int):
+    """One direction of a tensor scheme's limit surface: ``(low, high, low_at)``.
+
+    ``low``, ``high`` : ``(fine, n)`` samples -> the base band / the ripple band of the limit along this
+    direction on the fine grid; ``low_at(x)`` the base band anywhere. The direction's polynomial goes
+    through the 1-D limit stencil (a polynomial of the same degree, base band); the rest through the
+    lattice spectrum of its Fourier extension times the scheme's 1-D transfer function.
+    """
+    frame, ax = intent.frames[axis], intent.axes[axis]
+    K, T, n = frame.K, frame.period, frame.n
+    d = ax.degree
+    st = np.asarray(scheme.limit_stencil, float).sum(axis=1 - axis)
+    if d == 0 or len(st) % 2 == 0:
+        lam = np.eye(d + 1)
+    else:
+        r = len(st) // 2
+        M = max(n, d + 2)
+        J = np.arange(M) + frame.offset
+        pad = _legendre(np.arange(-r, M + r) + frame.offset, frame.spans, d)
+        lim = np.stack([np.convolve(pad[:, k], st, mode="valid") for k in range(d + 1)], axis=1)
+        lam = np.linalg.pinv(_legendre(J, frame.spans, d)) @ lim
+    poly = lambda x: _legendre(x, frame.spans, d) @ lam @ ax.Vp  # noqa: E731
+    X = np.fft.fft(ax.lattice() @ ax.rest, axis=0)  # (T, n)
+    xi = _fine_freqs(frame)
+    zeros = np.zeros_like(xi)
+    T1 = np.asarray(scheme.transfer(xi, zeros, frame.levels) if axis == 0 else scheme.transfer(zeros, xi, frame.levels),
+                    float)
+    spec = np.tile(X, (K, 1)) * (K * T1)[:, None]
+    low_bins = np.abs(xi) < 0.5 - 1e-12
+    idx = (frame.shift + np.arange(frame.fine_count)) % (K * T)
+    low = np.fft.ifft(spec * low_bins[:, None], axis=0).real[idx]
+    high = np.fft.ifft(spec * ~low_bins[:, None], axis=0).real[idx]
+    Xl, fl = spec[low_bins], xi[low_bins]
+
+    def low_at(x):
+        z = np.asarray(x, float) + frame.shift / K
+        ph = 2 * np.pi * np.outer(z, fl)
+        return poly(x) + (np.cos(ph) @ Xl.real - np.sin(ph) @ Xl.imag) / (K * T)
+
+    return poly(frame.x) + low, high, low_at
+
+
+def _predicted_separable(intent: Intent, scheme, reading: str) -> ArtifactFields:
+    """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials)."""
+    fu, fv = intent.frames
+    (Lu, Hu, lu), (Lv, Hv, lv) = (_axis_synthesis(intent, scheme, k) for k in (0, 1))
+    P = np.asarray(intent.net.points, float)
+    smooth = sandwich(Lu, P, Lv)
+    bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
+    bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
+    bands["lateral"] = _lateral_of(bands["total"], fu, fv)
+    return _assemble(intent, bands, smooth, smooth + bands["total"], "predicted", reading,
+                     {"separable": (lu, lv), "points": P})
 
 
 #: The measured road's period, in multiples of the net's points: a longer bridge is a smoother one.

@@ -117,6 +117,8 @@ class AxisIntent:
             GiAt = np.linalg.solve(G, A.T)
             self.coef = GiAt @ np.linalg.pinv(A @ GiAt, rcond=1e-13)
         self.V = _legendre(frame.xs, frame.spans, degree)  # (n, d+1)
+        self.Vp = np.linalg.pinv(self.V)
+        self.rest = np.eye(n) - self.V @ self.Vp  # samples -> what this direction's polynomial leaves
 
     def basis(self, x: np.ndarray) -> np.ndarray:
         """``(len(x), M)``: ``[1, cos(2 pi k x / T), sin(2 pi k x / T), (cos pi x)]``."""
@@ -130,6 +132,12 @@ class AxisIntent:
     def at(self, x: np.ndarray) -> np.ndarray:
         """``(len(x), n)``: residual samples -> the residual's intent at ``x``."""
         return self.basis(x) @ self.coef
+
+    def full_at(self, x: np.ndarray) -> np.ndarray:
+        """``(len(x), n)``: samples -> this direction's intent at ``x``: its polynomial (degree
+        :attr:`degree`, least squares) plus the Fourier extension of the rest. It interpolates the samples
+        and reproduces every polynomial of that degree, outside the net too."""
+        return self.trend_at(x) @ self.Vp + self.at(x) @ self.rest
 
     def lattice(self) -> np.ndarray:
         """``(T, n)``: residual samples -> the intent on the lattice ``x = j + offset``, ``j = 0..T-1``."""
@@ -212,7 +220,9 @@ class Intent:
         """The intent on the outer grid ``x x y`` (analysis coordinates; default: the fine grid) -> ``(a, b, 3)``."""
         x = self.frames[0].x if x is None else np.asarray(x, float)
         y = self.frames[1].x if y is None else np.asarray(y, float)
-        return self.trend(x, y) + sandwich(self.axes[0].at(x), self.residual, self.axes[1].at(y))
+        # per direction: polynomial plus extension of the rest, so a shape straight (or polynomial) along
+        # one direction stays so past the net's borders too (AxisIntent.full_at)
+        return sandwich(self.axes[0].full_at(x), np.asarray(self.net.points, float), self.axes[1].full_at(y))
 
     def undersampled(self) -> float:
         """Share of the intent's residual content above :data:`UNDERSAMPLED_FREQUENCY` cycles per point.
@@ -221,7 +231,8 @@ class Intent:
         ``1/L``); the share of the larger direction's energy (a direction with no content has only
         rounding to compare). 0 for a net that is its trend (to 1e-6 of its spread). Content there
         cannot be told from ripple, nor reconstructed between the points: the report says so above
-        :data:`UNDERSAMPLED_SHARE`.
+        :data:`UNDERSAMPLED_SHARE`. Directions of fewer than 10 spans are not judged (a Bezier or
+        few-span direction has no frequency resolution to speak of).
         """
         P = self.net.points.reshape(-1, 3)
         spread = float(np.sqrt(np.mean(np.sum((P - P.mean(axis=0)) ** 2, axis=1))))
@@ -229,8 +240,10 @@ class Intent:
             return 0.0
         fu, fv = self.frames
         R = sandwich(self.axes[0].at(fu.x), self.residual, self.axes[1].at(fv.x))
-        his, tots = [], []
+        his, tots = [0.0], [0.0]
         for axis, frame in enumerate(self.frames):
+            if frame.spans < 10:  # the window cannot tell 0.35 from 0.4 cycles (resolution 1/L)
+                continue
             a = np.moveaxis(R, axis, 0)
             a = a - a.mean(axis=0)
             win = np.ones(len(a)) if frame.periodic else np.hanning(len(a))
@@ -239,7 +252,7 @@ class Intent:
             f = np.fft.rfftfreq(len(a), d=1.0 / frame.K)
             his.append(float(power[f >= UNDERSAMPLED_FREQUENCY].sum()))
             tots.append(float(power.sum()))
-        return float(np.sqrt(max(his) / max(tots))) if max(tots) > 0 else 0.0
+        return float(np.sqrt(max(his) / max(tots))) if max(tots) > 0 else 0.0  # 0: no direction could tell
 
 
 def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:

@@ -165,3 +165,18 @@ def test_budget_options_are_checked():
         budget(net, tolerance=-1)
     with pytest.raises(ca.errors.OptionError, match="method"):
         budget(net, method="guess")
+
+
+@pytest.mark.parametrize("method", ["predicted", "measured"])
+def test_a_direction_straight_in_the_intent_has_no_ripple(method):
+    """An extruded shape (constant along u, a sinusoid along v): no ripple along u on either road, for a
+    cage and for a face of degree 1 in u (SPEC §4: each direction's intent reproduces its polynomials,
+    past the net's borders too)."""
+    i, j = np.meshgrid(np.arange(10.0), np.arange(12.0), indexing="ij")
+    z = 0.3 * np.sin(2 * np.pi * 0.2 * j)
+    cage = ControlNet(points=np.stack([i, j, z], axis=-1))
+    b = budget(cage, "catmull-clark", method=method)
+    assert b.stats["x1"].peak < 1e-12 and b.stats["diagonal"].peak < 1e-12 and b.stats["x2"].peak > 1e-4
+    face = _greville_net((1, 3), (6, 14), lambda x, y: 0.02 * x + np.sin(2 * np.pi * y / 25.0))
+    b = budget(face, method=method)
+    assert b.stats["x1"].peak < 1e-9 * 60, b.stats["x1"].peak
