@@ -399,8 +399,9 @@ def demo_hint(doc: dict, tol: float) -> str:
     methods = {(r["advice"].get("verification") or {}).get("method") for f in doc["files"] for r in f["faces"]}
     roads = [text for key, text in words.items() if key in methods]
     how = f" (verified {' and '.join(roads)})" if roads else ""
-    return ("Each bar is that direction's ripple as a share of the tolerance; 'advised' is the net with the fewest "
-            f"control points that keeps the ripple within it{how}. Try: cadartifact advise FILE --tol {tol:g} --json")
+    return ("Each cell is that direction's ripple in model units and as a share of the tolerance; 'advised' is the "
+            "net with the fewest control points whose best fit of the design intent stays within it"
+            f"{how}. Try: cadartifact advise FILE --tol {tol:g} --json")
 
 
 # ---------------------------------------------------------------- gate (CI quality gate)
