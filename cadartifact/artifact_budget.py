@@ -219,14 +219,14 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
     return res
 
 
-def check_tolerance(tolerance) -> float:
-    """A tolerance as a positive finite float (model units), or :class:`OptionError`."""
+def check_tolerance(tolerance, parameter: str = "tolerance") -> float:
+    """A tolerance as a positive finite float (model units), or :class:`OptionError` naming ``parameter``."""
     try:
         value = float(tolerance)
     except (TypeError, ValueError):
-        raise OptionError("tolerance", "a positive number of model units", tolerance) from None
+        raise OptionError(parameter, "a positive number of model units", tolerance) from None
     if not math.isfinite(value) or value <= 0:
-        raise OptionError("tolerance", "a positive number of model units", tolerance)
+        raise OptionError(parameter, "a positive number of model units", tolerance)
     return value
 
 

@@ -20,7 +20,6 @@ carry no control net and pass.
 
 from __future__ import annotations
 
-import math
 import warnings
 
 from .errors import ArtifactToleranceError, OptionError, check_option
@@ -39,13 +38,9 @@ class ArtifactToleranceWarning(UserWarning):
 
 
 def _tolerance(tol) -> float:
-    try:
-        value = float(tol)
-    except (TypeError, ValueError):
-        raise OptionError("tol", "a positive number of model units", tol) from None
-    if not math.isfinite(value) or value <= 0:
-        raise OptionError("tol", "a positive number of model units", tol)
-    return value
+    from .artifact_budget import check_tolerance
+
+    return check_tolerance(tol, "tol")
 
 
 def _nets(obj, convert: bool, name):
