@@ -99,12 +99,19 @@ def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndar
     return s1, s2, sd
 
 
-def _band_masks(fu: np.ndarray, fv: np.ndarray) -> dict:
-    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None]
-    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :]
+def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False)) -> dict:
+    """Band masks and lateral weights; a direction in ``smooth`` has no ripple band (one polynomial piece)."""
+    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None] & (not smooth[0])
+    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :] & (not smooth[1])
     x1, x2, dg = hu & ~hv, ~hu & hv, hu & hv
     s1, s2, sd = lateral_factors(fu, fv)
     return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": x1 * s1 + x2 * s2 + dg * sd}
+
+
+def _one_piece(*frames) -> tuple:
+    """Per frame, whether its direction is one polynomial piece (an open direction of a single span: a
+    Bezier direction has no knots, so nothing along it aliases: no ripple band)."""
+    return tuple(bool(not f.periodic and f.spans <= 1) for f in frames)
 
 
 def _crop(a: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
@@ -129,7 +136,7 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
         ``signal_error, x1, x2, diagonal, lateral, total``.
     """
     A, B = fu.K * fu.period, fv.K * fv.period
-    masks = _band_masks(_fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1]))
+    masks = _band_masks(_fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1]), _one_piece(fu, fv))
     out = {name: _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
            for name, m in masks.items() if lateral or name != "lateral"}
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
@@ -178,7 +185,7 @@ def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndar
     idx, freqs = [], []
     for frame in (fu, fv):
         f = _fine_freqs(frame)
-        k = np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
         idx.append(k)
         freqs.append(f[k])
     return {"spec": full[np.ix_(idx[0], idx[1])], "freqs": freqs, "frames": (fu, fv), "poly": poly}
@@ -381,7 +388,7 @@ def _lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
             inner = np.take(ext, np.arange(ext.shape[axis] - 2, 0, -1), axis=axis)
             ext = np.concatenate([ext, inner], axis=axis)
     A, B = ext.shape[:2]
-    w = _band_masks(np.fft.fftfreq(A, d=1.0 / fu.K), np.fft.rfftfreq(B, d=1.0 / fv.K))["lateral"]
+    w = _band_masks(np.fft.fftfreq(A, d=1.0 / fu.K), np.fft.rfftfreq(B, d=1.0 / fv.K), _one_piece(fu, fv))["lateral"]
     out = np.fft.irfft2(np.fft.rfft2(ext, axes=(0, 1)) * w[:, :, None], s=(A, B), axes=(0, 1))
     return out[: ripple.shape[0], : ripple.shape[1]]
 

@@ -180,3 +180,14 @@ def test_a_direction_straight_in_the_intent_has_no_ripple(method):
     face = _greville_net((1, 3), (6, 14), lambda x, y: 0.02 * x + np.sin(2 * np.pi * y / 25.0))
     b = budget(face, method=method)
     assert b.stats["x1"].peak < 1e-9 * 60, b.stats["x1"].peak
+
+
+def test_a_single_span_direction_has_no_ripple_along_it():
+    """A direction of one polynomial piece (2 points of degree 1, or a Bezier direction) has no knots, so no
+    X1 or diagonal ripple on the real surface; the other direction's ripple is still there."""
+    rng = np.random.default_rng(0)
+    pts = rng.normal(size=(2, 6, 3))
+    pts[..., 0] += 10.0 * np.arange(2)[:, None]
+    pts[..., 1] += 10.0 * np.arange(6)[None, :]
+    b = budget(ControlNet.from_points(pts, degrees=(1, 3)), method="measured")
+    assert b.stats["x1"].peak == 0.0 and b.stats["diagonal"].peak == 0.0 and b.stats["x2"].peak > 1e-3
