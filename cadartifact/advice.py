@@ -26,7 +26,7 @@ from .fields import baseband_at, intent_normals, project
 from .fitting import candidate_axis, candidate_net, fit_points
 from .frames import fine_positions
 from .intent import READINGS
-from .density_search import _frontier, _gallop  # noqa: F401  (tests import them here)
+from .density_search import frontier, gallop
 from .net import ControlNet
 
 __all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
@@ -357,7 +357,7 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
             return dev
         return max(dev, _ripple_of(sc, a, b, sch, metric, component))
 
-    shape, reachable = _frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
+    shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
     a, b = shape
     # confirm on the fine grid: grow until it agrees, then shrink each direction while it holds
     while value(fine, a, b) > t and (a < high[0] or b < high[1]):
@@ -367,9 +367,9 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     while changed:
         changed = False
         if a > low[0] and value(fine, a - 1, b) <= t:
-            a, changed = _gallop(lambda x, y=b: value(fine, x, y) <= t, low[0], a - 1, a - 1), True
+            a, changed = gallop(lambda x, y=b: value(fine, x, y) <= t, low[0], a - 1, a - 1), True
         if b > low[1] and value(fine, a, b - 1) <= t:
-            b, changed = _gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
+            b, changed = gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
     meets = value(fine, a, b) <= t
 
     today = fine.today()
@@ -502,7 +502,7 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
 
         low = (3, 3)
         high = tuple(max(l + 1, min(MAX_POINTS // 4, GROWTH * n)) for l, n in zip(low, work.shape))
-        s2, ok2 = _frontier(ok, low, high, work.shape)
+        s2, ok2 = frontier(ok, low, high, work.shape)
         out[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2),
                            "objective": "ripple"}
     return out

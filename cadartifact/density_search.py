@@ -7,10 +7,10 @@ the hint costs a few evaluations. Property tests check it against brute force (`
 
 from __future__ import annotations
 
-__all__ = ["frontier", "gallop"]
+__all__ = ["frontier", "gallop", "first_true"]
 
 
-def _first_true(lo: int, hi: int, pred) -> int:
+def first_true(lo: int, hi: int, pred) -> int:
     """Smallest n in [lo, hi] with pred(n) (pred monotone, pred(hi) True)."""
     while lo < hi:
         mid = (lo + hi) // 2
@@ -21,7 +21,7 @@ def _first_true(lo: int, hi: int, pred) -> int:
     return lo
 
 
-def _gallop(pred, lo: int, hi: int, hint: int) -> int:
+def gallop(pred, lo: int, hi: int, hint: int) -> int:
     """Smallest x in [lo, hi] with pred(x) (pred monotone, pred(hi) True), searched from a hint.
 
     Steps of 1, 2, 4... away from ``hint`` (down if pred(hint), else up), then bisection: about
@@ -32,16 +32,16 @@ def _gallop(pred, lo: int, hi: int, hint: int) -> int:
         top, step = h, 1
         while top - step >= lo and pred(top - step):
             top, step = top - step, 2 * step
-        return _first_true(max(lo, top - step + 1), top, pred)
+        return first_true(max(lo, top - step + 1), top, pred)
     bottom, step = h, 1
     while True:
         nxt = min(hi, bottom + step)
         if nxt == hi or pred(nxt):
-            return _first_true(bottom + 1, nxt, pred)
+            return first_true(bottom + 1, nxt, pred)
         bottom, step = nxt, 2 * step
 
 
-def _frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int]) -> tuple[tuple[int, int], bool]:
+def frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int]) -> tuple[tuple[int, int], bool]:
     """Fewest-points feasible density on the frontier ``n'v(n'u)``; ``(shape, reachable)``.
 
     A feasible corner is found by doubling from ``start``; the frontier's ends are the smallest
@@ -57,17 +57,15 @@ def _frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, in
         a, b = min(hi[0], 2 * a), min(hi[1], 2 * b)
     best = (a, b)
     hi = (a, b)
-    a_min = _gallop(lambda x: ok(x, hi[1]), lo[0], a, start[0])
-    b_floor = _gallop(lambda y: ok(hi[0], y), lo[1], b, start[1])
-    a, b = a_min, _gallop(lambda y: ok(a_min, y), b_floor, hi[1], b_floor)
+    a_min = gallop(lambda x: ok(x, hi[1]), lo[0], a, start[0])
+    b_floor = gallop(lambda y: ok(hi[0], y), lo[1], b, start[1])
+    a, b = a_min, gallop(lambda y: ok(a_min, y), b_floor, hi[1], b_floor)
     while True:
         if b > b_floor and ok(a, b - 1):
-            b = _gallop(lambda y, x=a: ok(x, y), b_floor, b - 1, b - 1)
+            b = gallop(lambda y, x=a: ok(x, y), b_floor, b - 1, b - 1)
         if a * b < best[0] * best[1]:
             best = (a, b)
         if a >= hi[0] or (a + 1) * b_floor >= best[0] * best[1]:
             return best, True
         a += 1
 
-
-frontier, gallop = _frontier, _gallop

@@ -36,7 +36,7 @@ import numpy as np
 
 from .errors import check_option
 from .frames import AxisFrame
-from .intent import READINGS, Intent, design_intent
+from .intent import READINGS, Intent, _legendre, design_intent
 from .tensor import sandwich
 
 __all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "predicted_fields", "measured_fields",
@@ -168,12 +168,6 @@ def baseband_at(fields: "ArtifactFields", x: np.ndarray, y: np.ndarray) -> np.nd
     M = bb["poly"]
     fu, fv = bb["frames"]
     return out + sandwich(_legendre(x, fu.spans, M.shape[0] - 1), M, _legendre(y, fv.spans, M.shape[1] - 1))
-
-
-def _legendre(x, spans, degree):
-    from numpy.polynomial import legendre as L
-
-    return L.legvander(2.0 * np.asarray(x, float) / spans - 1.0, degree)
 
 
 def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:

@@ -86,10 +86,6 @@ class AxisFrame:
         """Face parameters of analysis coordinates."""
         return self.u0 + self.h * np.asarray(x, float)
 
-    def with_levels(self, levels: int) -> "AxisFrame":
-        return AxisFrame(self.n, self.periodic, self.spans, self.offset, self.xs, levels, self.u0, self.h,
-                         self.extension)
-
     def with_extension(self, extension: int) -> "AxisFrame":
         """The same frame with a longer period of extended data (``extension * n`` lattice points)."""
         return AxisFrame(self.n, self.periodic, self.spans, self.offset, self.xs, self.levels, self.u0, self.h,

@@ -36,7 +36,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import check_option
 from .frames import AxisFrame, axis_frames
 from .net import ControlNet
 from .tensor import sandwich
@@ -294,8 +293,3 @@ def intent_on_frames(net: ControlNet, points: np.ndarray, frames, scheme) -> Int
     spectrum = np.fft.fft2(ext, axes=(0, 1))
     return Intent(net=net, frames=tuple(frames), axes=axes, terms=terms, coef=coef, residual=residual,
                   spectrum=spectrum)
-
-
-def check_reading(reading: str) -> str:
-    check_option("intent", reading, READINGS)
-    return reading

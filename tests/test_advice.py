@@ -8,7 +8,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cadartifact as ca
-from cadartifact.advice import INTENT_MARGIN, _frontier, _gallop, advise, resample
+from cadartifact.advice import INTENT_MARGIN, advise, resample
+from cadartifact.density_search import frontier as _frontier, gallop as _gallop
 from cadartifact.net import ControlNet, clamped_uniform_knots
 from cadartifact.splines import basis_matrix
 from known_shapes import family
