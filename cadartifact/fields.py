@@ -109,9 +109,9 @@ def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (Fal
 
 
 def _one_piece(*frames) -> tuple:
-    """Per frame, whether its direction is one polynomial piece (an open direction of a single span: a
-    Bezier direction has no knots, so nothing along it aliases: no ripple band)."""
-    return tuple(bool(not f.periodic and f.spans <= 1) for f in frames)
+    """Per frame, whether its direction has no ripple band (:attr:`AxisFrame.ripple_free`: one polynomial
+    piece, or exactly a line or circle)."""
+    return tuple(bool(f.ripple_free) for f in frames)
 
 
 def _crop(a: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:

@@ -15,6 +15,7 @@ for an open one (the intent is continued smoothly past the net, see :mod:`cadart
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +46,10 @@ class AxisFrame:
         ``K = 2**levels`` fine samples per span.
     u0, h : float
         Parameter of ``x = 0`` and of one span: ``u = u0 + h x`` (cages: ``u0 = 0, h = 1``).
+    extension : int
+        Open directions: period of the extended data in multiples of the spans.
+    exact : bool
+        The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
     """
 
     n: int
@@ -56,6 +61,13 @@ class AxisFrame:
     u0: float = 0.0
     h: float = 1.0
     extension: int = 2
+    exact: bool = False
+
+    @property
+    def ripple_free(self) -> bool:
+        """Whether nothing along this direction can alias: exact (line, circle) or one polynomial piece
+        (an open direction of a single span: a Bezier direction has no knots)."""
+        return self.exact or (not self.periodic and self.spans <= 1)
 
     @property
     def K(self) -> int:
@@ -88,8 +100,7 @@ class AxisFrame:
 
     def with_extension(self, extension: int) -> "AxisFrame":
         """The same frame with a longer period of extended data (``extension * n`` lattice points)."""
-        return AxisFrame(self.n, self.periodic, self.spans, self.offset, self.xs, self.levels, self.u0, self.h,
-                         extension)
+        return dataclasses.replace(self, extension=extension)
 
 
 def fine_positions(frame: AxisFrame, count: int) -> np.ndarray:
@@ -132,4 +143,5 @@ def axis_frames(net: ControlNet, levels: int = 3) -> tuple[AxisFrame, AxisFrame]
     """
     if not isinstance(levels, (int, np.integer)) or levels < 1 or levels > 6:
         raise OptionError("levels", "an integer from 1 to 6 (K = 2..64)", levels)
-    return _axis(net, 0, int(levels)), _axis(net, 1, int(levels))
+    frames = (_axis(net, 0, int(levels)), _axis(net, 1, int(levels)))
+    return tuple(dataclasses.replace(f, exact=True) if e is not None else f for f, e in zip(frames, net.exact))

@@ -22,6 +22,7 @@ __all__ = [
     "ControlNet",
     "NetOrigin",
     "NET_KINDS",
+    "EXACT_KINDS",
     "clamped_uniform_knots",
     "frozen_array",
     "greville",
@@ -75,6 +76,10 @@ class NetOrigin:
         if self.name:
             base += f" ({self.name})"
         return base
+
+
+#: What a direction of a face can exactly be (no artifact along it): see :attr:`ControlNet.exact`.
+EXACT_KINDS = (None, "line", "circle")
 
 
 def clamped_uniform_knots(n: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
@@ -173,6 +178,13 @@ class ControlNet:
         Model unit of ``points`` (``"mm"`` for STEP as OCCT gives it).
     origin : NetOrigin
         File, face index, name and kind.
+    canonical : str or None
+        What the face exactly is when it is a canonical surface or is exactly circular/straight along
+        a direction (``"sphere r=12.5"``, ``"revolved: circular in u"``), as the reader recognised it
+        (OCCT's ``GeomConvert_SurfToAnaSurf`` / ``GeomConvert_CurveToAnaCurve``); None otherwise.
+    exact : (str or None, str or None)
+        Per direction u, v: ``"line"`` or ``"circle"`` when every isocurve along that direction is
+        exactly one (the direction carries no artifact, SPEC §4), else None.
 
     Notes
     -----
@@ -189,6 +201,8 @@ class ControlNet:
     uv_bounds: tuple[float, float, float, float] | None = None
     unit: str = "mm"
     origin: NetOrigin = field(default_factory=NetOrigin)
+    canonical: str | None = None
+    exact: tuple = (None, None)
 
     def __post_init__(self):
         where = self.origin.label()
@@ -248,6 +262,11 @@ class ControlNet:
                         f"{where}: {name} knot vector has {len(k)} knots, expected {expected} for "
                         f"{n} poles of degree {d}{' (periodic)' if pr else ''}")
             object.__setattr__(self, "knots", (ku, kv))
+
+        exact = tuple(self.exact) if self.exact is not None else (None, None)
+        if len(exact) != 2 or any(e not in EXACT_KINDS for e in exact):
+            raise InvalidNetError(f"{where}: exact must be two of {EXACT_KINDS}, received {self.exact}")
+        object.__setattr__(self, "exact", exact)
 
         if self.uv_bounds is not None:
             b = tuple(float(x) for x in self.uv_bounds)
