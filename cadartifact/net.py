@@ -79,7 +79,7 @@ class NetOrigin:
 
 
 #: What a direction of a face can exactly be (no artifact along it): see :attr:`ControlNet.exact`.
-EXACT_KINDS = (None, "line", "circle")
+EXACT_KINDS = (None, "line", "circle", "surface")
 
 
 def clamped_uniform_knots(n: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
@@ -184,7 +184,8 @@ class ControlNet:
         (OCCT's ``GeomConvert_SurfToAnaSurf`` / ``GeomConvert_CurveToAnaCurve``); None otherwise.
     exact : (str or None, str or None)
         Per direction u, v: ``"line"`` or ``"circle"`` when every isocurve along that direction is
-        exactly one (the direction carries no artifact, SPEC §4), else None.
+        exactly one, ``"surface"`` (both directions) when the face is a canonical surface: the
+        direction carries no artifact (SPEC §4). None otherwise.
 
     Notes
     -----
