@@ -307,12 +307,12 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         why = []
         if face and not all(net.knots_uniform):
             why.append("knots are not uniform")
-        if face and net.weights_vary:
-            why.append("weights vary")
         if why:
             reason += "; " + " and ".join(why) + ": outside the uniform theory"
     else:
         reason = "spectral prediction (the scheme's responses)"
+    if it.homogeneous:
+        reason += "; rational: analysed in homogeneous coordinates (w P, w)"
     main = artifact_fields(it, sch, primary, intent)
     frames = it.frames
     margin = border_margin(work, sch)

@@ -36,7 +36,7 @@ import numpy as np
 
 from .errors import check_option
 from .frames import AxisFrame
-from .intent import READINGS, Intent, _legendre, design_intent
+from .intent import READINGS, Intent, _legendre, design_intent, from_homogeneous
 from .tensor import sandwich
 
 __all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "predicted_fields", "measured_fields",
@@ -151,6 +151,13 @@ def baseband_at(fields: "ArtifactFields", x: np.ndarray, y: np.ndarray) -> np.nd
     direct DFT sums, no FFT grid).
     """
     bb = fields.baseband
+    if "evaluate" in bb:  # a face split into pieces (cadartifact.pieces)
+        return bb["evaluate"](np.asarray(x, float), np.asarray(y, float))
+    out = _baseband_lifted(bb, x, y)
+    return from_homogeneous(out) if bb.get("homogeneous") else out
+
+
+def _baseband_lifted(bb: dict, x, y) -> np.ndarray:
     if "separable" in bb:
         lu, lv = bb["separable"]
         return sandwich(lu(x), bb["points"], lv(y))
@@ -313,7 +320,7 @@ def _predicted_separable(intent: Intent, scheme, reading: str) -> ArtifactFields
     """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials)."""
     fu, fv = intent.frames
     (Lu, Hu, lu), (Lv, Hv, lv) = (_axis_synthesis(intent, scheme, k) for k in (0, 1))
-    P = np.asarray(intent.net.points, float)
+    P = intent.lifted_points
     smooth = sandwich(Lu, P, Lv)
     bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
     bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
@@ -455,9 +462,21 @@ def _septic_hermite(t: np.ndarray) -> np.ndarray:
     return _SEPTIC.T @ T
 
 
+def _from_lifted(bands: dict, smooth: np.ndarray, surface: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
+    """Homogeneous fields -> the surface (SPEC §4): the smooth part and the surface projected, each band
+    by the first-order projection about the smooth part, ``dS = (dH_xyz - S dH_w) / H_w``."""
+    w = smooth[..., 3:4]
+    S = smooth[..., :3] / w
+    return ({k: (v[..., :3] - S * v[..., 3:4]) / w for k, v in bands.items()}, S, from_homogeneous(surface))
+
+
 def _assemble(intent: Intent, bands: dict, smooth: np.ndarray, surface, method, reading, baseband) -> ArtifactFields:
     check_option("intent", reading, READINGS)
     fu, fv = intent.frames
+    if smooth.shape[-1] == 4:
+        bands, smooth, surface = _from_lifted(bands, smooth, surface)
+        if baseband is not None:
+            baseband["homogeneous"] = True
     if reading == "surface":
         bands["signal_error"] = np.zeros_like(smooth)
         intent_out = smooth

@@ -40,7 +40,7 @@ from .frames import AxisFrame, axis_frames
 from .net import ControlNet
 from .tensor import sandwich
 
-__all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "READINGS", "F_MAX", "SOBOLEV",
+__all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "lifted", "from_homogeneous", "READINGS", "F_MAX", "SOBOLEV",
            "UNDERSAMPLED_FREQUENCY"]
 
 #: The two readings of the design intent (SPEC §4).
@@ -184,12 +184,15 @@ class Intent:
     axes : (AxisIntent, AxisIntent)
     terms : list of (int, int)
         Legendre exponents of the trend.
-    coef : (len(terms), 3) float
+    coef : (len(terms), c) float
         Trend coefficients.
-    residual : (nu, nv, 3) float
+    residual : (nu, nv, c) float
         Control points minus trend.
-    spectrum : (Tu, Tv, 3) complex
+    spectrum : (Tu, Tv, c) complex
         DFT of the residual's intent on the lattice (one period of the extended data).
+    points : (nu, nv, c) float
+        What the intent was built from: the control points (``c = 3``), or for a rational net with
+        varying weights its homogeneous points ``(w P, w)`` (``c = 4``, SPEC §4 "Rational faces").
     """
 
     net: ControlNet
@@ -199,6 +202,12 @@ class Intent:
     coef: np.ndarray
     residual: np.ndarray
     spectrum: np.ndarray
+    points: np.ndarray | None = None
+
+    @property
+    def homogeneous(self) -> bool:
+        """Whether the analysis runs in homogeneous coordinates (4 components)."""
+        return self.points is not None and self.points.shape[-1] == 4
 
     @property
     def levels(self) -> int:
@@ -217,11 +226,20 @@ class Intent:
 
     def evaluate(self, x: np.ndarray | None = None, y: np.ndarray | None = None) -> np.ndarray:
         """The intent on the outer grid ``x x y`` (analysis coordinates; default: the fine grid) -> ``(a, b, 3)``."""
+        return from_homogeneous(self.evaluate_lifted(x, y))
+
+    def evaluate_lifted(self, x: np.ndarray | None = None, y: np.ndarray | None = None) -> np.ndarray:
+        """:meth:`evaluate` before the projection: ``(a, b, 4)`` homogeneous for a rational net."""
         x = self.frames[0].x if x is None else np.asarray(x, float)
         y = self.frames[1].x if y is None else np.asarray(y, float)
         # per direction: polynomial plus extension of the rest, so a shape straight (or polynomial) along
         # one direction stays so past the net's borders too (AxisIntent.full_at)
-        return sandwich(self.axes[0].full_at(x), np.asarray(self.net.points, float), self.axes[1].full_at(y))
+        return sandwich(self.axes[0].full_at(x), self.lifted_points, self.axes[1].full_at(y))
+
+    @property
+    def lifted_points(self) -> np.ndarray:
+        """The points the intent interpolates: ``points``, or the net's control points."""
+        return np.asarray(self.net.points if self.points is None else self.points, float)
 
     def undersampled(self) -> float:
         """Share of the intent's residual content above :data:`UNDERSAMPLED_FREQUENCY` cycles per point.
@@ -234,6 +252,8 @@ class Intent:
         few-span direction has no frequency resolution to speak of).
         """
         P = self.net.points.reshape(-1, 3)
+        if self.homogeneous:  # judge the shape's content, not the weights' (the projection of the intent)
+            return design_intent(self.net.replace(weights=None), _Reproduces(self), self.levels).undersampled()
         spread = float(np.sqrt(np.mean(np.sum((P - P.mean(axis=0)) ** 2, axis=1))))
         if float(np.sqrt(np.mean(np.sum(self.residual ** 2, axis=-1)))) <= 1e-6 * spread:
             return 0.0
@@ -254,6 +274,32 @@ class Intent:
         return float(np.sqrt(max(his) / max(tots))) if max(tots) > 0 else 0.0  # 0: no direction could tell
 
 
+class _Reproduces:
+    """The trend degree of an intent, as a scheme (for :meth:`Intent.undersampled`)."""
+
+    def __init__(self, intent: Intent):
+        self.reproduction_degree = max(max(t) for t in intent.terms) if intent.terms else 0
+        self.tensor = True
+
+
+def lifted(net: ControlNet) -> np.ndarray:
+    """The points a net is analysed in: ``(nu, nv, 3)`` control points, or ``(nu, nv, 4)`` homogeneous
+    ``(w P, w)`` when its weights vary (SPEC §4: a NURBS face is the projection of a non-rational
+    B-spline in homogeneous coordinates, where the uniform theory applies exactly)."""
+    P = np.asarray(net.points, float)
+    if not net.weights_vary:
+        return P
+    w = np.asarray(net.weights, float)[:, :, None]
+    return np.concatenate([P * w, w], axis=-1)
+
+
+def from_homogeneous(H: np.ndarray) -> np.ndarray:
+    """``(a, b, 3)``: the projection ``H_xyz / H_w`` of homogeneous points (3-component input passes)."""
+    if H.shape[-1] != 4:
+        return H
+    return H[..., :3] / H[..., 3:4]
+
+
 def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
     """The ``net`` reading of a net's design intent (trend + smooth Fourier extension).
 
@@ -271,7 +317,7 @@ def design_intent(net: ControlNet, scheme, levels: int = 3) -> Intent:
         ``intent.evaluate(x, y)`` is the intent anywhere; the ``surface`` reading is built from it by
         :func:`cadartifact.fields.artifact_fields`.
     """
-    return intent_on_frames(net, net.points, axis_frames(net, levels), scheme)
+    return intent_on_frames(net, lifted(net), axis_frames(net, levels), scheme)
 
 
 def intent_on_frames(net: ControlNet, points: np.ndarray, frames, scheme) -> Intent:
@@ -282,14 +328,14 @@ def intent_on_frames(net: ControlNet, points: np.ndarray, frames, scheme) -> Int
     full = terms == [(a, b) for a in range(caps[0] + 1) for b in range(caps[1] + 1)]
     if full:  # separable least squares: pinv(Vu (x) Vv) = pinv(Vu) (x) pinv(Vv)
         C = sandwich(np.linalg.pinv(axes[0].V), P, np.linalg.pinv(axes[1].V))
-        coef = C.reshape(-1, 3)
+        coef = C.reshape(-1, P.shape[-1])
         residual = P - sandwich(axes[0].V, C, axes[1].V)
     else:
         Vu, Vv = axes[0].V, axes[1].V
         A = np.stack([Vu[:, a][:, None] * Vv[:, b][None, :] for a, b in terms], axis=-1).reshape(-1, len(terms))
-        coef, *_ = np.linalg.lstsq(A, P.reshape(-1, 3), rcond=None)
-        residual = (P.reshape(-1, 3) - A @ coef).reshape(P.shape)
+        coef, *_ = np.linalg.lstsq(A, P.reshape(-1, P.shape[-1]), rcond=None)
+        residual = (P.reshape(-1, P.shape[-1]) - A @ coef).reshape(P.shape)
     ext = sandwich(axes[0].lattice(), residual, axes[1].lattice())
     spectrum = np.fft.fft2(ext, axes=(0, 1))
     return Intent(net=net, frames=tuple(frames), axes=axes, terms=terms, coef=coef, residual=residual,
-                  spectrum=spectrum)
+                  spectrum=spectrum, points=P if P.shape[-1] == 4 else None)

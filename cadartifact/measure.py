@@ -125,7 +125,8 @@ def cardinal_operator(n: int, degree: int, x: np.ndarray, periodic: bool) -> np.
 
 
 def real_surface(intent, scheme) -> np.ndarray:
-    """The real surface of the intent's net on its fine grid, ``(a, b, 3)``.
+    """The real surface of the intent's net on its fine grid, ``(a, b, 3)`` (``(a, b, 4)`` homogeneous for
+    a rational intent).
 
     ``face``: the face's own NURBS (knots, degrees, weights) at the parameters of the fine grid.
     A cage has no surface past its border rows: it is continued there by its intent (which passes
@@ -135,8 +136,12 @@ def real_surface(intent, scheme) -> np.ndarray:
     net = intent.net
     fu, fv = intent.frames
     road, _ = measurement_road(net, scheme)
+    if intent.homogeneous and road != "face":
+        raise OptionError("scheme", "the face's own degrees for a rational net", scheme.name)
     if road == "face":
-        return evaluate(net, fu.param(fu.x), fv.param(fv.x))
+        # rational: the homogeneous surface (w S, w), a non-rational B-spline of (w P, w)
+        return evaluate(net, fu.param(fu.x), fv.param(fv.x), points=intent.lifted_points,
+                        homogeneous=intent.homogeneous)
     if road == "uniform-bspline":
         r = max(scheme.degrees) // 2 + 2
         pts = intent.evaluate(np.arange(-r, fu.n + r, dtype=float), np.arange(-r, fv.n + r, dtype=float))

@@ -339,8 +339,9 @@ class ControlNet:
 
     @property
     def uniform(self) -> bool:
-        """Whether the uniform spectral theory applies: uniform knots both ways and no varying weights."""
-        return all(self.knots_uniform) and not self.weights_vary
+        """Whether the uniform spectral theory applies: uniform knots both ways (a rational net is analysed
+        in homogeneous coordinates, where it applies exactly: SPEC §4)."""
+        return all(self.knots_uniform)
 
     def greville(self) -> tuple[np.ndarray, np.ndarray]:
         """Greville abscissae ``(xi_u (nu,), xi_v (nv,))``; integer indices for a cage."""

@@ -95,7 +95,8 @@ def basis_matrix(knots: np.ndarray, degree: int, x: np.ndarray, n: int | None = 
     return B
 
 
-def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray | None = None) -> np.ndarray:
+def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray | None = None,
+             homogeneous: bool = False) -> np.ndarray:
     """Evaluate a B-spline/NURBS net on the outer grid ``u x v``.
 
     Parameters
@@ -106,6 +107,9 @@ def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray |
     v : (b,) float
     points : (nu, nv, 3) float, optional
         Other control points on the same knots and weights (the surface is linear in them).
+    homogeneous : bool
+        ``points`` are homogeneous ``(w P, w)`` ``(nu, nv, 4)``: return the non-rational B-spline of
+        them, ``(a, b, 4)`` (the surface in homogeneous coordinates).
 
     Returns
     -------
@@ -121,7 +125,7 @@ def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray |
     P = net.points if points is None else np.asarray(points, float)
     from .tensor import sandwich
 
-    if net.weights is None:
+    if net.weights is None or homogeneous:
         return sandwich(Bu, P, Bv)
     w = net.weights
     num = sandwich(Bu, P * w[:, :, None], Bv)
