@@ -88,6 +88,8 @@ class Budget:
         The reported scalar of each field on the fine grid (kept on request).
     region : (a, b) bool or None
         The fine-grid points the stats were taken over (kept on request).
+    pieces : (int, int) or None
+        A face split at its junctions (:mod:`cadartifact.pieces`): the grid of pieces analysed.
     """
 
     net: ControlNet
@@ -105,6 +107,7 @@ class Budget:
     fields: ArtifactFields | None = field(default=None, repr=False)
     scalar_fields: dict | None = field(default=None, repr=False)
     region: np.ndarray | None = field(default=None, repr=False)
+    pieces: tuple | None = None
 
     @property
     def notes(self) -> list[str]:
@@ -145,6 +148,7 @@ class Budget:
             "intent": self.intent,
             "undersampled": _num(self.undersampled),
             "notes": self.notes,
+            "pieces": list(self.pieces) if self.pieces else None,
         }
         d.update({name: {"peak": _num(s.peak), "rms": _num(s.rms)} for name, s in self.stats.items()})
         if self.tolerance is not None:
@@ -295,6 +299,19 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         raise OptionError("net", "a ControlNet", type(net).__name__)
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
     work = analysis_net(net, sch)
+    if work.knots is not None:
+        from .pieces import split_net
+
+        pieces = split_net(work)
+        if len(pieces) > 1 or pieces[0].net is not work:
+            return _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region,
+                                     intent, keep_fields)
+    return _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
+
+
+def _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields,
+               keep_scalars=False) -> Budget:
+    """:func:`budget` of a net that needs no splitting."""
     it = design_intent(work, sch, levels)
     face = work.knots is not None
     if method in ("auto", "both"):
@@ -336,5 +353,40 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=tolerance, metric=metric,
                   component=component, levels=levels, stats=stats, check=check, intent=intent,
                   undersampled=it.undersampled(),
-                  fields=main if keep_fields else None, scalar_fields=scalars if keep_fields else None,
+                  fields=main if keep_fields else None,
+                  scalar_fields=scalars if keep_fields or keep_scalars else None,
+                  region=keep if keep_fields or keep_scalars else None)
+
+
+def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region, intent,
+                      keep_fields) -> Budget:
+    """The budget of a face split at its junctions (:mod:`cadartifact.pieces`): each piece analysed as a
+    net of its own; peaks over all pieces, RMS over all their fine-grid samples."""
+    from .pieces import gather_fields
+
+    parts = [_budget_of(p.net, p.net, sch, None, metric, method, levels, component, region, intent, keep_fields,
+                        keep_scalars=True) for p in pieces]
+    scalars = [dict(b.scalar_fields, __region__=b.region) for b in parts]
+    fields = None
+    if keep_fields:
+        fields, gathered = gather_fields(work, pieces, [b.fields for b in parts], scalars, levels)
+        keep = gathered.pop("__region__")
+    else:
+        gathered = {name: np.concatenate([s[name][s["__region__"]].ravel() for s in scalars])
+                    for name in scalars[0] if name != "__region__"}
+        keep = np.ones(next(iter(gathered.values())).shape, bool)
+    stats = _stats(gathered, keep)
+    rows = len({p.index[0] for p in pieces})
+    cols = len({p.index[1] for p in pieces})
+    first = parts[0]
+    reason = (f"{first.reason}; split at its junctions (knots of multiplicity >= the degree) into {rows}x{cols} "
+              f"pieces analysed separately")
+    check = None
+    if method == "both":
+        worst = max((b.check for b in parts if b.check), key=lambda c: c["max_abs_diff"], default=None)
+        check = worst
+    return Budget(net=net, scheme=sch.name, method=first.method, reason=reason, tolerance=tolerance, metric=metric,
+                  component=component, levels=levels, stats=stats, check=check, intent=intent,
+                  undersampled=max(b.undersampled for b in parts), pieces=(rows, cols),
+                  fields=fields, scalar_fields=gathered if keep_fields else None,
                   region=keep if keep_fields else None)
