@@ -7,8 +7,8 @@ ripple beyond the tolerance. Report writers are in :mod:`cadartifact.gate_report
 
 Per face: ``fail`` when the value (ripple, or whole deviation with ``include_signal_error``, under
 the metric) exceeds the tolerance, ``warn`` when it is within it but ``>= warn_fraction *
-tolerance``, else ``pass``; faces outside the uniform theory are capped at ``warn`` unless the
-policy says ``measured = "fail"`` (why: :mod:`cadartifact.gate_policy`). Per file: the worst face;
+tolerance``, else ``pass``; faces with non-uniform knots are capped at ``warn`` only when the
+policy says ``measured = "warn"`` (the default gates them: :mod:`cadartifact.gate_policy`). Per file: the worst face;
 ``pass`` with a note when the file has no analysable face; ``error`` when it cannot be read or
 analysed. Fail closed: an ``error`` file never passes, every readable file is still analysed and
 reported, and the exit code is then 2; else 1 when any face fails, else 0.
@@ -54,8 +54,8 @@ def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]
     Notes
     -----
     ``fail`` if ``value > t``; ``warn`` if ``warn_fraction * t <= value <= t``; else ``pass``. A
-    face outside the uniform theory (non-uniform knots or varying weights) is capped at ``warn``
-    unless ``measured = "fail"``.
+    face with non-uniform knots is capped at ``warn`` when the policy says ``measured = "warn"``
+    (default ``"fail"``: gated like any other face).
     """
     from .report import unit_name
 
@@ -73,8 +73,7 @@ def face_verdict(record: dict, settings: FileSettings) -> tuple[str, str, float]
         verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} {u} within tolerance {t:g} {u}"
     if verdict == "fail" and not record.get("uniform", True) and settings.measured == "warn":
         verdict = "warn"
-        reason += " (non-uniform knots or varying weights, outside the uniform theory: capped at warn " \
-                  "by policy measured = 'warn')"
+        reason += " (non-uniform knots: capped at warn by policy measured = 'warn')"
     return verdict, reason, value
 
 

@@ -10,7 +10,7 @@ table is passed over), or given with ``--policy FILE``::
     include_signal_error = false  # let the tolerance cover the attenuation too
     intent = "surface"            # or "net": the shape the control points sample (SPEC §4)
     scheme = "bicubic"            # default: each face's own B-spline degrees (Catmull-Clark for OBJ)
-    measured = "warn"             # or "fail": see below
+    measured = "fail"             # or "warn": see below
     convert = false               # convert revolution/extrusion/offset faces to B-splines and gate them
     min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
     cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
@@ -25,12 +25,12 @@ policy file's folder (so patterns read like repository paths whatever the workin
 glob without ``/`` also against the file name. Command-line options win over the whole policy,
 overrides included. An unknown key or a bad value is a usage error naming the file and the key.
 
-``measured``: faces outside the uniform theory (non-uniform knots, varying weights) are measured on
-the real surface, but the intent they are measured against is still the band-limited interpolant
-of the control points in index space. With uneven knots the control points are not even samples of
-the shape, so part of what is reported as ripple can be deliberate shape (a tight blend made by
-knot insertion). Their numbers are relative to control-point intent rather than to the designer's,
-so by default (``"warn"``) they can at most warn; ``"fail"`` gates them like any other face.
+``measured``: faces with non-uniform knots are measured on the real surface (SPEC §4); rational
+faces are analysed in homogeneous coordinates, faces with knots of multiplicity >= the degree are
+split at those junctions, and canonical faces (plane, cylinder, cone, sphere, torus; exactly
+circular or straight directions) carry no artifact there. They are gated like any other face
+(``"fail"``, the default). ``"warn"`` caps faces with non-uniform knots at warn, for users who
+want the older, lenient gate.
 """
 
 from __future__ import annotations
@@ -73,7 +73,7 @@ OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal
                  "convert", "min_analysed_share", "ignore_faces")
 
 DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
-            "scheme": None, "measured": "warn", "convert": False, "min_analysed_share": 0.0, "ignore_faces": ()}
+            "scheme": None, "measured": "fail", "convert": False, "min_analysed_share": 0.0, "ignore_faces": ()}
 
 
 class PolicyError(CadArtifactError):
@@ -118,7 +118,7 @@ class FileSettings:
     warn_fraction: float = 0.8
     include_signal_error: bool = False
     scheme: str | None = None
-    measured: str = "warn"
+    measured: str = "fail"
     intent: str = "surface"
     convert: bool = False
     min_analysed_share: float = 0.0

@@ -44,8 +44,8 @@ RULES = (
     ("CA001", "ripple-exceeds-tolerance", "error",
      "A face's control-net ripple (artifact) exceeds the tolerance"),
     ("CA002", "ripple-near-tolerance", "warning",
-     "A face's ripple is within the tolerance but above the warn fraction of it, or is outside the uniform "
-     "theory and capped at warn"),
+     "A face's ripple is within the tolerance but above the warn fraction of it, or has non-uniform "
+     "knots and is capped at warn by policy (measured = 'warn')"),
     ("CA003", "unreadable-file", "error",
      "A file could not be read or analysed; the gate fails closed"),
     ("CA004", "no-analysable-face", "note",

@@ -48,7 +48,8 @@ def test_verdict_rule(value, t, f):
     assert f"{t:g}" in reason
     # the cap follows faces outside the uniform theory (non-uniform knots, varying weights), not the road
     outside = dict(record(value, method="measured"), uniform=False)
-    capped = face_verdict(outside, FileSettings(tolerance=t, warn_fraction=f))[0]
+    assert face_verdict(outside, FileSettings(tolerance=t, warn_fraction=f))[0] == verdict  # default: gated
+    capped = face_verdict(outside, FileSettings(tolerance=t, warn_fraction=f, measured="warn"))[0]
     assert capped == ("warn" if verdict == "fail" else verdict)
     assert face_verdict(dict(record(value, method="measured"), uniform=True), FileSettings(tolerance=t))[0] == \
         face_verdict(record(value), FileSettings(tolerance=t))[0]
