@@ -50,6 +50,9 @@ class AxisFrame:
         Open directions: period of the extended data in multiples of the spans.
     exact : bool
         The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
+    polynomial : bool
+        The surface is one polynomial along this direction (each row's ``(w P, w)``): every interior
+        knot is removable, as after knot insertion into a Bezier direction.
     """
 
     n: int
@@ -62,12 +65,14 @@ class AxisFrame:
     h: float = 1.0
     extension: int = 2
     exact: bool = False
+    polynomial: bool = False
 
     @property
     def ripple_free(self) -> bool:
         """Whether nothing along this direction can alias: exact (line, circle) or one polynomial piece
-        (an open direction of a single span: a Bezier direction has no knots)."""
-        return self.exact or (not self.periodic and self.spans <= 1)
+        (an open direction of a single span, or whose knots are all removable: a Bezier direction has no
+        knot structure, however it is written)."""
+        return self.exact or self.polynomial or (not self.periodic and self.spans <= 1)
 
     @property
     def K(self) -> int:
@@ -143,5 +148,45 @@ def axis_frames(net: ControlNet, levels: int = 3) -> tuple[AxisFrame, AxisFrame]
     """
     if not isinstance(levels, (int, np.integer)) or levels < 1 or levels > 6:
         raise OptionError("levels", "an integer from 1 to 6 (K = 2..64)", levels)
-    frames = (_axis(net, 0, int(levels)), _axis(net, 1, int(levels)))
-    return tuple(dataclasses.replace(f, exact=True) if e is not None else f for f, e in zip(frames, net.exact))
+    frames = [_axis(net, 0, int(levels)), _axis(net, 1, int(levels))]
+    for k in (0, 1):
+        if net.exact[k] is not None:
+            frames[k] = dataclasses.replace(frames[k], exact=True)
+        elif not frames[k].periodic and frames[k].spans > 1 and one_polynomial(net, k):
+            frames[k] = dataclasses.replace(frames[k], polynomial=True)
+    return tuple(frames)
+
+
+#: Relative residual (of the net's size) below which a direction is one polynomial.
+POLYNOMIAL_RTOL = 1e-9
+
+
+def one_polynomial(net: ControlNet, axis: int) -> bool:
+    """Whether an open B-spline direction is one polynomial of its degree (all interior knots removable).
+
+    The homogeneous surface ``(w S, w)`` on ``4 (p + 1)`` parameters along the direction and on the
+    other direction's Greville abscissae is fitted by one Legendre polynomial of degree ``p``; the
+    direction is one polynomial when the residual is below :data:`POLYNOMIAL_RTOL` of the net's size.
+    """
+    if net.knots is None or net.periodic[axis]:
+        return False
+    from numpy.polynomial import legendre as L
+
+    from .splines import basis_matrix
+
+    p, t, n = net.degrees[axis], np.asarray(net.knots[axis], float), net.shape[axis]
+    lo, hi = float(t[p]), float(t[n])
+    if hi <= lo:
+        return False
+    s = np.linspace(lo, hi, 4 * (p + 1))
+    B = basis_matrix(t, p, s, n, False)  # (m, n)
+    P = np.asarray(net.points, float)
+    if net.weights is not None:
+        w = np.asarray(net.weights, float)[:, :, None]
+        P = np.concatenate([P * w, w], axis=-1)
+    P = np.moveaxis(P, axis, 0).reshape(n, -1)
+    rows = B @ P  # the surface along the direction, at every pole of the other one (it is linear in them)
+    V = L.legvander(2 * (s - lo) / (hi - lo) - 1, p)
+    resid = rows - V @ np.linalg.lstsq(V, rows, rcond=None)[0]
+    size = float(np.ptp(net.points.reshape(-1, 3), axis=0).max())
+    return bool(np.abs(resid).max() <= POLYNOMIAL_RTOL * max(size, 1e-300) * max(1.0, float(np.abs(P).max()) / size))
