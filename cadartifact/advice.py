@@ -274,9 +274,26 @@ def _f(x):
 
 
 def _limits(work: ControlNet, degrees) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Search bounds per direction; a straight degree-1 direction is never advised more points than today's
+    (it carries no ripple and more points cannot make it straighter)."""
     low = tuple(d + 1 for d in degrees)
-    high = tuple(max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape))
-    return low, high
+    high = [max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape)]
+    for k in (0, 1):
+        if work.degrees is not None and work.degrees[k] == 1 and _straight(work.points, k):
+            high[k] = max(low[k], work.shape[k])
+    return low, tuple(high)
+
+
+def _straight(points: np.ndarray, axis: int, rtol: float = 1e-9) -> bool:
+    """Whether every row of control points along ``axis`` lies on one line (relative to the net's size)."""
+    P = np.moveaxis(np.asarray(points, float), axis, 0)  # (n, m, 3)
+    d = P[-1] - P[0]  # (m, 3)
+    rel = P - P[0]
+    norm = np.linalg.norm(d, axis=-1)
+    size = float(np.ptp(P.reshape(-1, 3), axis=0).max())
+    unit = np.where(norm[:, None] > 0, d / np.where(norm > 0, norm, 1.0)[:, None], 0.0)
+    off = rel - (rel * unit).sum(-1, keepdims=True) * unit
+    return bool(np.linalg.norm(off, axis=-1).max() <= rtol * size)
 
 
 def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak", intent: str = "surface",

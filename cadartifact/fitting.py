@@ -2,11 +2,13 @@
 
 A candidate of ``n'u x n'v`` points keeps the face's degrees (clipped to ``n' - 1``), its
 parameter range and periodicity, with new uniform knots; its control points are the least-squares
-fit of the intent on a check grid fine enough for both nets (``K`` samples per span of the finer):
+fit of the intent on a check grid fine enough for both nets (``K`` samples per span of the finer),
+its end poles on today's border (so corners stay and border curves are fits of today's):
 
-    Q = pinv(Bu) I pinv(Bv)^T,   E = Bu Q Bv^T - I,
+    Q = Fu I Fv^T,   E = Bu Q Bv^T - I,
 
-``B`` the candidate's B-spline basis at the grid's parameters, ``I`` the intent there. ``E`` is the
+``B`` the candidate's B-spline basis at the grid's parameters, ``I`` the intent there, ``F`` the
+fit (``pinv(B)`` periodic; open: end rows fixed, the rest ``pinv(B[:, 1:-1])`` of what they leave). ``E`` is the
 error no placement of ``n'u x n'v`` points can remove in the least-squares sense: the candidate's
 ripple, the detail lost above its Nyquist limit, and what the fit leaves (SPEC §5). Sampling the
 intent at the new points instead (the old construction) leaves the whole attenuation in the
@@ -62,7 +64,7 @@ class CandidateAxis:
     B : (m, n) float
         Candidate basis at the check grid.
     pinv : (n, m) float
-        Its pseudo-inverse (the least-squares fit).
+        The fit: samples -> control points (least squares; open directions keep their end samples).
     """
 
     n: int
@@ -86,11 +88,27 @@ def candidate_axis(frame: AxisFrame, n_new: int, degree: int, K: int) -> Candida
         t = uniform_knots(n_new, p, lo, hi, frame.periodic)
         x = fine_positions(frame, check_count(frame, n_new, p, K))
         B = basis_matrix(t, p, frame.param(x), n_new, frame.periodic)
-        got = CandidateAxis(n_new, p, t, x, B, np.linalg.pinv(B))
+        got = CandidateAxis(n_new, p, t, x, B, _fit_operator(B, frame.periodic))
         if len(_CACHE) > 512:
             _CACHE.clear()
         _CACHE[key] = got
     return got
+
+
+def _fit_operator(B: np.ndarray, periodic: bool) -> np.ndarray:
+    """``(n, m)``: samples -> control points. Periodic: least squares. Open: the end poles take the end
+    samples (a clamped candidate passes through its end poles, so its border curves are the fits of today's
+    border curves and its corners today's corners: neighbouring faces still meet, SPEC §5), the rest least
+    squares of what the ends leave."""
+    n, m = B.shape[1], B.shape[0]
+    if periodic or n < 3:
+        return np.linalg.pinv(B)
+    E = np.zeros((n, m))
+    E[0, 0] = E[-1, -1] = 1.0
+    inner = np.linalg.pinv(B[:, 1:-1])  # (n-2, m)
+    rest = np.eye(m) - B[:, [0]] @ E[[0]] - B[:, [-1]] @ E[[-1]]
+    E[1:-1] = inner @ rest
+    return E
 
 
 def fit_points(target: np.ndarray, cu: CandidateAxis, cv: CandidateAxis) -> tuple[np.ndarray, np.ndarray]:
