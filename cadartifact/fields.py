@@ -220,7 +220,7 @@ def trend_image_coef(intent: Intent, scheme) -> np.ndarray:
     xs = np.arange(-ru, mu + ru) + fu.offset
     ys = np.arange(-rv, mv + rv) + fv.offset
     padded = intent.trend(xs, ys)
-    lim = np.zeros((mu, mv, 3))
+    lim = np.zeros((mu, mv, padded.shape[-1]))
     for a in range(L.shape[0]):
         for b in range(L.shape[1]):
             if L[a, b] != 0.0:
@@ -230,7 +230,7 @@ def trend_image_coef(intent: Intent, scheme) -> np.ndarray:
     Vx = Lg.legvander(2 * (np.arange(mu) + fu.offset) / fu.spans - 1, max(t[0] for t in intent.terms))
     Vy = Lg.legvander(2 * (np.arange(mv) + fv.offset) / fv.spans - 1, max(t[1] for t in intent.terms))
     A = np.stack([Vx[:, a][:, None] * Vy[:, b][None, :] for a, b in intent.terms], axis=-1).reshape(mu * mv, -1)
-    coef, *_ = np.linalg.lstsq(A, lim.reshape(mu * mv, 3), rcond=None)
+    coef, *_ = np.linalg.lstsq(A, lim.reshape(mu * mv, -1), rcond=None)
     return coef
 
 
