@@ -117,7 +117,9 @@ class _Scorer:
         return self.score(a, b)[self.metric]
 
     def boundary(self, S: np.ndarray, x: np.ndarray, y: np.ndarray) -> float:
-        """Largest distance of the candidate's open border curves from today's real ones (untrimmed faces)."""
+        """Largest distance of the candidate's open border curves from today's real ones (untrimmed faces):
+        each candidate border sample's distance to today's border curve (a polyline through its samples on
+        the check grid), so a different parametrisation of the same curve costs nothing."""
         if self.work.knots is None or _trimmed(self.work, self.frames):
             return 0.0
         from .splines import evaluate
@@ -134,9 +136,11 @@ class _Scorer:
             self._borders[key] = lines
         lines = self._borders[key]
         if "u" in lines:
-            out = max(out, float(np.linalg.norm(S[[0, -1]] - lines["u"], axis=-1).max()))
+            for k in (0, 1):
+                out = max(out, _curve_distance(S[[0, -1][k]], lines["u"][k]))
         if "v" in lines:
-            out = max(out, float(np.linalg.norm(S[:, [0, -1]] - lines["v"], axis=-1).max()))
+            for k in (0, 1):
+                out = max(out, _curve_distance(S[:, [0, -1][k]], lines["v"][:, k]))
         return out
 
     def today(self) -> dict:
@@ -147,6 +151,16 @@ class _Scorer:
         out = self._measure(real - I, normal, keep)
         out["boundary"] = 0.0
         return out
+
+
+def _curve_distance(points: np.ndarray, curve: np.ndarray) -> float:
+    """Largest distance of ``points (k, 3)`` to the polyline ``curve (m, 3)``."""
+    a, b = curve[:-1], curve[1:]
+    d = b - a
+    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    t = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], d) / L2, 0.0, 1.0)
+    near = a[None] + t[..., None] * d[None]
+    return float(np.sqrt(np.min(np.sum((points[:, None, :] - near) ** 2, axis=-1), axis=1)).max())
 
 
 def _trimmed(net: ControlNet, frames) -> bool:
@@ -413,8 +427,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         sc = fine.score(*shape)
     stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc)
     if stats["boundary"].peak > t:
-        notes.append(f"the advised net's borders move up to {stats['boundary'].peak:.3g} from today's (more than the "
-                     "tolerance: today's borders carry that much ripple); neighbouring faces must follow")
+        notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
+                     "the tolerance): neighbouring faces must follow")
 
     verification = None
     if verify:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import OptionError
-from .net import ControlNet, greville
+from .net import ControlNet, bezier_direction, greville
 
 __all__ = ["AxisFrame", "axis_frames", "fine_positions"]
 
@@ -51,8 +51,9 @@ class AxisFrame:
     exact : bool
         The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
     polynomial : bool
-        The surface is one polynomial along this direction (each row's ``(w P, w)``): every interior
-        knot is removable, as after knot insertion into a Bezier direction.
+        Nothing along this direction can alias: the surface is one polynomial along it (each row's
+        ``(w P, w)``: every interior knot removable, as after knot insertion into a Bezier direction),
+        or every span is a piece of its own (every knot a junction: degree 1, piecewise Bezier).
     """
 
     n: int
@@ -152,6 +153,8 @@ def axis_frames(net: ControlNet, levels: int = 3) -> tuple[AxisFrame, AxisFrame]
     for k in (0, 1):
         if net.exact[k] is not None:
             frames[k] = dataclasses.replace(frames[k], exact=True)
+        elif net.knots is not None and bezier_direction(net.knots[k], net.degrees[k], net.shape[k], net.periodic[k]):
+            frames[k] = dataclasses.replace(frames[k], polynomial=True)
         elif not frames[k].periodic and frames[k].spans > 1 and one_polynomial(net, k):
             frames[k] = dataclasses.replace(frames[k], polynomial=True)
     return tuple(frames)

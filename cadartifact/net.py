@@ -27,6 +27,9 @@ __all__ = [
     "frozen_array",
     "greville",
     "knots_are_uniform",
+    "junctions",
+    "knot_runs",
+    "bezier_direction",
 ]
 
 #: What a net was made from.
@@ -147,6 +150,57 @@ def knots_are_uniform(knots: np.ndarray, degree: int, periodic: bool = False, rt
     if len(d) == 0:
         return True
     return bool(np.all(np.abs(d - d.mean()) <= rtol * span) and np.all(d > rtol * span))
+
+
+def knot_runs(values: np.ndarray, scale: float) -> list[tuple[float, int, int]]:
+    """``(value, first index, multiplicity)`` of each run of equal knots (relative 1e-12)."""
+    out = []
+    i = 0
+    tol = 1e-12 * max(scale, 1e-300)
+    while i < len(values):
+        j = i
+        while j + 1 < len(values) and values[j + 1] - values[i] <= tol:
+            j += 1
+        out.append((float(values[i]), i, j - i + 1))
+        i = j + 1
+    return out
+
+
+def _distinct_knots(knots: np.ndarray, degree: int, n: int, periodic: bool) -> list[tuple[float, int]]:
+    """``(value, multiplicity)`` of each distinct interior knot (a periodic direction: each knot of one
+    period, a run cut by the period's end merged with its start)."""
+    t = np.asarray(knots, float)
+    p = int(degree)
+    scale = float(np.abs(t).max()) if t.size else 1.0
+    if not periodic:
+        lo, hi = t[p], t[n]
+        return [(v, m) for v, _, m in knot_runs(t, scale) if lo < v < hi]
+    # slots p+1 .. p+n hold every knot of one period once
+    period = float(t[p + n] - t[p])
+    total: dict = {}
+    for v, _, m in knot_runs(t[p + 1: p + n + 1], scale):
+        key = round(((v - t[p]) % period) / period, 9) % 1.0
+        value = v - period if v - t[p] >= period - 1e-12 * scale else v  # the start, not one period on
+        total[key] = (total.get(key, (value, 0))[0], total.get(key, (value, 0))[1] + m)
+    return sorted(total.values())
+
+
+def junctions(knots: np.ndarray, degree: int, n: int, periodic: bool) -> list[float]:
+    """Interior knot values of multiplicity ``>= degree``: deliberate junctions (SPEC §4).
+
+    Parameters
+    ----------
+    knots : flat knot vector (OCCT's sequence: ``n + p + 1`` open, ``n + 2p + 1`` periodic)
+    degree, n : int
+    periodic : bool
+    """
+    return [v for v, m in _distinct_knots(knots, degree, n, periodic) if m >= degree]
+
+
+def bezier_direction(knots: np.ndarray, degree: int, n: int, periodic: bool) -> bool:
+    """Whether every span of a direction is a piece of its own (every interior knot has multiplicity >= p:
+    degree 1, piecewise Bezier): nothing along it aliases, it has no ripple band."""
+    return all(m >= degree for _, m in _distinct_knots(knots, degree, n, periodic))
 
 
 def frozen_array(a, dtype=float) -> np.ndarray:

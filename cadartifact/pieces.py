@@ -7,8 +7,10 @@ between the junctions (a knot of multiplicity ``p`` is interpolated by the pole 
 share) and its knots the face's, clamped at the junction. A periodic direction with a junction is
 opened there first (its poles unrolled over one period).
 
-A degree-1 direction has a junction at every knot: each span is a piece of one polynomial, which
-carries no ripple along it (a polyline's corners are deliberate).
+A direction with a junction at every knot (degree 1, or piecewise Bezier: each span a piece of one
+polynomial) is not split: nothing along it can alias, so it has no ripple band at all
+(:attr:`cadartifact.frames.AxisFrame.ripple_free`; a polyline's corners are deliberate). Only
+directions whose pieces have several spans are split.
 
 Then :func:`cadartifact.budget` analyses each piece and gathers them: peaks are the largest over
 the pieces, RMS over all their fine-grid samples, and the fields for pictures and advice are the
@@ -24,7 +26,7 @@ import numpy as np
 
 from .fields import ArtifactFields, baseband_at
 from .frames import axis_frames
-from .net import ControlNet
+from .net import ControlNet, bezier_direction, junctions, knot_runs as _runs
 
 __all__ = ["Piece", "junctions", "split_net", "gather_fields", "PiecewiseIntent", "MAX_PIECES"]
 
@@ -52,46 +54,6 @@ class Piece:
     index: tuple
 
 
-def _runs(values: np.ndarray, scale: float) -> list[tuple[float, int, int]]:
-    """``(value, first index, multiplicity)`` of each run of equal knots (relative 1e-12)."""
-    out = []
-    i = 0
-    tol = 1e-12 * max(scale, 1e-300)
-    while i < len(values):
-        j = i
-        while j + 1 < len(values) and values[j + 1] - values[i] <= tol:
-            j += 1
-        out.append((float(values[i]), i, j - i + 1))
-        i = j + 1
-    return out
-
-
-def junctions(knots: np.ndarray, degree: int, n: int, periodic: bool) -> list[float]:
-    """Interior knot values of multiplicity ``>= degree`` (a periodic direction: over one period).
-
-    Parameters
-    ----------
-    knots : flat knot vector (OCCT's sequence: ``n + p + 1`` open, ``n + 2p + 1`` periodic)
-    degree, n : int
-    periodic : bool
-    """
-    t = np.asarray(knots, float)
-    p = int(degree)
-    scale = float(np.abs(t).max()) if t.size else 1.0
-    if periodic:
-        # slots p+1 .. p+n hold every knot of one period once; a run cut by the window's end wraps onto
-        # its start (the same knot one period on): merge runs by value modulo the period
-        period = float(t[p + n] - t[p])
-        total: dict = {}
-        for v, _, m in _runs(t[p + 1: p + n + 1], scale):
-            key = round(((v - t[p]) % period) / period, 9) % 1.0
-            value = v - period if v - t[p] >= period - 1e-12 * scale else v  # the start, not one period on
-            total[key] = (total.get(key, (0, value))[0] + m, value)
-        return sorted(float(value) for m, value in total.values() if m >= p)
-    lo, hi = t[p], t[n]
-    return [v for v, _, m in _runs(t, scale) if lo < v < hi and m >= p]
-
-
 def _open_pieces(t: np.ndarray, p: int, n: int) -> list[tuple[np.ndarray, np.ndarray, float, float]]:
     """Split an open direction: ``(pole indices, clamped knots, lo, hi)`` per piece."""
     scale = float(np.abs(t).max()) if t.size else 1.0
@@ -116,7 +78,7 @@ def _axis_pieces(net: ControlNet, axis: int):
     n, p, per = net.shape[axis], net.degrees[axis], net.periodic[axis]
     t = np.asarray(net.knots[axis], float)
     cuts = junctions(t, p, n, per)
-    if not cuts:
+    if not cuts or bezier_direction(t, p, n, per):  # one span between junctions: ripple-free, no split needed
         return [(np.arange(n), t, float(t[p]), float(t[n + p] if per else t[n]), per)]
     if not per:
         return [(idx, k, lo, hi, False) for idx, k, lo, hi in _open_pieces(t, p, n)]
