@@ -35,7 +35,7 @@ from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Vec  # noqa: E402
 from OCP.TColgp import TColgp_Array1OfPnt  # noqa: E402
 
 import cadartifact as ca  # noqa: E402
-from cadartifact.exchange import evaluate_grid, from_shape, occ_surface, read  # noqa: E402
+from cadartifact.exchange import evaluate_grid, from_shape, occ_surface, read, write_step  # noqa: E402
 from cadartifact.exchange.canonical import NOT_CANONICAL, RTOL, recognise  # noqa: E402
 from cadartifact.net import ControlNet  # noqa: E402
 
@@ -193,7 +193,7 @@ def spline_edge(points):
     return BRepBuilderAPI_MakeEdge(GeomAPI_PointsToBSpline(arr).Curve()).Edge()
 
 
-def test_revolved_spline_is_circular_around_the_axis():
+def test_revolved_spline_is_circular_around_the_axis(tmp_path):
     cq = pytest.importorskip("cadquery")
     w = (cq.Workplane("XZ").spline([(2, 0), (3, 2), (2.5, 4), (4, 6)], includeCurrent=False)
          .lineTo(0, 6).lineTo(0, 0).close().revolve(360))
@@ -213,6 +213,26 @@ def test_revolved_spline_is_circular_around_the_axis():
     assert b.stats["x1"].peak == 0.0
     # and the zero is the exactness: the same net without it reads ripple along u (issue 10: 0.65 mm)
     assert ca.budget(net.replace(canonical=None, exact=(None, None))).stats["x1"].peak > 1e-3
+    # a B-spline revolve as CAD writes it (a STEP file of the same B-spline): the same recognition
+    out = write_step([net], tmp_path / "revolve.step")
+    (back,) = read(out).nets
+    assert back.origin.kind == "bspline"
+    assert (back.canonical, back.exact) == (net.canonical, net.exact)
+
+
+def test_bezier_plane():
+    from OCP.Geom import Geom_BezierSurface
+    from OCP.TColgp import TColgp_Array2OfPnt
+
+    # irregular poles in one plane (a Bézier plane), then the same with one pole lifted off it
+    o, e1, e2 = np.array([1.0, -2.0, 3.0]), np.array([0.6, 0.8, 0.0]), np.array([0.0, 0.6, 0.8])
+    poles = TColgp_Array2OfPnt(1, 3, 1, 4)
+    for i in range(3):
+        for j in range(4):
+            poles.SetValue(i + 1, j + 1, gp_Pnt(*(o + (2.0 * i + 0.3 * j * j) * e1 + (1.5 * j + 0.2 * i * i) * e2)))
+    assert recognise(Geom_BezierSurface(poles)) == ("plane", ("surface", "surface"))
+    poles.SetValue(2, 2, gp_Pnt(*(np.array(poles.Value(2, 2).Coord()) + 0.5 * np.cross(e1, e2))))
+    assert recognise(Geom_BezierSurface(poles)) == NOT_CANONICAL
 
 
 @pytest.mark.parametrize("direction", [(0, 0, 7.0), (1.0, -2.0, 5.0)])
