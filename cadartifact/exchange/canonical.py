@@ -229,10 +229,11 @@ def _direction(surface, bounds, direction: int, tol: float) -> tuple[str | None,
     """``(kind, how)`` of one direction: kind "line"/"circle" when every tested isocurve along it is one;
     ``how`` is "extruded"/"ruled" (parallel or not) or "revolved"/"swept" (coaxial or not)."""
     u0, u1, v0, v1 = bounds
+    poles = (surface.NbUPoles(), surface.NbVPoles())
     if direction == 0:  # along u: curves at fixed v
-        iso, (t0, t1), (s0, s1), n_poles, n_across = surface.VIso, (u0, u1), (v0, v1), surface.NbUPoles(), surface.NbVPoles()
+        iso, (t0, t1), (s0, s1), n_poles, n_across = surface.VIso, (u0, u1), (v0, v1), *poles
     else:
-        iso, (t0, t1), (s0, s1), n_poles, n_across = surface.UIso, (v0, v1), (u0, u1), surface.NbVPoles(), surface.NbUPoles()
+        iso, (t0, t1), (s0, s1), n_poles, n_across = surface.UIso, (v0, v1), (u0, u1), *poles[::-1]
     kind, shapes = None, []
     for s in s0 + (s1 - s0) * _across(int(np.clip(n_across, *ISOCURVES))):
         found = _line_or_circle(iso(float(s)), t0, t1, tol, n_poles)
