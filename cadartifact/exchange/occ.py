@@ -16,6 +16,9 @@ Reading rules
   face's UV rectangle, and ``uv_bounds`` are the converted surface's own bounds).
 - Poles, weights, knots and multiplicities are read one index at a time (the bulk
   ``Weights()`` accessor has crashed on rational surfaces).
+- Every net's ``canonical`` and ``exact`` come from :func:`cadartifact.exchange.canonical.recognise`
+  on the face's surface and UV rectangle (exact planes, cylinders, cones, spheres, tori; faces
+  exactly straight or circular along a direction), unless ``recognise=False``.
 
 Knot vectors
 ------------
