@@ -98,7 +98,8 @@ def face_numbers(doc: dict, entry: dict, face: dict) -> str:
     units = file_units(doc, entry)
     peaks = ", ".join(f"{k} {_num(face['budget'][k]['peak'])}" for k in _DIRECTIONS[:4])
     where = where_text(face, units)
-    return (f"{face['verdict_reason']}; peaks {peaks} {units}; net {_net(face['net'])}, "
+    what = f"canonical {face['canonical']}; " if face.get("canonical") else ""
+    return (f"{what}{face['verdict_reason']}; peaks {peaks} {units}; net {_net(face['net'])}, "
             f"scheme {face['scheme']}, {face['method']}; {_advice_text(face)}; metric {pol['metric']}, "
             f"warn at {pol['warn_fraction']:g} of tolerance" + (f"; {where}" if where else ""))
 
@@ -122,7 +123,7 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
     """
     from rich.table import Table
 
-    from .report import WIDE_COLUMNS, _face_label, _worst_direction
+    from .report import WIDE_COLUMNS, _face_label, _worst_direction, canonical_lines
 
     if wide is None:
         wide = console.width >= WIDE_COLUMNS
@@ -161,10 +162,13 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 console.print(f"  values in {units}; scheme {schemes}; {methods}", soft_wrap=True)
         else:
             console.print(title)
+        for line in canonical_lines(entry["faces"]):  # no ripple along their exact directions
+            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         for f in entry["faces"]:
             if f["verdict"] != "pass":
                 where = where_text(f, units)
-                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}: {f['verdict_reason']}"
+                what = f" ({f['canonical']})" if f.get("canonical") else ""
+                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
                               + (f"; {where}" if where else ""), soft_wrap=True)
         if entry.get("share_failure"):
             console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)

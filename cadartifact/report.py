@@ -14,6 +14,8 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
           "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
           "net": [nu, nv], "degrees": [p, q] | null, "units": "mm" | "model", "scheme": str,
           "entity": int | null (STEP: the face's #id in the file), "entity_line": int | null (its line),
+          "canonical": str | null (what the face exactly is: "sphere r=12.5", "revolved: circular in u"),
+          "exact": [u, v] each null | "line" | "circle" | "surface" (directions without artifact),
           "peak_at": null | {"value", "index": [x, y], "uv": [u, v] | null, "xyz": [x, y, z]}
                      (faces beyond the tolerance: where the ripple peaks),
           "method": "predicted" | "measured", "reason": str, "intent": "surface" | "net",
@@ -76,6 +78,8 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "rational": net.rational,
         "units": net.unit,
         "entity": getattr(net.origin, "entity", None),
+        "canonical": getattr(net, "canonical", None),
+        "exact": list(getattr(net, "exact", (None, None))),
         "scheme": budget.scheme,
         "method": budget.method,
         "uniform": bool(net.knots is None or net.uniform),
@@ -423,6 +427,20 @@ def _worst_direction(share: dict) -> str:
     return f"{label} {pct}"
 
 
+def canonical_lines(faces) -> list[str]:
+    """One line per canonical label among face records: ``"canonical: sphere r=12.5: faces 3, 15"``.
+
+    Canonical faces (exactly a plane, cylinder, ..., or exactly straight/circular along a direction)
+    carry no ripple along their exact directions; the label says which.
+    """
+    groups: dict = {}
+    for r in faces:
+        if r.get("canonical"):
+            groups.setdefault(r["canonical"], []).append(str(r["face"]))
+    return [f"canonical: {label}: {'face' if len(ids) == 1 else 'faces'} {', '.join(ids)}"
+            for label, ids in groups.items()]
+
+
 def _face_label(r: dict, limit: int = 24) -> str:
     label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
     return label if len(label) <= limit else label[:limit - 1] + "~"
@@ -492,6 +510,8 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
                 table.add_row(_face_label(r), "x".join(map(str, r["net"])), _mm_pct(mm[key][doc["metric"]], sh[key]),
                               _worst_direction(sh), advised, verdict)
         console.print(table)
+        for line in canonical_lines(f["faces"]):  # no ripple along their exact directions
+            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         for r in rows:  # why each direction of a changed net has its count
             reasons = (r.get("advice") or {}).get("reasons") or {}
             if reasons and not (r.get("advice") or {}).get("kept_today", True):

@@ -124,7 +124,9 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     -------
     LoadResult
         Faces the STEP transfer dropped are counted as ``skipped["dropped"]``, one warning each
-        naming the entity and OCCT's check message (the gate fails such a file).
+        naming the entity and OCCT's check message (the gate fails such a file). B-rep nets carry
+        ``canonical``/``exact`` when the face is exactly a canonical surface or exactly straight or
+        circular along a direction (:mod:`cadartifact.exchange.canonical`).
 
     Raises
     ------

@@ -16,6 +16,9 @@ Reading rules
   face's UV rectangle, and ``uv_bounds`` are the converted surface's own bounds).
 - Poles, weights, knots and multiplicities are read one index at a time (the bulk
   ``Weights()`` accessor has crashed on rational surfaces).
+- Every net's ``canonical`` and ``exact`` come from :func:`cadartifact.exchange.canonical.recognise`
+  on the face's surface and UV rectangle (exact planes, cylinders, cones, spheres, tori; faces
+  exactly straight or circular along a direction), unless ``recognise=False``.
 
 Knot vectors
 ------------
@@ -190,7 +193,8 @@ def _read_knots(surface, direction: str, degree: int, n: int, periodic: bool) ->
     return np.repeat(values, mults)
 
 
-def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None) -> ControlNet:
+def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None, canonical: str | None = None,
+                     exact=(None, None)) -> ControlNet:
     """Build a :class:`ControlNet` from a ``Geom_BSplineSurface`` or ``Geom_BezierSurface``.
 
     Parameters
@@ -200,6 +204,8 @@ def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None) -> ControlNe
         Where the face came from (its ``kind`` is kept).
     uv_bounds : (u0, u1, v0, v1), optional
         The face's parameter bounds.
+    canonical, exact
+        What the face exactly is (:func:`cadartifact.exchange.canonical.recognise`), stored on the net.
 
     Returns
     -------
@@ -227,7 +233,7 @@ def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None) -> ControlNe
         periodic = (bool(surface.IsUPeriodic()), bool(surface.IsVPeriodic()))
         knots = (_read_knots(surface, "U", p, nu, periodic[0]), _read_knots(surface, "V", q, nv, periodic[1]))
     return ControlNet(points=points, weights=weights, degrees=(p, q), knots=knots, periodic=periodic,
-                      uv_bounds=uv_bounds, unit="mm", origin=origin)
+                      uv_bounds=uv_bounds, unit="mm", origin=origin, canonical=canonical, exact=exact)
 
 
 def _convert(surface, face) -> Geom_BSplineSurface:
@@ -248,7 +254,7 @@ def iter_faces(shape: TopoDS_Shape):
 
 
 def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bool = False,
-                    face_name=None) -> tuple[list[ControlNet], int, dict[str, int], list[str]]:
+                    face_name=None, recognise: bool = True) -> tuple[list[ControlNet], int, dict[str, int], list[str]]:
     """Extract the control nets of every analysable face of a shape.
 
     Parameters
@@ -260,6 +266,10 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
         Convert revolution/extrusion/offset/other freeform faces to B-splines.
     face_name : callable(face) -> str or None, optional
         Name lookup (e.g. from the STEP entity).
+    recognise : bool
+        Recognise canonical faces (:func:`cadartifact.exchange.canonical.recognise`: exact planes,
+        cylinders, cones, spheres, tori, and faces exactly straight or circular along a direction)
+        and set each net's ``canonical`` and ``exact``; False leaves them None.
 
     Returns
     -------
@@ -276,6 +286,7 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
     skipped: dict[str, int] = {}
     messages: list[str] = []
     where = file or "<shape>"
+    from .canonical import recognise as recognise_face
     total = 0
     for index, face in iter_faces(shape):
         total += 1
@@ -298,10 +309,11 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
         name = face_name(face) if face_name is not None else None
         entity_of = getattr(face_name, "entity", None)  # STEP: the face's #id in the file
         entity = entity_of(face) if entity_of is not None else None
+        canonical, exact = recognise_face(basis, uv) if recognise else (None, (None, None))
         try:
             nets.append(net_from_surface(basis, origin=NetOrigin(file=file, face=index, name=name, kind=kind,
                                                                  entity=entity),
-                                         uv_bounds=uv))
+                                         uv_bounds=uv, canonical=canonical, exact=exact))
         except InvalidNetError as exc:
             skipped["degenerate"] = skipped.get("degenerate", 0) + 1
             messages.append(f"skipped face: {exc}")
