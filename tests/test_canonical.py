@@ -211,8 +211,9 @@ def test_revolved_spline_is_circular_around_the_axis(tmp_path):
         assert radius == pytest.approx(np.hypot(row[:, 0], row[:, 1]).mean(), rel=1e-9)
     b = ca.budget(net)
     assert b.stats["x1"].peak == 0.0
-    # and the zero is the exactness: the same net without it reads ripple along u (issue 10: 0.65 mm)
-    assert ca.budget(net.replace(canonical=None, exact=(None, None))).stats["x1"].peak > 1e-3
+    # a second, independent reason for the zero: OCCT's circle is piecewise Bezier along u (knots of
+    # multiplicity p), so even unrecognised it reads no ripple there (issue 10 found 0.65 mm before)
+    assert ca.budget(net.replace(canonical=None, exact=(None, None))).stats["x1"].peak <= 1e-9 * size_of(grid)
     # a B-spline revolve as CAD writes it (a STEP file of the same B-spline): the same recognition
     out = write_step([net], tmp_path / "revolve.step")
     (back,) = read(out).nets
