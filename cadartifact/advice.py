@@ -153,6 +153,25 @@ class _Scorer:
         return out
 
 
+def _face_kind(net: ControlNet) -> str | None:
+    """How a face is written when it is not one uniform polynomial net: "piecewise-Bezier", "rational"..."""
+    if net.knots is None:
+        return None
+    from .net import bezier_direction, junctions
+
+    words = []
+    dirs = list(zip(net.knots, net.degrees, net.shape, net.periodic))
+    if any(bezier_direction(k, p, n, per) and n > p + 1 for k, p, n, per in dirs):
+        words.append("piecewise-Bezier")
+    elif any(junctions(k, p, n, per) for k, p, n, per in dirs):
+        words.append("jointed")
+    elif not all(net.knots_uniform):
+        words.append("non-uniform")
+    if net.weights_vary:
+        words.append("rational")
+    return " ".join(words) or None
+
+
 def _curve_distance(points: np.ndarray, curve: np.ndarray) -> float:
     """Largest distance of ``points (k, 3)`` to the polyline ``curve (m, 3)``."""
     a, b = curve[:-1], curve[1:]
@@ -429,6 +448,10 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     if stats["boundary"].peak > t:
         notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
                      "the tolerance): neighbouring faces must follow")
+    what = _face_kind(work)
+    if what and not kept and meets:
+        notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} uniform "
+                     f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
     verification = None
     if verify:
