@@ -472,20 +472,15 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
 
 
 def _make_scorer(net, work, sch, reading, levels, metric, component, current=None) -> _Scorer:
-    from .fields import artifact_fields
+    """A scorer of candidates against the intent: the surface reading's fields (today's budget's when it kept
+    them), and the intent object (a split face's :class:`cadartifact.pieces.PiecewiseIntent`)."""
     from .intent import design_intent
 
-    if current is not None and current.fields is not None:
-        fields = current.fields
-        it = design_intent(work, sch, current.levels)
-    else:
-        it = design_intent(work, sch, levels)
-        method = "measured" if work.knots is not None else "predicted"
-        fields = artifact_fields(it, sch, method, "surface")
-    if fields.baseband is None:  # a net-reading budget keeps no base band: build the surface reading
-        from .fields import artifact_fields as af
-
-        fields = af(it, sch, fields.method, "surface")
+    fields = current.fields if current is not None else None
+    if fields is None or fields.baseband is None:  # a net-reading budget keeps no base band: the surface reading
+        lv = current.levels if current is not None else levels
+        fields = budget(work, sch, levels=lv, component=component, intent="surface", keep_fields=True).fields
+    it = fields.baseband.get("intent") or design_intent(work, sch, fields.levels)
     return _Scorer(net, work, sch, fields, it, reading, levels, metric, component)
 
 

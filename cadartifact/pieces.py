@@ -244,7 +244,8 @@ def gather_fields(net: ControlNet, pieces: list[Piece], fields: list[ArtifactFie
     out = ArtifactFields(x=np.concatenate(xs), y=np.concatenate(ys), surface=block(lambda p, f, a: f.surface),
                          intent=block(lambda p, f, a: f.intent), bands=bands, method=first.method,
                          levels=first.levels, reading=first.reading,
-                         baseband={"evaluate": intent.surface_reading} if first.baseband is not None else None)
+                         baseband={"evaluate": intent.surface_reading, "intent": intent}
+                         if first.baseband is not None else None)
     return out, gathered
 
 
@@ -275,6 +276,7 @@ class PiecewiseIntent:
     """
 
     def __init__(self, net: ControlNet, pieces: list[Piece], fields, levels: int, scheme=None):
+        # the surface reading needs the pieces' fields; the net reading builds each piece's intent on demand
         self.net, self.pieces, self.fields_list = net, pieces, fields
         self.frames = axis_frames(net, levels)
         self._scheme = scheme
