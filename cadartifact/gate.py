@@ -119,7 +119,7 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
         The advise document's file entry plus ``units``, ``verdict``, ``policy`` (the settings),
         ``notes``, ``ignored_faces``, ``analysed_share`` (OBJ: the share of the cage's area in analysed
         charts, else None), ``share_failure`` (only when that share is below ``min_analysed_share``:
-        the file fails) and per face ``verdict``, ``verdict_reason``, ``value``, ``entity_line`` (the
+        the file fails) and per face ``verdict``, ``verdict_reason``, ``value``, ``advice_skipped`` (None, or why the advice was not computed), ``entity_line`` (the
         line of the STEP entity ``entity``, else None) and ``peak_at`` (warn/fail faces:
         :func:`cadartifact.report.peak_location`, else None); or an error entry
         ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
