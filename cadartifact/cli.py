@@ -16,6 +16,11 @@ from typing import List, Optional
 
 import warnings
 
+if os.path.basename(sys.argv[0]) in ("cadartifact", "cli.py"):  # the console script or python -m cadartifact.cli
+    from .cli_prestart import maybe_prestart
+
+    maybe_prestart(sys.argv)  # before typer and rich are imported: the reader's OCP import overlaps them
+
 import typer
 from typer.core import TyperGroup
 
