@@ -541,19 +541,25 @@ class RichProgress:
             self._p.update(self._task, advance=1, description=f"advising {label}")
 
 
+_ING = {"advised": "advising", "gated": "gating", "rendered": "rendering"}
+
+
 class LineProgress:
     """Progress for logs and pipes (no terminal): one plain line per file on stderr, with the time taken.
 
     Works as the ``progress`` callback of :func:`advise_files` (kind "file") and, through
-    :meth:`file_done`, of the gate and of ``view``.
+    :meth:`file_done`, of the gate and of ``view``. Inside a file of many faces (kind "face") a
+    heartbeat line follows every ``heartbeat`` seconds, so that a long file shows it is moving.
     """
 
-    def __init__(self, console, verb: str = "advised", total: int | None = None):
+    def __init__(self, console, verb: str = "advised", total: int | None = None, heartbeat: float = 10.0):
         import time
 
         self.console, self.verb, self.total, self.done = console, verb, total, 0
+        self.heartbeat = heartbeat
         self._clock = time.perf_counter
-        self._start = self._clock()
+        self._start = self._last = self._clock()
+        self._faces = 0
 
     def __enter__(self):
         return self
@@ -561,14 +567,27 @@ class LineProgress:
     def __exit__(self, *exc):
         return False
 
+    def _count(self, n: int) -> str:
+        return f"{n}/{self.total}" if self.total else str(n)
+
     def __call__(self, kind, total, label):
         if kind == "file":
             self.file_done(label, f"{plural(total, 'face')}")
+        elif kind == "face":
+            self._faces += 1
+            now = self._clock()
+            if now - self._last >= self.heartbeat:
+                self._last = now
+                where = label.rsplit("#", 1)[0]
+                self.console.print(f"cadartifact: [{self._count(self.done + 1)}] {_ING.get(self.verb, self.verb)} "
+                                   f"{where}: {plural(self._faces, 'face')} done ({now - self._start:.1f} s)",
+                                   markup=False, highlight=False, soft_wrap=True)
 
     def file_done(self, path: str, detail: str = "") -> None:
         self.done += 1
-        count = f"{self.done}/{self.total}" if self.total else str(self.done)
+        self._faces = 0
         now = self._clock()
         took, self._start = now - self._start, now
-        self.console.print(f"cadartifact: [{count}] {self.verb} {path}" + (f": {detail}" if detail else "")
+        self._last = now
+        self.console.print(f"cadartifact: [{self._count(self.done)}] {self.verb} {path}" + (f": {detail}" if detail else "")
                            + f" ({took:.1f} s)", markup=False, highlight=False, soft_wrap=True)
