@@ -191,10 +191,10 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
             raise CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
                                    f"(max |x| = {np.abs(net.points).max():.3g})")
         try:
-            rec = _face_entry(net, settings, verify)
+            rec, current = _face_entry(net, settings, verify)
         except CadArtifactError as exc:
             raise CadArtifactError(f"face {net.origin.face}: {exc}") from None
-        _locate(rec, path, net, key)  # entity_line; peak_at for faces that warn or fail
+        _locate(rec, path, net, key, current)  # entity_line; peak_at for faces that warn or fail
         faces.append(rec)
     present = {n.origin.face for n in res.nets}
     ignored = sorted(settings.ignore_faces)
@@ -231,8 +231,10 @@ def _advice_wanted(settings: FileSettings, verdict: str) -> str | None:
     return "face passes (--advise failing)"
 
 
-def _face_entry(net, settings: FileSettings, verify: bool) -> dict:
-    """One face's gate record: today's budget and verdict, and the advice where ``settings.advise`` asks.
+def _face_entry(net, settings: FileSettings, verify: bool) -> tuple[dict, object]:
+    """One face's gate record (today's budget and verdict, and the advice where ``settings.advise`` asks)
+    and today's :class:`~cadartifact.budget.Budget` with its fields when it is the ``surface`` reading's
+    (what :func:`cadartifact.report.peak_location` needs: it is not computed again), else None.
 
     The verdict needs today's budget only; the advice (a density search, the costly part) is added
     only for the faces ``settings.advise`` selects. A face without advice keeps the record's schema:
@@ -245,7 +247,8 @@ def _face_entry(net, settings: FileSettings, verify: bool) -> dict:
     key = "deviation" if settings.include_signal_error else "total"
     # the reading advise() scores today's net under (include_signal_error is the net reading)
     reading = "net" if settings.include_signal_error else settings.intent
-    current = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=reading)
+    current = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=reading,
+                     keep_fields=reading == "surface")
     rec = budget_record(net, current, reading == "net")
     if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
         raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
@@ -261,7 +264,7 @@ def _face_entry(net, settings: FileSettings, verify: bool) -> dict:
             raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
         verdict, reason, value = face_verdict(rec, settings)
     rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
-    return rec
+    return rec, (current if reading == "surface" else None)
 
 
 def _gate_file_args(args):

@@ -89,7 +89,7 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
     }
 
 
-def peak_location(net, scheme=None, field: str = "total") -> dict:
+def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
     """Where a face's ripple peaks: fine-grid index, surface parameters and position.
 
     Parameters
@@ -99,6 +99,9 @@ def peak_location(net, scheme=None, field: str = "total") -> dict:
         As :func:`cadartifact.budget` (the scheme the face was analysed with).
     field : str
         ``"total"`` (ripple) or ``"deviation"``.
+    current : Budget, optional
+        The face's budget under this scheme and the ``surface`` reading, computed with
+        ``keep_fields=True`` (the gate has it already); else it is computed here.
 
     Returns
     -------
@@ -112,7 +115,7 @@ def peak_location(net, scheme=None, field: str = "total") -> dict:
 
     from .artifact_budget import budget
 
-    b = budget(net, scheme, keep_fields=True)
+    b = current if current is not None and current.fields is not None else budget(net, scheme, keep_fields=True)
     values = np.where(b.region, np.abs(b.scalar_fields[field]), -np.inf)
     i, j = np.unravel_index(int(np.argmax(values)), values.shape)
     x, y = float(b.fields.x[i]), float(b.fields.y[j])
@@ -265,7 +268,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
 
 
-def _locate(rec: dict, path, net, key: str) -> None:
+def _locate(rec: dict, path, net, key: str, current=None) -> None:
     """Where a face is in its file (``entity_line``: the STEP entity's line) and, for a face beyond the
     tolerance, where its ripple peaks (``peak_at``, :func:`peak_location`); additive record fields."""
     from .errors import CadArtifactError
@@ -275,7 +278,7 @@ def _locate(rec: dict, path, net, key: str) -> None:
     rec["peak_at"] = None
     if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
         try:
-            rec["peak_at"] = peak_location(net, rec["scheme"], key)
+            rec["peak_at"] = peak_location(net, rec["scheme"], key, current)
         except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
             rec["peak_at"] = None
 

@@ -142,3 +142,14 @@ def test_the_dask_task_gives_the_same_records(models, pair):  # noqa: F811
     settings = FileSettings(tolerance=pair["failing"]["policy"]["tolerance"], advise="failing")
     assert gate_task(str(path), None, settings, False) == pair["failing"]
     assert gate_task(str(path), path.read_bytes(), settings, False) == pair["failing"]
+
+
+def test_peak_at_reuses_todays_budget_and_equals_a_fresh_peak_location(models, pair):  # noqa: F811
+    import cadartifact as ca
+    from cadartifact.report import peak_location
+
+    nets = {n.origin.name: n for n in ca.load(models["root"] / "pair.step")}
+    for mode in ADVISE:
+        ridge = faces_by_name(pair[mode])["ridge"]
+        assert ridge["peak_at"] == peak_location(nets["ridge"], ridge["scheme"], "total")
+        assert faces_by_name(pair[mode])["dome"]["peak_at"] is None  # passes: no location
