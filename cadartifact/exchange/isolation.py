@@ -31,7 +31,7 @@ import time
 
 from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
 
-__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout",
+__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout", "warm",
            "shutdown"]
 
 #: Seconds a reader may take on one file before it is stopped.
@@ -145,6 +145,12 @@ def shutdown() -> None:
         if _child is not None:
             _child.kill()
             _child = None
+
+
+def warm() -> bool:
+    """Whether a reader child is running (started, not dead), so a call costs no start-up."""
+    with _lock:
+        return enabled() and _child is not None and _child.proc.poll() is None
 
 
 def prestart() -> None:
