@@ -290,6 +290,12 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
     from concurrent.futures.process import BrokenProcessPool
 
     worker = worker or _gate_file_args
+    from .cli_prestart import BREP_SUFFIXES
+
+    # each worker reads with a reader child of its own: start it with the worker, so that its OCP
+    # import overlaps the worker's own start-up (OBJ-only runs need none)
+    brep = any(str(t[0]).lower().endswith(BREP_SUFFIXES) for t in tasks)
+    init = _start_reader if brep else None
 
     results: list = [None] * len(tasks)
     pending = list(range(len(tasks)))
@@ -299,7 +305,8 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         batches = [[i] for i in pending] if isolate else [pending]
         pending = []
         for batch in batches:
-            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context()) as ex:
+            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context(),
+                                     initializer=init) as ex:
                 # biggest files first (a cheap proxy for their cost) balances the workers' loads
                 order = sorted(batch, key=lambda i: -_size(tasks[i][0]))
                 futures = {ex.submit(worker, tasks[i]): i for i in order}
@@ -319,6 +326,12 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         pending.sort()
         isolate = True
     return results
+
+
+def _start_reader() -> None:
+    from .exchange import isolation
+
+    isolation.prestart()
 
 
 def _workers_can_start() -> bool:
