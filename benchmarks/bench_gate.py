@@ -1,73 +1,70 @@
-"""Benchmark: ``cadartifact gate`` over the real files, one process against a process pool.
+"""Benchmark: ``cadartifact gate`` as whole processes, against OCCT's bare read of the same file (issue 11).
 
-Run:  python benchmarks/bench_gate.py [--jobs N] [--tol 0.05] [--exclude NAME ...]
+Run:  python benchmarks/bench_gate.py [--repeat 3] [--quick] [--tol 0.05]
 
-Gates every file of ../shared/realdata (STEP and OBJ) with ``run_gate(jobs=1)`` (the baseline,
-measured in this same run) and with ``jobs=N`` (default: CPU count), prints the wall times, the
-speed-up ratio and the per-file times of the serial run, and checks that both runs give the same
-document (the gate's promise: results independent of ``--jobs``). Parallelism is over files, so the
-pool's time is bounded below by the slowest file; ``--exclude linkrods.step`` shows the scaling on
-the others.
+Rows (each a ratio against a baseline measured in this same run):
+
+- ``gate FILE --tol 0.05`` (the console script, text report to a pipe) vs a bare OCCT read+transfer
+  process of the same file (``python -c`` importing OCP, ``STEPControl_Reader.ReadFile`` +
+  ``TransferRoots``), per real STEP file of ../shared/realdata/step: median and worst ratio of the best
+  of ``--repeat`` runs each, interleaved (target: median <= 1.2x, worst <= 1.5x).
+- ``gate --jobs 2`` vs ``gate --jobs 1`` over every real file (STEP and OBJ): speed-up (target
+  >= 1.7x), and the two JSON documents must be identical (results do not depend on ``--jobs``).
+
+``--quick``: one run per measurement (about a minute); default three (about three minutes on 2 cores).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import os
 import time
-from pathlib import Path
 
-REALDATA = Path(__file__).resolve().parents[2] / "shared" / "realdata"
+from timing import (REALDATA, best_process, cli_argv, machine, median_worst, occt_argv, print_targets,  # noqa: E402
+                    real_step_files)
 
 
 def main():
-    from cadartifact.gate import build_document, gate_file, run_gate
-    from cadartifact.gate_policy import Policy, base_settings, check_cli
-
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="one run per measurement")
     ap.add_argument("--tol", type=float, default=0.05)
-    ap.add_argument("--exclude", nargs="*", default=[], help="file names to leave out")
     args = ap.parse_args()
-    if not REALDATA.exists():
-        raise SystemExit(f"{REALDATA} not found")
-    files = sorted(p for sub in ("step", "obj") for p in (REALDATA / sub).iterdir()
-                   if p.is_file() and p.name not in args.exclude)
-    policy = Policy(source=None)
-    cli = check_cli({"tolerance": args.tol})
-    settings = [policy.settings_for(f, cli) for f in files]
+    repeat = 1 if args.quick else args.repeat
+    files = real_step_files()
+    if not files:
+        raise SystemExit(f"no real STEP files in {REALDATA / 'step'}")
+    print(f"{time.strftime('%Y-%m-%d %H:%M')}, {machine()}, best of {repeat}")
+    print(f"{'file':34s} {'OCCT read':>10s} {'gate':>8s} {'ratio':>6s}")
+    ratios = []
+    for path in files:
+        base, gate = float("inf"), float("inf")
+        for _ in range(repeat):  # interleaved: a load spike hits both
+            base = min(base, best_process(occt_argv(path), 1, ok=(0,))[0])
+            gate = min(gate, best_process(cli_argv("gate", path, "--tol", args.tol), 1)[0])
+        ratios.append(gate / base)
+        print(f"{path.name:34s} {base:10.2f} {gate:8.2f} {gate / base:6.2f}")
+    med, worst = median_worst(ratios)
 
-    per_file = {}
-    t0 = time.perf_counter()
-    serial = []
-    for f, s in zip(files, settings):
-        t = time.perf_counter()
-        serial.append(gate_file(str(f), s))
-        per_file[f.name] = time.perf_counter() - t
-    t_serial = time.perf_counter() - t0
-
-    t0 = time.perf_counter()
-    pooled = run_gate(files, settings, jobs=args.jobs)
-    t_pool = time.perf_counter() - t0
-
-    base = base_settings(policy, cli)
-    same = json.dumps(build_document(serial, base, policy)) == json.dumps(build_document(pooled, base, policy))
-    faces = sum(len(e["faces"]) for e in serial)
-    print(f"{len(files)} files, {faces} faces, tolerance {args.tol}, {os.cpu_count()} CPU(s)")
-    for name, t in sorted(per_file.items(), key=lambda kv: -kv[1]):
-        print(f"  {name:40s} {t:7.2f} s (jobs=1)")
-    print(f"jobs=1 (baseline): {t_serial:7.2f} s")
-    print(f"jobs={args.jobs}:            {t_pool:7.2f} s   speed-up {t_serial / t_pool:4.2f}x")
-    print(f"identical documents: {same}")
+    every = sorted(p for sub in ("step", "obj") if (REALDATA / sub).is_dir() for p in (REALDATA / sub).iterdir()
+                   if p.is_file())
+    common = ("gate", *every, "--tol", args.tol, "--format", "json")
+    t1 = t2 = float("inf")
+    for _ in range(repeat):
+        w1, _, out1 = best_process(cli_argv(*common, "--jobs", 1), 1)
+        w2, _, out2 = best_process(cli_argv(*common, "--jobs", 2), 1)
+        t1, t2 = min(t1, w1), min(t2, w2)
+    same = json.loads(out1) == json.loads(out2)
+    faces = sum(len(e["faces"]) for e in json.loads(out1)["files"])
+    print(f"\nall {len(every)} real files ({faces} faces): --jobs 1 {t1:.2f} s, --jobs 2 {t2:.2f} s, "
+          f"identical documents: {same}")
+    print_targets([
+        ("gate FILE --tol 0.05 vs OCCT read process, median", f"{med:.2f}x", "<= 1.2x", med <= 1.2),
+        ("gate FILE --tol 0.05 vs OCCT read process, worst", f"{worst:.2f}x", "<= 1.5x", worst <= 1.5),
+        ("gate --jobs 2 vs --jobs 1, all real files", f"{t1 / t2:.2f}x", ">= 1.7x", t1 / t2 >= 1.7),
+    ])
     if not same:
-        a = json.dumps(build_document(serial, base, policy), indent=1).splitlines()
-        b = json.dumps(build_document(pooled, base, policy), indent=1).splitlines()
-        import difflib
-
-        print("\n".join(list(difflib.unified_diff(a, b, "jobs=1", f"jobs={args.jobs}", n=2))[:40]))
-    if not same:
-        raise SystemExit(1)
+        raise SystemExit("the documents of --jobs 1 and --jobs 2 differ")
 
 
 if __name__ == "__main__":

@@ -16,6 +16,11 @@ from typing import List, Optional
 
 import warnings
 
+if os.path.basename(sys.argv[0]) in ("cadartifact", "cli.py"):  # the console script or python -m cadartifact.cli
+    from .cli_prestart import maybe_prestart
+
+    maybe_prestart(sys.argv)  # before typer and rich are imported: the reader's OCP import overlaps them
+
 import typer
 from typer.core import TyperGroup
 
@@ -427,6 +432,9 @@ def gate_cmd(
                                          help="Design intent: surface or net (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
+    advise: Optional[str] = typer.Option(None, "--advise",
+                                         help="Density advice for: failing (faces that warn or fail; default), all "
+                                              "or none. The verdict needs today's budget only (policy: advise)."),
     convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
                                            help="Convert revolution/extrusion/offset faces to B-splines and gate "
                                                 "them (overrides the policy's convert; default: skip them)."),
@@ -469,7 +477,7 @@ def gate_cmd(
     if read_timeout is not None and not (0 < read_timeout < float("inf")):
         raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
     cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
-                     "intent": intent, "convert": convert})
+                     "intent": intent, "convert": convert, "advise": advise})
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
     settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis

@@ -1,9 +1,13 @@
 """The pipeline quality gate: pass / warn / fail verdicts per face and file, and the exit code.
 
-``cadartifact gate PATH...`` advises every analysable face of every file (the advise document of
+``cadartifact gate PATH...`` measures every analysable face of every file (the advise document of
 :mod:`cadartifact.report`) under the settings its policy gives it (:mod:`cadartifact.gate_policy`)
 and adds a verdict, so that a CI job or a pre-commit hook can block a model whose control nets
 ripple beyond the tolerance. Report writers are in :mod:`cadartifact.gate_reports`.
+
+The verdict needs today's budget only; the density advice (the costly search) is computed for the
+faces the policy's ``advise`` selects (``--advise failing``, the default: those that warn or fail;
+``all``; ``none``). A face without it keeps the schema: ``advice: null`` and ``advice_skipped``, the reason.
 
 Per face: ``fail`` when the value (ripple, or whole deviation with ``include_signal_error``, under
 the metric) exceeds the tolerance, ``warn`` when it is within it but ``>= warn_fraction *
@@ -114,7 +118,7 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
         The advise document's file entry plus ``units``, ``verdict``, ``policy`` (the settings),
         ``notes``, ``ignored_faces``, ``analysed_share`` (OBJ: the share of the cage's area in analysed
         charts, else None), ``share_failure`` (only when that share is below ``min_analysed_share``:
-        the file fails) and per face ``verdict``, ``verdict_reason``, ``value``, ``entity_line`` (the
+        the file fails) and per face ``verdict``, ``verdict_reason``, ``value``, ``advice_skipped`` (None, or why the advice was not computed), ``entity_line`` (the
         line of the STEP entity ``entity``, else None) and ``peak_at`` (warn/fail faces:
         :func:`cadartifact.report.peak_location`, else None); or an error entry
         ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
@@ -160,10 +164,8 @@ def _one_blas_thread():
 def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None) -> dict:
     import numpy as np
 
-    from .advice import advise
-    from .artifact_budget import budget
     from .exchange import read
-    from .report import _locate, analysed_share, face_record, kind_count
+    from .report import _locate, analysed_share, kind_count
 
     if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
         from .errors import InputError
@@ -188,21 +190,10 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
             raise CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
                                    f"(max |x| = {np.abs(net.points).max():.3g})")
         try:
-            check = verify
-            if check:  # verification costs a real-surface evaluation: only for faces that fail
-                b = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=settings.intent)
-                check = not b.meets(settings.include_signal_error)
-            adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
-                         include_signal_error=settings.include_signal_error, compare=False, verify=check)
-            rec = face_record(net, adv)
+            rec, current = _face_entry(net, settings, verify)
         except CadArtifactError as exc:
             raise CadArtifactError(f"face {net.origin.face}: {exc}") from None
-        if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
-            raise CadArtifactError(f"face {net.origin.face}: the analysis gave a non-finite value "
-                                   "(coordinates too large?)")
-        verdict, reason, value = face_verdict(rec, settings)
-        rec.update(verdict=verdict, verdict_reason=reason, value=value)
-        _locate(rec, path, net, key)  # entity_line; peak_at for faces that warn or fail
+        _locate(rec, path, net, key, current)  # entity_line; peak_at for faces that warn or fail
         faces.append(rec)
     present = {n.origin.face for n in res.nets}
     ignored = sorted(settings.ignore_faces)
@@ -230,6 +221,51 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     return entry
 
 
+def _advice_wanted(settings: FileSettings, verdict: str) -> str | None:
+    """None when the face gets the density advice under ``settings.advise``, else why it does not."""
+    if settings.advise == "all" or (settings.advise == "failing" and verdict in ("warn", "fail")):
+        return None
+    if settings.advise == "none":
+        return "not computed (--advise none)"
+    return "face passes (--advise failing)"
+
+
+def _face_entry(net, settings: FileSettings, verify: bool) -> tuple[dict, object]:
+    """One face's gate record (today's budget and verdict, and the advice where ``settings.advise`` asks)
+    and today's :class:`~cadartifact.budget.Budget` with its fields when it is the ``surface`` reading's
+    (what :func:`cadartifact.report.peak_location` needs: it is not computed again), else None.
+
+    The verdict needs today's budget only; the advice (a density search, the costly part) is added
+    only for the faces ``settings.advise`` selects. A face without advice keeps the record's schema:
+    ``advice`` is None and ``advice_skipped`` says why (None where the advice was computed).
+    """
+    from .advice import advise
+    from .artifact_budget import budget
+    from .report import budget_record, face_record
+
+    key = "deviation" if settings.include_signal_error else "total"
+    # the reading advise() scores today's net under (include_signal_error is the net reading)
+    reading = "net" if settings.include_signal_error else settings.intent
+    current = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=reading,
+                     keep_fields=reading == "surface")
+    rec = budget_record(net, current, reading == "net")
+    if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
+        raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
+    verdict, reason, value = face_verdict(rec, settings)
+    skipped = _advice_wanted(settings, verdict)
+    if skipped is None:
+        # verification costs a real-surface evaluation: only for faces that fail today
+        check = verify and not current.meets(settings.include_signal_error)
+        adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
+                     include_signal_error=settings.include_signal_error, compare=False, verify=check)
+        rec = face_record(net, adv)
+        if rec["budget"][key][settings.metric] is None:
+            raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
+        verdict, reason, value = face_verdict(rec, settings)
+    rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
+    return rec, (current if reading == "surface" else None)
+
+
 def _gate_file_args(args):
     return gate_file(*args)
 
@@ -253,6 +289,12 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
     from concurrent.futures.process import BrokenProcessPool
 
     worker = worker or _gate_file_args
+    from .cli_prestart import BREP_SUFFIXES
+
+    # each worker reads with a reader child of its own: start it with the worker, so that its OCP
+    # import overlaps the worker's own start-up (OBJ-only runs need none)
+    brep = any(str(t[0]).lower().endswith(BREP_SUFFIXES) for t in tasks)
+    init = _start_reader if brep else None
 
     results: list = [None] * len(tasks)
     pending = list(range(len(tasks)))
@@ -262,7 +304,8 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         batches = [[i] for i in pending] if isolate else [pending]
         pending = []
         for batch in batches:
-            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context()) as ex:
+            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context(),
+                                     initializer=init) as ex:
                 # biggest files first (a cheap proxy for their cost) balances the workers' loads
                 order = sorted(batch, key=lambda i: -_size(tasks[i][0]))
                 futures = {ex.submit(worker, tasks[i]): i for i in order}
@@ -282,6 +325,12 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
         pending.sort()
         isolate = True
     return results
+
+
+def _start_reader() -> None:
+    from .exchange import isolation
+
+    isolation.prestart()
 
 
 def _workers_can_start() -> bool:
@@ -393,7 +442,8 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
             face_counts[f["verdict"]] += 1
             summary["faces"] += 1
             summary["within" if f["meets_tolerance"] else "exceeding"] += 1
-            summary["unreachable"] += 0 if f["advice"]["meets_tolerance"] else 1
+            # a face without advice (skipped by --advise) is not counted as out of reach
+            summary["unreachable"] += 0 if (f["advice"] or {}).get("meets_tolerance", True) else 1
     summary["errors"] = file_counts["error"]
     summary["verdicts"] = {"files": file_counts, "faces": face_counts}
     verdict = _worst(e["verdict"] for e in entries)

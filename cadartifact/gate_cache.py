@@ -1,7 +1,7 @@
 """The gate's result cache (``cadartifact gate --cache DIR``): incremental by content.
 
 A file's gate entry is stored under a key made of the SHA-256 of the file's bytes, the effective
-policy of that file (its :class:`~cadartifact.gate_policy.FileSettings` and ``--verify``, in a
+policy of that file (its :class:`~cadartifact.gate_policy.FileSettings`, ``advise`` included, and ``--verify``, in a
 canonical JSON serialisation), the cadartifact version and the gate schema. An unchanged file under
 an unchanged policy is therefore not analysed again; a changed byte, setting or version is a new
 key, hence a miss. The file's path is not part of the key: an identical copy elsewhere is a hit, and

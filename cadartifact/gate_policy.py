@@ -14,6 +14,7 @@ table is passed over), or given with ``--policy FILE``::
     convert = false               # convert revolution/extrusion/offset faces to B-splines and gate them
     min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
     cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
+    advise = "failing"            # density advice for faces that warn or fail; "all" or "none": --advise
 
     [[override]]                  # applied in order to files matching glob; later ones win
     glob = "legacy/**"
@@ -65,15 +66,18 @@ CAD_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp", ".obj")
 POLICY_FILE = "cadartifact.toml"
 METRICS = ("peak", "rms")
 MEASURED = ("warn", "fail")
+#: Which faces get the (costly) density advice: the verdict needs today's budget only.
+ADVISE = ("all", "failing", "none")
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
 TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "convert",
-            "min_analysed_share", "cache", "override")
+            "min_analysed_share", "cache", "advise", "override")
 OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
-                 "convert", "min_analysed_share", "ignore_faces")
+                 "convert", "min_analysed_share", "advise", "ignore_faces")
 
 DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
-            "scheme": None, "measured": "fail", "convert": False, "min_analysed_share": 0.0, "ignore_faces": ()}
+            "scheme": None, "measured": "fail", "convert": False, "min_analysed_share": 0.0, "advise": "failing",
+            "ignore_faces": ()}
 
 
 class PolicyError(CadArtifactError):
@@ -110,6 +114,10 @@ class FileSettings:
     min_analysed_share : float
         ``0 <= s <= 1``: an OBJ cage whose analysed charts cover less than this share of its surface
         area fails (0: never).
+    advise : {"failing", "all", "none"}
+        Which faces get the density advice (the verdict needs today's budget only): those that warn
+        or fail, every face, or none; a face without advice has ``advice: null`` and a reason in
+        ``advice_skipped``.
     ignore_faces : tuple of int
     """
 
@@ -122,6 +130,7 @@ class FileSettings:
     intent: str = "surface"
     convert: bool = False
     min_analysed_share: float = 0.0
+    advise: str = "failing"
     ignore_faces: tuple = ()
 
     def to_dict(self) -> dict:
@@ -216,6 +225,10 @@ def _check_value(source: str, key: str, value):
     if key == "measured":
         if value not in MEASURED:
             raise PolicyError(source, key, f"expected one of 'warn', 'fail', received {value!r}")
+        return value
+    if key == "advise":
+        if value not in ADVISE:
+            raise PolicyError(source, key, f"expected one of {', '.join(map(repr, ADVISE))}, received {value!r}")
         return value
     if key == "intent":
         if value not in ("surface", "net"):
@@ -459,7 +472,7 @@ def check_cli(values: dict) -> dict:
     """Validate gate options given on the command line (same rules as the policy keys)."""
     out = {}
     names = {"tolerance": "--tol", "metric": "--metric", "warn_fraction": "--warn-fraction", "scheme": "--scheme",
-             "intent": "--intent"}
+             "intent": "--intent", "advise": "--advise"}
     for key, value in values.items():
         if value is None:
             continue

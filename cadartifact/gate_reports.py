@@ -69,6 +69,8 @@ def _net(shape) -> str:
 
 def _advice_text(face: dict) -> str:
     adv = face["advice"]
+    if adv is None:  # gate --advise: the verdict needs today's budget only
+        return f"advice {face.get('advice_skipped') or 'not computed'}"
     if not adv["meets_tolerance"]:
         return f"no density up to {_net(adv['net'])} meets the tolerance"
     ver = adv.get("verification")
@@ -105,6 +107,12 @@ def face_numbers(doc: dict, entry: dict, face: dict) -> str:
 
 
 # ---------------------------------------------------------------- text
+def _advised_cell(adv: dict | None) -> str:
+    if adv is None:  # skipped (gate --advise): the reason is in the JSON's advice_skipped
+        return "-"
+    return _net(adv["net"]) if adv["meets_tolerance"] else "out of reach"
+
+
 def _share(x) -> str:
     return "" if x is None else f"{100 * x:.0f}%"
 
@@ -145,7 +153,7 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
             for f in entry["faces"]:
                 sh = f["share"]
-                advised = _net(f["advice"]["net"]) if f["advice"]["meets_tolerance"] else "out of reach"
+                advised = _advised_cell(f["advice"])
                 verdict = f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]"
                 if wide:
                     table.add_row(_face_label(f), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
@@ -246,7 +254,7 @@ def to_junit(doc: dict) -> str:
             props = ET.SubElement(case, "properties")
             for name, value in (("verdict", f["verdict"]), ("value", f"{f['value']:.9g}"),
                                 ("tolerance", f"{pol['tolerance']:.9g}"), ("units", file_units(doc, entry)),
-                                ("advised_net", _net(f["advice"]["net"]))):
+                                ("advised_net", _net(f["advice"]["net"]) if f["advice"] else "")):
                 ET.SubElement(props, "property", name=name, value=value)
             if f.get("entity") is not None:
                 ET.SubElement(props, "property", name="entity", value=f"#{f['entity']}")
@@ -333,7 +341,7 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
             props = {"verdict": f["verdict"], "face": f["face"], "value": f["value"],
                      "tolerance": entry["policy"]["tolerance"], "metric": entry["policy"]["metric"],
                      "peaks": {k: f["budget"][k]["peak"] for k in _DIRECTIONS}, "net": f["net"],
-                     "advised_net": f["advice"]["net"], "units": file_units(doc, entry),
+                     "advised_net": f["advice"]["net"] if f["advice"] else None, "units": file_units(doc, entry),
                      "entity": None if f.get("entity") is None else f"#{f['entity']}",
                      "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at")}
             add(rule_id, level, f"{face_label(path, f)}: {face_numbers(doc, entry, f)}", path, f, props)

@@ -93,7 +93,7 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
     }
 
 
-def peak_location(net, scheme=None, field: str = "total") -> dict:
+def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
     """Where a face's ripple peaks: fine-grid index, surface parameters and position.
 
     Parameters
@@ -103,6 +103,9 @@ def peak_location(net, scheme=None, field: str = "total") -> dict:
         As :func:`cadartifact.budget` (the scheme the face was analysed with).
     field : str
         ``"total"`` (ripple) or ``"deviation"``.
+    current : Budget, optional
+        The face's budget under this scheme and the ``surface`` reading, computed with
+        ``keep_fields=True`` (the gate has it already); else it is computed here.
 
     Returns
     -------
@@ -116,7 +119,7 @@ def peak_location(net, scheme=None, field: str = "total") -> dict:
 
     from .artifact_budget import budget
 
-    b = budget(net, scheme, keep_fields=True)
+    b = current if current is not None and current.fields is not None else budget(net, scheme, keep_fields=True)
     values = np.where(b.region, np.abs(b.scalar_fields[field]), -np.inf)
     i, j = np.unravel_index(int(np.argmax(values)), values.shape)
     x, y = float(b.fields.x[i]), float(b.fields.y[j])
@@ -269,7 +272,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
 
 
-def _locate(rec: dict, path, net, key: str) -> None:
+def _locate(rec: dict, path, net, key: str, current=None) -> None:
     """Where a face is in its file (``entity_line``: the STEP entity's line) and, for a face beyond the
     tolerance, where its ripple peaks (``peak_at``, :func:`peak_location`); additive record fields."""
     from .errors import CadArtifactError
@@ -279,7 +282,7 @@ def _locate(rec: dict, path, net, key: str) -> None:
     rec["peak_at"] = None
     if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
         try:
-            rec["peak_at"] = peak_location(net, rec["scheme"], key)
+            rec["peak_at"] = peak_location(net, rec["scheme"], key, current)
         except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
             rec["peak_at"] = None
 
@@ -561,19 +564,25 @@ class RichProgress:
             self._p.update(self._task, advance=1, description=f"advising {label}")
 
 
+_ING = {"advised": "advising", "gated": "gating", "rendered": "rendering"}
+
+
 class LineProgress:
     """Progress for logs and pipes (no terminal): one plain line per file on stderr, with the time taken.
 
     Works as the ``progress`` callback of :func:`advise_files` (kind "file") and, through
-    :meth:`file_done`, of the gate and of ``view``.
+    :meth:`file_done`, of the gate and of ``view``. Inside a file of many faces (kind "face") a
+    heartbeat line follows every ``heartbeat`` seconds, so that a long file shows it is moving.
     """
 
-    def __init__(self, console, verb: str = "advised", total: int | None = None):
+    def __init__(self, console, verb: str = "advised", total: int | None = None, heartbeat: float = 10.0):
         import time
 
         self.console, self.verb, self.total, self.done = console, verb, total, 0
+        self.heartbeat = heartbeat
         self._clock = time.perf_counter
-        self._start = self._clock()
+        self._start = self._last = self._clock()
+        self._faces = 0
 
     def __enter__(self):
         return self
@@ -581,14 +590,27 @@ class LineProgress:
     def __exit__(self, *exc):
         return False
 
+    def _count(self, n: int) -> str:
+        return f"{n}/{self.total}" if self.total else str(n)
+
     def __call__(self, kind, total, label):
         if kind == "file":
             self.file_done(label, f"{plural(total, 'face')}")
+        elif kind == "face":
+            self._faces += 1
+            now = self._clock()
+            if now - self._last >= self.heartbeat:
+                self._last = now
+                where = label.rsplit("#", 1)[0]
+                self.console.print(f"cadartifact: [{self._count(self.done + 1)}] {_ING.get(self.verb, self.verb)} "
+                                   f"{where}: {plural(self._faces, 'face')} done ({now - self._start:.1f} s)",
+                                   markup=False, highlight=False, soft_wrap=True)
 
     def file_done(self, path: str, detail: str = "") -> None:
         self.done += 1
-        count = f"{self.done}/{self.total}" if self.total else str(self.done)
+        self._faces = 0
         now = self._clock()
         took, self._start = now - self._start, now
-        self.console.print(f"cadartifact: [{count}] {self.verb} {path}" + (f": {detail}" if detail else "")
+        self._last = now
+        self.console.print(f"cadartifact: [{self._count(self.done)}] {self.verb} {path}" + (f": {detail}" if detail else "")
                            + f" ({took:.1f} s)", markup=False, highlight=False, soft_wrap=True)

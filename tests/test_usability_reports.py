@@ -274,3 +274,29 @@ def test_advise_json_points_at_the_entity_and_the_peak(advice_doc):
                 assert r["peak_at"] is None
             else:
                 assert r["peak_at"]["value"] == pytest.approx(r["budget"]["total"]["peak"], rel=1e-9)
+
+
+def test_line_progress_heartbeat_inside_a_file_of_many_faces():
+    """Not a terminal: a line per file, and inside a long file a heartbeat with the faces done so far."""
+    import io
+
+    from rich.console import Console
+
+    from cadartifact.report import LineProgress
+
+    out = io.StringIO()
+    con = Console(file=out, force_terminal=False, width=200)
+    quiet = LineProgress(con, "advised", 2)  # default heartbeat (10 s): nothing between files in a quick run
+    for i in range(3):
+        quiet("face", None, f"hull.step#{i}")
+    quiet("file", 3, "hull.step")
+    assert out.getvalue().count("\n") == 1 and "cadartifact: [1/2] advised hull.step: 3 faces" in out.getvalue()
+    out.truncate(0), out.seek(0)
+    chatty = LineProgress(con, "advised", 2, heartbeat=0.0)
+    chatty("face", None, "hull.step#0")
+    chatty("face", None, "hull.step#1")
+    chatty("file", 2, "hull.step")
+    lines = out.getvalue().splitlines()
+    assert lines[0].startswith("cadartifact: [1/2] advising hull.step: 1 face done (")
+    assert lines[1].startswith("cadartifact: [1/2] advising hull.step: 2 faces done (")
+    assert lines[2].startswith("cadartifact: [1/2] advised hull.step: 2 faces (")

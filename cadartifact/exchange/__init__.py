@@ -296,8 +296,21 @@ def occ_surface(net: ControlNet):
 def evaluate_grid(net: ControlNet, u, v):
     """OCCT's evaluation of the net's surface on the outer grid ``u x v``: ``(len(u), len(v), 3)``.
 
-    See :func:`cadartifact.exchange.occ.evaluate_grid`.
+    See :func:`cadartifact.exchange.occ.evaluate_grid`. When this process has not imported OCP but
+    the reader child (:mod:`.isolation`) is running, the child evaluates (same function, same
+    numbers): a pipe round trip instead of importing OCP here, which takes about a second (the gate's
+    peak locations, the advice's verification after a read).
     """
+    import sys
+
+    from . import isolation
+
+    if "OCP" not in sys.modules and isolation.warm():
+        import numpy as np
+
+        args = (net, np.asarray(u, dtype=float), np.asarray(v, dtype=float))
+        return isolation.call("cadartifact.exchange.occ:evaluate_grid", args, path=net.origin.file or "<net>",
+                              what="OCCT")
     from .occ import evaluate_grid as _evaluate
 
     return _evaluate(net, u, v)

@@ -31,7 +31,8 @@ import time
 
 from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
 
-__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "read_timeout", "shutdown"]
+__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout", "warm",
+           "shutdown"]
 
 #: Seconds a reader may take on one file before it is stopped.
 DEFAULT_TIMEOUT = 120.0
@@ -144,6 +145,28 @@ def shutdown() -> None:
         if _child is not None:
             _child.kill()
             _child = None
+
+
+def warm() -> bool:
+    """Whether a reader child is running (started, not dead), so a call costs no start-up."""
+    with _lock:
+        return enabled() and _child is not None and _child.proc.poll() is None
+
+
+def prestart() -> None:
+    """Start the child now, without waiting for it: its import of OCP (about a second) then overlaps
+    this process's own imports and setup instead of following them. The first :func:`call` waits for
+    it as usual; a child never called is stopped at exit. Does nothing with isolation off."""
+    global _child
+    if not enabled():
+        return
+    with _lock:
+        if _child is None or _child.proc.poll() is not None:
+            if _child is not None:
+                _child.kill()
+            else:
+                atexit.register(shutdown)
+            _child = _Child()
 
 
 def _died_message(child: _Child) -> str:

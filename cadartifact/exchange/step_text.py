@@ -26,6 +26,13 @@ def entity_lines(path) -> list[tuple[int, int, str]]:
     return list(_entity_lines(os.fspath(path), stat.st_mtime_ns, stat.st_size))
 
 
+#: What matters to the scan, in one pass of the regex engine: strings ('' escapes a quote; an
+#: unterminated one runs to the end), comments, statement ends and record heads.
+_TOKENS = re.compile(r"'(?:[^']|'')*(?:'|\Z)|/\*.*?(?:\*/|\Z)|;|#(\d+)\s*=\s*([A-Za-z_][A-Za-z0-9_]*|\()",
+                     re.DOTALL)
+_BLANK_OR_HASH = re.compile(r"[\s#]*\Z")
+
+
 @functools.lru_cache(maxsize=32)
 def _entity_lines(path: str, mtime: int, size: int) -> tuple:
     try:
@@ -33,44 +40,26 @@ def _entity_lines(path: str, mtime: int, size: int) -> tuple:
             text = fh.read()
     except OSError:
         return ()
+    # a record counts only at the start of a statement (nothing but blanks, comments and strings since
+    # the last ';'); the regex skips the text between tokens, which is scanned only while at a start
     out = []
-    line = 1
-    i, n = 0, len(text)
-    at_start = True  # at the start of a statement (after ';' or the DATA keyword)
-    while i < n:
-        c = text[i]
-        if c == "\n":
-            line += 1
-            i += 1
-        elif c == "'":  # a string: '' is an escaped quote
-            j = i + 1
-            while j < n:
-                if text[j] == "'":
-                    if j + 1 < n and text[j + 1] == "'":
-                        j += 2
-                        continue
-                    break
-                j += 1
-            line += text.count("\n", i, j)
-            i = j + 1
-        elif c == "/" and text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            line += text.count("\n", i, j)
-            i = j
-        elif c == ";":
-            at_start = True
-            i += 1
-        elif c == "#" and at_start:
-            m = _RECORD.match(text, i)
-            if m:
-                out.append((int(m.group(1)), line, m.group(2).upper()))
+    line, counted = 1, 0  # line number at offset ``counted``
+    at_start, since = True, 0  # ``since``: end of the last token
+    for m in _TOKENS.finditer(text):
+        ident = m.group(1)
+        if ident is None:
+            c = text[m.start()]
+            if at_start and not _BLANK_OR_HASH.match(text, since, m.start()):
                 at_start = False
-            i += 1
+            if c == ";":
+                at_start = True
         else:
-            if not c.isspace():
-                at_start = False if c != "#" else at_start
-            i += 1
+            if at_start and _BLANK_OR_HASH.match(text, since, m.start()):
+                line += text.count("\n", counted, m.start())
+                counted = m.start()
+                out.append((int(ident), line, m.group(2).upper()))
+            at_start = False
+        since = m.end()
     return tuple(out)
 
 
@@ -78,7 +67,20 @@ def entity_line(path, entity: int | None) -> int | None:
     """The line where ``#entity`` is defined, None when unknown."""
     if entity is None:
         return None
-    for ident, line, _ in entity_lines(path):
-        if ident == entity:
-            return line
-    return None
+    return _lines_by_id(path).get(entity)
+
+
+def _lines_by_id(path) -> dict:
+    try:
+        stat = os.stat(path)
+    except OSError:
+        return {}
+    return _index(os.fspath(path), stat.st_mtime_ns, stat.st_size)
+
+
+@functools.lru_cache(maxsize=8)
+def _index(path: str, mtime: int, size: int) -> dict:
+    out = {}
+    for ident, line, _ in _entity_lines(path, mtime, size):
+        out.setdefault(ident, line)  # the first definition, as a scan in file order finds it
+    return out
