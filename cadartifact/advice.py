@@ -331,7 +331,8 @@ def _straight(points: np.ndarray, axis: int, rtol: float = 1e-9) -> bool:
 
 def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak", intent: str = "surface",
            objective: str = "deviation", include_signal_error: bool | None = None, levels: int = 3,
-           component: str = "normal", compare: bool | str = "auto", verify: bool = True) -> Advice:
+           component: str = "normal", compare: bool | str = "auto", verify: bool = True,
+           current: Budget | None = None) -> Advice:
     """Advise the control-point density that keeps the error within ``tolerance``.
 
     Parameters
@@ -358,6 +359,9 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     verify : bool
         Build the advised net as a real B-spline surface (OCCT), evaluate it and measure it against
         the intent on the whole face, and the same one step coarser in the binding direction.
+    current : Budget, optional
+        Today's budget of this net when the caller has it (same scheme, metric, levels, component and
+        intent, fields kept): it is not computed again.
 
     Returns
     -------
@@ -384,8 +388,12 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
-    current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component, intent=intent,
-                     keep_fields=True)
+    reuse = (current is not None and current.net is net and current.fields is not None and current.scheme == sch.name
+             and (current.metric, current.levels, current.component, current.intent) == (metric, levels, component,
+                                                                                         intent))
+    if not reuse:
+        current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component, intent=intent,
+                         keep_fields=True)
     work = analysis_net(net, sch)
     # one intent for both check grids (only the grid's density differs): the fields of today's budget
     scorers = {lv: _make_scorer(net, work, sch, intent, lv, metric, component, current)
@@ -551,7 +559,7 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
 
         low = (3, 3)
         high = tuple(max(l + 1, min(MAX_POINTS // 4, GROWTH * n)) for l, n in zip(low, work.shape))
-        s2, ok2 = frontier(ok, low, high, work.shape)
+        s2, ok2 = frontier(ok, low, high, tuple(shape))  # the schemes' answers lie near this scheme's
         out[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2),
                            "objective": "ripple"}
     return out

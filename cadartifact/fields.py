@@ -178,18 +178,26 @@ def _baseband_lifted(bb: dict, x, y) -> np.ndarray:
 
 
 def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:
-    """The base-band bins of a half fine-grid spectrum, with a polynomial, for :func:`baseband_at`."""
+    """The base-band bins of a half fine-grid spectrum, with a polynomial, for :func:`baseband_at`.
+
+    The full spectrum's bins are read off the half spectrum (``X[k, l] = conj(X[-k, -l])`` for the
+    columns ``rfft2`` leaves out): no transform of the whole grid.
+    """
     A, B = fu.K * fu.period, fv.K * fv.period
-    # back to the full spectrum along v (the half spectrum's symmetry is 2-D, not per row)
-    full = np.fft.fft(np.fft.irfft(np.fft.ifft(half_spec, axis=0), n=B, axis=1), axis=1)
-    full = np.fft.fft(full, axis=0)
     idx, freqs = [], []
     for frame in (fu, fv):
         f = _fine_freqs(frame)
         k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
         idx.append(k)
         freqs.append(f[k])
-    return {"spec": full[np.ix_(idx[0], idx[1])], "freqs": freqs, "frames": (fu, fv), "poly": poly}
+    ku, kv = idx
+    direct = kv <= B // 2
+    out = np.empty((len(ku), len(kv)) + half_spec.shape[2:], complex)
+    out[:, direct] = half_spec[np.ix_(ku, kv[direct])]
+    mirrored = ~direct
+    if mirrored.any():
+        out[:, mirrored] = np.conj(half_spec[np.ix_((-ku) % A, (B - kv[mirrored]) % B)])
+    return {"spec": out, "freqs": freqs, "frames": (fu, fv), "poly": poly}
 
 
 def _coef_matrix(intent: Intent, coef: np.ndarray) -> np.ndarray:

@@ -81,7 +81,7 @@ _CACHE: dict = {}
 def candidate_axis(frame: AxisFrame, n_new: int, degree: int, K: int) -> CandidateAxis:
     """The (cached) :class:`CandidateAxis` of ``n_new`` points along a frame's direction."""
     key = (frame.n, frame.periodic, frame.spans, frame.u0, frame.h, n_new, degree, K)
-    got = _CACHE.get(key)
+    got = _CACHE.pop(key, None)
     if got is None:
         p = int(min(degree, n_new - 1))
         lo, hi = frame.u0, frame.u0 + frame.h * frame.spans
@@ -89,9 +89,9 @@ def candidate_axis(frame: AxisFrame, n_new: int, degree: int, K: int) -> Candida
         x = fine_positions(frame, check_count(frame, n_new, p, K))
         B = basis_matrix(t, p, frame.param(x), n_new, frame.periodic)
         got = CandidateAxis(n_new, p, t, x, B, _fit_operator(B, frame.periodic))
-        if len(_CACHE) > 512:
-            _CACHE.clear()
-        _CACHE[key] = got
+    _CACHE[key] = got  # most recently used last; the least recently used go first
+    while len(_CACHE) > 512:
+        _CACHE.pop(next(iter(_CACHE)))
     return got
 
 

@@ -257,7 +257,8 @@ def _face_entry(net, settings: FileSettings, verify: bool) -> tuple[dict, object
         # verification costs a real-surface evaluation: only for faces that fail today
         check = verify and not current.meets(settings.include_signal_error)
         adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
-                     include_signal_error=settings.include_signal_error, compare=False, verify=check)
+                     include_signal_error=settings.include_signal_error, compare=False, verify=check,
+                     current=current if current.fields is not None else None)
         rec = face_record(net, adv)
         if rec["budget"][key][settings.metric] is None:
             raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")

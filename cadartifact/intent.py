@@ -148,15 +148,19 @@ class AxisIntent:
 
 _CACHE: dict = {}
 
+#: Per-axis operators kept (least recently used dropped first).
+CACHE_SIZE = 1024
+
 
 def axis_intent(frame: AxisFrame, degree: int) -> AxisIntent:
     """The cached :class:`AxisIntent` of a frame (keyed by its geometry, not its levels)."""
     key = (frame.n, frame.periodic, frame.spans, round(frame.offset, 12), frame.xs.round(12).tobytes(), degree)
-    got = _CACHE.get(key)
+    got = _CACHE.pop(key, None)
     if got is None:
-        if len(_CACHE) > 256:
-            _CACHE.clear()
-        got = _CACHE[key] = AxisIntent(frame, degree)
+        got = AxisIntent(frame, degree)
+    _CACHE[key] = got  # most recently used last
+    while len(_CACHE) > CACHE_SIZE:  # least recently used first out (a density search revisits its sizes)
+        _CACHE.pop(next(iter(_CACHE)))
     return got
 
 
