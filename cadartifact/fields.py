@@ -136,9 +136,28 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
         ``signal_error, x1, x2, diagonal, lateral, total``.
     """
     A, B = fu.K * fu.period, fv.K * fv.period
-    masks = _band_masks(_fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1]), _one_piece(fu, fv))
-    out = {name: _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
-           for name, m in masks.items() if lateral or name != "lateral"}
+    fa, fb = _fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1])
+    smooth = _one_piece(fu, fv)
+    # the four bands are tensor products of a u mask and a v mask: invert along u per u mask, keep the
+    # domain's rows, then along v per v mask, keep its columns (no full-size inverse per band)
+    hu = (np.abs(fa) >= 0.5 - 1e-12) & (not smooth[0])
+    hv = (fb >= 0.5 - 1e-12) & (not smooth[1])
+    iu = (fu.shift + np.arange(fu.fine_count)) % A
+    iv = (fv.shift + np.arange(fv.fine_count)) % B
+    rows = {}
+    for name_u, mu in (("lo", ~hu), ("hi", hu)):
+        rows[name_u] = np.fft.ifft(spectrum * mu[:, None, None], axis=0)[iu] if mu.any() else None
+    pick = {"signal_error": ("lo", ~hv), "x1": ("hi", ~hv), "x2": ("lo", hv), "diagonal": ("hi", hv)}
+    out = {}
+    for name, (name_u, mv) in pick.items():
+        r = rows[name_u]
+        if r is None or not mv.any():
+            out[name] = np.zeros((fu.fine_count, fv.fine_count) + spectrum.shape[2:])
+        else:
+            out[name] = np.fft.irfft(r * mv[None, :, None], n=B, axis=1)[:, iv]
+    if lateral:
+        m = _band_masks(fa, fb, smooth)["lateral"]
+        out["lateral"] = _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out
 
