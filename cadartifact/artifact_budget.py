@@ -8,6 +8,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -90,6 +91,8 @@ class Budget:
         The fine-grid points the stats were taken over (kept on request).
     pieces : (int, int) or None
         A face split at its junctions (:mod:`cadartifact.pieces`): the grid of pieces analysed.
+    caveats : tuple of str
+        What the analysis could not do for this face (it is then in :attr:`notes`).
     """
 
     net: ControlNet
@@ -108,13 +111,14 @@ class Budget:
     scalar_fields: dict | None = field(default=None, repr=False)
     region: np.ndarray | None = field(default=None, repr=False)
     pieces: tuple | None = None
+    caveats: tuple = ()
 
     @property
     def notes(self) -> list[str]:
         """Plain-language caveats about these numbers."""
         from .intent import UNDERSAMPLED_SHARE
 
-        out = []
+        out = list(self.caveats)
         if self.undersampled > UNDERSAMPLED_SHARE:
             out.append(f"the net under-samples its intent: {self.undersampled:.0%} of its content lies above "
                        "0.4 cycles per control point, which no net of this density can tell from ripple")
@@ -306,6 +310,9 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         if len(pieces) > 1 or pieces[0].net is not work:
             return _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region,
                                      intent, keep_fields)
+        if pieces[0].note:
+            b = _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
+            return dataclasses.replace(b, reason=f"{b.reason}; {pieces[0].note}", caveats=(pieces[0].note,))
     return _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
 
 

@@ -178,6 +178,10 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
                 console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
                               + (f"; {where}" if where else ""), soft_wrap=True)
+        for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
+            for note in f.get("notes") or []:
+                console.print(f"  note: {face_label(entry['path'], f)}: {note}", soft_wrap=True, markup=False,
+                              highlight=False)
         if entry.get("share_failure"):
             console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)
         for note in entry["notes"] + entry["warnings"]:

@@ -253,7 +253,8 @@ class Intent:
         rounding to compare). 0 for a net that is its trend (to 1e-6 of its spread). Content there
         cannot be told from ripple, nor reconstructed between the points: the report says so above
         :data:`UNDERSAMPLED_SHARE`. Directions of fewer than 10 spans are not judged (a Bezier or
-        few-span direction has no frequency resolution to speak of).
+        few-span direction has no frequency resolution to speak of), nor directions with multiple knots
+        (their control points are not samples of the shape: a C1 arc's points zigzag on and off it).
         """
         P = self.net.points.reshape(-1, 3)
         if self.homogeneous:  # judge the shape's content, not the weights' (the projection of the intent)
@@ -267,6 +268,8 @@ class Intent:
         for axis, frame in enumerate(self.frames):
             if frame.spans < 10:  # the window cannot tell 0.35 from 0.4 cycles (resolution 1/L)
                 continue
+            if _multiple_knots(self.net, axis):  # its points are not samples (a C1 arc's zigzag): nothing to judge
+                continue
             a = np.moveaxis(R, axis, 0)
             a = a - a.mean(axis=0)
             win = np.ones(len(a)) if frame.periodic else np.hanning(len(a))
@@ -276,6 +279,16 @@ class Intent:
             his.append(float(power[f >= UNDERSAMPLED_FREQUENCY].sum()))
             tots.append(float(power.sum()))
         return float(np.sqrt(max(his) / max(tots))) if max(tots) > 0 else 0.0  # 0: no direction could tell
+
+
+def _multiple_knots(net: ControlNet, axis: int) -> bool:
+    """Whether a direction of a face has an interior knot of multiplicity > 1."""
+    if net.knots is None:
+        return False
+    from .net import _distinct_knots
+
+    return any(m > 1 for _, m in _distinct_knots(net.knots[axis], net.degrees[axis], net.shape[axis],
+                                                  net.periodic[axis]))
 
 
 class _Reproduces:

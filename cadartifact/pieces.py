@@ -52,6 +52,7 @@ class Piece:
     lo: tuple
     hi: tuple
     index: tuple
+    note: str | None = None
 
 
 def _open_pieces(t: np.ndarray, p: int, n: int) -> list[tuple[np.ndarray, np.ndarray, float, float]]:
@@ -131,8 +132,11 @@ def split_net(net: ControlNet) -> list[Piece]:
         return [Piece(net, (0.0, 0.0), (0.0, 0.0), (0, 0))]
     axes = [_axis_pieces(net, k) for k in (0, 1)]
     unsplit = all(len(a) == 1 and a[0][4] == per for a, per in zip(axes, net.periodic))
-    if unsplit or len(axes[0]) * len(axes[1]) > MAX_PIECES:
-        return [Piece(net, (axes[0][0][2], axes[1][0][2]), (axes[0][0][3], axes[1][0][3]), (0, 0))]
+    count = len(axes[0]) * len(axes[1])
+    if unsplit or count > MAX_PIECES:
+        note = None if unsplit else (f"{count} pieces between its junctions (more than {MAX_PIECES}): analysed "
+                                     "whole, so its junctions read as ripple")
+        return [Piece(net, (axes[0][0][2], axes[1][0][2]), (axes[0][0][3], axes[1][0][3]), (0, 0), note)]
     out = []
     for a, (iu, ku, ulo, uhi, up) in enumerate(axes[0]):
         for b, (iv, kv, vlo, vhi, vp) in enumerate(axes[1]):
