@@ -63,8 +63,14 @@ def file_digest(path) -> str:
     return h.hexdigest()
 
 
+#: Revision of the analysis a cached record came from: raised when the numbers a file gets change while the
+#: version does not (development builds), so an older build's records are not served.
+ANALYSIS_REVISION = 2  # 2: homogeneous rational faces, junctions, canonical faces (issue 10)
+
+
 def cache_key(digest: str, settings, verify: bool) -> str:
-    """The cache key of one file: SHA-256 over its digest, policy, ``verify``, version and schema.
+    """The cache key of one file: SHA-256 over its digest, policy, ``verify``, version, schema and
+    :data:`ANALYSIS_REVISION`.
 
     Parameters
     ----------
@@ -78,7 +84,7 @@ def cache_key(digest: str, settings, verify: bool) -> str:
     from .gate import GATE_SCHEMA
 
     text = _canonical({"content": digest, "policy": settings.to_dict(), "verify": bool(verify),
-                       "version": __version__, "schema": GATE_SCHEMA})
+                       "version": __version__, "schema": GATE_SCHEMA, "analysis": ANALYSIS_REVISION})
     return hashlib.sha256(text.encode()).hexdigest()
 
 
