@@ -370,13 +370,31 @@ def measured_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFie
     The net's points never enter the split, so how they sit near a clamped border cannot leak into
     the ripple; periodic directions wrap, and there the road equals the predicted one to rounding.
     """
-    from .measure import real_surface
+    from .measure import measurement_road, real_surface
 
     fu, fv = intent.frames
     real = real_surface(intent, scheme)
+    if fu.ripple_free and fv.ripple_free and measurement_road(intent.net, scheme)[0] == "face":
+        # nothing along either direction can alias (canonical, Bezier or degree-1 both ways): no ripple at all,
+        # the surface is its own intent (no split needed)
+        return _assemble(intent, {k: np.zeros_like(real) for k in ("x1", "x2", "diagonal", "lateral", "total")},
+                         real, real, "measured", reading, {"evaluate": _surface_of(intent)})
     wide = tuple(f.with_extension(MEASURED_EXTENSION) for f in (fu, fv))
     bands, smooth, baseband = _bridged_bands(real, wide, scheme)
     return _assemble(intent, bands, smooth, real, "measured", reading, baseband)
+
+
+def _surface_of(intent: Intent):
+    """The face's own surface at analysis coordinates (the intent of a face with no ripple band)."""
+    from .splines import evaluate
+
+    fu, fv = intent.frames
+
+    def at(x, y):
+        return from_homogeneous(evaluate(intent.net, fu.param(x), fv.param(y), points=intent.lifted_points,
+                                         homogeneous=intent.homogeneous))
+
+    return at
 
 
 def _bridged_bands(field: np.ndarray, frames, scheme) -> tuple[dict, np.ndarray, dict]:
