@@ -23,11 +23,12 @@ import numpy as np
 from .artifact_budget import METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme
 from .errors import OptionError, check_option
 from .fields import baseband_at, intent_normals, project
-from .fitting import candidate_axis, candidate_net, fit_points
+from .fitting import candidate_axis, candidate_net, curve_distance, fit_points
 from .frames import fine_positions
 from .intent import READINGS
 from .density_search import frontier, gallop
 from .net import ControlNet
+from .pieces import face_kind
 
 __all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
 
@@ -137,10 +138,10 @@ class _Scorer:
         lines = self._borders[key]
         if "u" in lines:
             for k in (0, 1):
-                out = max(out, _curve_distance(S[[0, -1][k]], lines["u"][k]))
+                out = max(out, curve_distance(S[[0, -1][k]], lines["u"][k]))
         if "v" in lines:
             for k in (0, 1):
-                out = max(out, _curve_distance(S[:, [0, -1][k]], lines["v"][:, k]))
+                out = max(out, curve_distance(S[:, [0, -1][k]], lines["v"][:, k]))
         return out
 
     def today(self) -> dict:
@@ -151,35 +152,6 @@ class _Scorer:
         out = self._measure(real - I, normal, keep)
         out["boundary"] = 0.0
         return out
-
-
-def _face_kind(net: ControlNet) -> str | None:
-    """How a face is written when it is not one uniform polynomial net: "piecewise-Bezier", "rational"..."""
-    if net.knots is None:
-        return None
-    from .net import bezier_direction, junctions
-
-    words = []
-    dirs = list(zip(net.knots, net.degrees, net.shape, net.periodic))
-    if any(bezier_direction(k, p, n, per) and n > p + 1 for k, p, n, per in dirs):
-        words.append("piecewise-Bezier")
-    elif any(junctions(k, p, n, per) for k, p, n, per in dirs):
-        words.append("jointed")
-    elif not all(net.knots_uniform):
-        words.append("non-uniform")
-    if net.weights_vary:
-        words.append("rational")
-    return " ".join(words) or None
-
-
-def _curve_distance(points: np.ndarray, curve: np.ndarray) -> float:
-    """Largest distance of ``points (k, 3)`` to the polyline ``curve (m, 3)``."""
-    a, b = curve[:-1], curve[1:]
-    d = b - a
-    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-    t = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], d) / L2, 0.0, 1.0)
-    near = a[None] + t[..., None] * d[None]
-    return float(np.sqrt(np.min(np.sum((points[:, None, :] - near) ** 2, axis=-1), axis=1)).max())
 
 
 def _trimmed(net: ControlNet, frames) -> bool:
@@ -456,7 +428,7 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     if stats["boundary"].peak > t:
         notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
                      "the tolerance): neighbouring faces must follow")
-    what = _face_kind(work)
+    what = face_kind(work)
     if what and not kept and meets:
         notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} uniform "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")

@@ -18,6 +18,7 @@ from .errors import OptionError, check_option
 from .fields import COMPONENTS, FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals, project
 from .intent import READINGS, design_intent
 from .net import ControlNet
+from .pieces import gather_fields, split_net
 
 __all__ = ["Budget", "Stat", "budget", "default_scheme", "METHODS", "METRICS", "REGIONS"]
 
@@ -304,8 +305,6 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
     work = analysis_net(net, sch)
     if work.knots is not None:
-        from .pieces import split_net
-
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work:
             return _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region,
@@ -369,8 +368,6 @@ def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels,
                       keep_fields) -> Budget:
     """The budget of a face split at its junctions (:mod:`cadartifact.pieces`): each piece analysed as a
     net of its own; peaks over all pieces, RMS over all their fine-grid samples."""
-    from .pieces import gather_fields
-
     parts = [_budget_of(p.net, p.net, sch, None, metric, method, levels, component, region, intent, keep_fields,
                         keep_scalars=True) for p in pieces]
     scalars = [dict(b.scalar_fields, __region__=b.region) for b in parts]

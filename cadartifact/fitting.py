@@ -31,7 +31,8 @@ from .net import ControlNet, clamped_uniform_knots
 from .splines import basis_matrix
 from .tensor import sandwich
 
-__all__ = ["CandidateAxis", "candidate_axis", "check_count", "candidate_net", "fit_points", "uniform_knots"]
+__all__ = ["CandidateAxis", "candidate_axis", "check_count", "candidate_net", "fit_points", "uniform_knots",
+           "curve_distance"]
 
 
 def uniform_knots(n: int, degree: int, lo: float, hi: float, periodic: bool) -> np.ndarray:
@@ -136,3 +137,14 @@ def candidate_net(net: ControlNet, points: np.ndarray, cu: CandidateAxis, cv: Ca
     return ControlNet(points=points, degrees=(cu.degree, cv.degree), knots=(cu.knots, cv.knots),
                       periodic=net.periodic, unit=net.unit, uv_bounds=net.uv_bounds,
                       origin=NetOrigin(file=origin.file, face=origin.face, name=origin.name, kind=kind))
+
+
+def curve_distance(points: np.ndarray, curve: np.ndarray) -> float:
+    """Largest distance of ``points (k, 3)`` to the polyline ``curve (m, 3)`` (closest point on each segment):
+    how far a candidate's border curve lies from today's, whatever either's parametrisation."""
+    a, b = curve[:-1], curve[1:]
+    d = b - a
+    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    t = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], d) / L2, 0.0, 1.0)
+    near = a[None] + t[..., None] * d[None]
+    return float(np.sqrt(np.min(np.sum((points[:, None, :] - near) ** 2, axis=-1), axis=1)).max())

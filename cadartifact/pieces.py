@@ -28,7 +28,7 @@ from .fields import ArtifactFields, baseband_at
 from .frames import axis_frames
 from .net import ControlNet, bezier_direction, junctions, knot_runs as _runs
 
-__all__ = ["Piece", "junctions", "split_net", "gather_fields", "PiecewiseIntent", "MAX_PIECES"]
+__all__ = ["Piece", "junctions", "split_net", "gather_fields", "PiecewiseIntent", "MAX_PIECES", "face_kind"]
 
 #: A face split into more pieces than this is analysed whole (its junctions are then read as ripple).
 MAX_PIECES = 400
@@ -335,3 +335,20 @@ class PiecewiseIntent:
         x = self.frames[0].x if x is None else x
         y = self.frames[1].x if y is None else y
         return self._evaluate(x, y, lambda i, p, xl, yl: self._intents[i].evaluate(xl, yl))
+
+
+def face_kind(net: ControlNet) -> str | None:
+    """How a face is written when it is not one uniform polynomial net: "piecewise-Bezier", "rational"..."""
+    if net.knots is None:
+        return None
+    words = []
+    dirs = list(zip(net.knots, net.degrees, net.shape, net.periodic))
+    if any(bezier_direction(k, p, n, per) and n > p + 1 for k, p, n, per in dirs):
+        words.append("piecewise-Bezier")
+    elif any(junctions(k, p, n, per) for k, p, n, per in dirs):
+        words.append("jointed")
+    elif not all(net.knots_uniform):
+        words.append("non-uniform")
+    if net.weights_vary:
+        words.append("rational")
+    return " ".join(words) or None
