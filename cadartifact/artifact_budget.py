@@ -364,6 +364,11 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
                   region=keep if keep_fields or keep_scalars else None)
 
 
+def _after_junction(a: np.ndarray, piece) -> np.ndarray:
+    """A piece's fine-grid array without its first row/column where it repeats the previous piece's last."""
+    return a[(1 if piece.index[0] > 0 else 0):, (1 if piece.index[1] > 0 else 0):]
+
+
 def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region, intent,
                       keep_fields) -> Budget:
     """The budget of a face split at its junctions (:mod:`cadartifact.pieces`): each piece analysed as a
@@ -375,8 +380,9 @@ def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels,
     if keep_fields:
         fields, gathered = gather_fields(work, pieces, [b.fields for b in parts], scalars, levels)
         keep = gathered.pop("__region__")
-    else:
-        gathered = {name: np.concatenate([s[name][s["__region__"]].ravel() for s in scalars])
+    else:  # the same samples as the gathered grid (a junction's row once), without building it
+        gathered = {name: np.concatenate([_after_junction(s[name], p)[_after_junction(s["__region__"], p)].ravel()
+                                          for s, p in zip(scalars, pieces)])
                     for name in scalars[0] if name != "__region__"}
         keep = np.ones(next(iter(gathered.values())).shape, bool)
     stats = _stats(gathered, keep)

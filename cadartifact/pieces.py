@@ -144,8 +144,11 @@ def split_net(net: ControlNet) -> list[Piece]:
             w = None if net.weights is None else net.weights[np.ix_(iu, iv)]
             bounds = None
             if net.uv_bounds is not None:
-                bu = _clip(net.uv_bounds[0], net.uv_bounds[1], ulo, uhi, net.periodic[0], _period(net, 0))
-                bv = _clip(net.uv_bounds[2], net.uv_bounds[3], vlo, vhi, net.periodic[1], _period(net, 1))
+                # a direction left whole keeps the face's bounds (a periodic one may cross its seam)
+                bu = (tuple(net.uv_bounds[:2]) if len(axes[0]) == 1 and up == net.periodic[0] else
+                      _clip(net.uv_bounds[0], net.uv_bounds[1], ulo, uhi, net.periodic[0], _period(net, 0)))
+                bv = (tuple(net.uv_bounds[2:]) if len(axes[1]) == 1 and vp == net.periodic[1] else
+                      _clip(net.uv_bounds[2], net.uv_bounds[3], vlo, vhi, net.periodic[1], _period(net, 1)))
                 if bu is None or bv is None:
                     continue  # trimmed away
                 bounds = bu + bv

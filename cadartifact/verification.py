@@ -40,7 +40,9 @@ def verify_advice(scorer, shape, binding, tolerance: float, advised, target: flo
     """
     target = tolerance if target is None else target
     metric = scorer.metric
-    if advised.knots is None:  # today's cage kept as the advice: its own surface was scored already
+    if advised.knots is None or (advised is scorer.net and scorer.work is not scorer.net):
+        # today's net kept as the advice where the scheme reads it as a cage (a cage, or a face under another
+        # scheme): its own surface under the scheme was scored already
         today = scorer.today()
         return {"method": "today", "levels": int(round(np.log2(scorer.K))), "region": "face",
                 "value": today[metric], "rms": today["rms"], "meets": bool(today[metric] <= tolerance)}

@@ -298,3 +298,33 @@ def test_a_straight_degree_one_direction_is_never_advised_more_points(nv, q, twi
     a = ca.advise(net, 0.05, compare=False, verify=False)
     assert a.shape[0] <= nu
     assert a.current.stats["x1"].peak == 0.0
+
+
+# ---------------------------------------------------------------- regressions found in review
+def test_a_face_kept_under_another_scheme_is_verified_as_that_scheme_reads_it():
+    x, y = np.meshgrid(np.linspace(0, 100, 12), np.linspace(0, 70, 10), indexing="ij")
+    z = 2 * np.cos(2 * np.pi * (x + 0.6 * y) / 100 * 3) + 0.1 * x
+    net = ControlNet.from_points(np.stack([x, y, z], -1), degrees=(2, 2))
+    a = ca.advise(net, 0.05, scheme="bicubic", compare=False)  # crashed: face parameters on the cage's frames
+    assert a.kept_today and a.verification["method"] == "today"
+
+
+def test_a_periodic_direction_left_whole_keeps_its_trimmed_range_across_the_seam():
+    p, n = 3, 12
+    ku = np.arange(n + 2 * p + 1, dtype=float) / n  # uniform periodic, no junction
+    kv = np.array([0, 0, 0, 0, 0.25, 0.5, 0.5, 0.5, 0.75, 1, 1, 1, 1.0])  # a junction at 0.5
+    th = 2 * np.pi * np.arange(n) / n
+    pts = np.stack(np.broadcast_arrays(10 * np.cos(th)[:, None], 10 * np.sin(th)[:, None],
+                                       np.arange(9.0)[None, :] * 3), -1)
+    net = ControlNet(points=pts, degrees=(p, p), knots=(ku, kv), periodic=(True, False), uv_bounds=(0.8, 1.2, 0, 1))
+    pieces = split_net(net)
+    assert len(pieces) == 2 and all(pc.net.uv_bounds[:2] == (0.8, 1.2) for pc in pieces)
+
+
+def test_the_rms_of_a_split_face_does_not_depend_on_keeping_its_fields():
+    face = _creased(3, 10, 2.0, 4, cuts=2)
+    a, b = ca.budget(face), ca.budget(face, keep_fields=True)
+    assert a.pieces == (3, 1)
+    for k in ("total", "x1", "lateral"):
+        assert a.stats[k].rms == pytest.approx(b.stats[k].rms, rel=1e-12)
+        assert a.stats[k].peak == b.stats[k].peak
