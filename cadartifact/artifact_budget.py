@@ -391,10 +391,8 @@ def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels,
     first = parts[0]
     reason = (f"{first.reason}; split at its junctions (knots of multiplicity >= the degree) into {rows}x{cols} "
               f"pieces analysed separately")
-    check = None
-    if method == "both":
-        worst = max((b.check for b in parts if b.check), key=lambda c: c["max_abs_diff"], default=None)
-        check = worst
+    # method "both": the pieces' worst agreement between the roads
+    check = max((b.check for b in parts if b.check), key=lambda c: c["max_abs_diff"], default=None)
     return Budget(net=net, scheme=sch.name, method=first.method, reason=reason, tolerance=tolerance, metric=metric,
                   component=component, levels=levels, stats=stats, check=check, intent=intent,
                   undersampled=max(b.undersampled for b in parts), pieces=(rows, cols),

@@ -97,18 +97,19 @@ def candidate_axis(frame: AxisFrame, n_new: int, degree: int, K: int) -> Candida
 
 
 def _fit_operator(B: np.ndarray, periodic: bool) -> np.ndarray:
-    """``(n, m)``: samples -> control points. Periodic: least squares. Open: the end poles take the end
-    samples (a clamped candidate passes through its end poles, so its border curves are the fits of today's
-    border curves and its corners today's corners: neighbouring faces still meet, SPEC §5), the rest least
-    squares of what the ends leave."""
+    """``(n, m)``: samples -> control points. Periodic (or fewer than 3 points): least squares. Open: the end
+    poles take the end samples (a clamped candidate passes through its end poles, so its border curves are
+    the fits of today's border curves and its corners today's corners: neighbouring faces still meet,
+    SPEC §5), the rest least squares of what the ends leave: ``pinv(B_inner) (I - B_0 e_0' - B_last e_last')``."""
     n, m = B.shape[1], B.shape[0]
     if periodic or n < 3:
         return np.linalg.pinv(B)
     E = np.zeros((n, m))
     E[0, 0] = E[-1, -1] = 1.0
     inner = np.linalg.pinv(B[:, 1:-1])  # (n-2, m)
-    rest = np.eye(m) - B[:, [0]] @ E[[0]] - B[:, [-1]] @ E[[-1]]
-    E[1:-1] = inner @ rest
+    E[1:-1] = inner
+    E[1:-1, 0] -= inner @ B[:, 0]  # the end samples' share, taken out column by column (no m x m matrix)
+    E[1:-1, -1] -= inner @ B[:, -1]
     return E
 
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import OptionError
-from .net import ControlNet, bezier_direction, greville
+from .net import ControlNet, bezier_direction, greville, lifted
 
 __all__ = ["AxisFrame", "axis_frames", "fine_positions"]
 
@@ -183,11 +183,7 @@ def one_polynomial(net: ControlNet, axis: int) -> bool:
         return False
     s = np.linspace(lo, hi, 4 * (p + 1))
     B = basis_matrix(t, p, s, n, False)  # (m, n)
-    P = np.asarray(net.points, float)
-    if net.weights is not None:
-        w = np.asarray(net.weights, float)[:, :, None]
-        P = np.concatenate([P * w, w], axis=-1)
-    P = np.moveaxis(P, axis, 0).reshape(n, -1)
+    P = np.moveaxis(lifted(net), axis, 0).reshape(n, -1)
     rows = B @ P  # the surface along the direction, at every pole of the other one (it is linear in them)
     V = L.legvander(2 * (s - lo) / (hi - lo) - 1, p)
     resid = rows - V @ np.linalg.lstsq(V, rows, rcond=None)[0]

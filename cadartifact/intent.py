@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .frames import AxisFrame, axis_frames
-from .net import ControlNet
+from .net import ControlNet, knot_multiplicities, lifted
 from .tensor import sandwich
 
 __all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "lifted", "from_homogeneous", "READINGS", "F_MAX", "SOBOLEV",
@@ -256,9 +256,9 @@ class Intent:
         few-span direction has no frequency resolution to speak of), nor directions with multiple knots
         (their control points are not samples of the shape: a C1 arc's points zigzag on and off it).
         """
-        P = self.net.points.reshape(-1, 3)
         if self.homogeneous:  # judge the shape's content, not the weights' (the projection of the intent)
             return design_intent(self.net.replace(weights=None), _Reproduces(self), self.levels).undersampled()
+        P = self.net.points.reshape(-1, 3)
         spread = float(np.sqrt(np.mean(np.sum((P - P.mean(axis=0)) ** 2, axis=1))))
         if float(np.sqrt(np.mean(np.sum(self.residual ** 2, axis=-1)))) <= 1e-6 * spread:
             return 0.0
@@ -285,10 +285,8 @@ def _multiple_knots(net: ControlNet, axis: int) -> bool:
     """Whether a direction of a face has an interior knot of multiplicity > 1."""
     if net.knots is None:
         return False
-    from .net import _distinct_knots
-
-    return any(m > 1 for _, m in _distinct_knots(net.knots[axis], net.degrees[axis], net.shape[axis],
-                                                  net.periodic[axis]))
+    return any(m > 1 for _, m in knot_multiplicities(net.knots[axis], net.degrees[axis], net.shape[axis],
+                                                      net.periodic[axis]))
 
 
 class _Reproduces:
@@ -297,17 +295,6 @@ class _Reproduces:
     def __init__(self, intent: Intent):
         self.reproduction_degree = max(max(t) for t in intent.terms) if intent.terms else 0
         self.tensor = True
-
-
-def lifted(net: ControlNet) -> np.ndarray:
-    """The points a net is analysed in: ``(nu, nv, 3)`` control points, or ``(nu, nv, 4)`` homogeneous
-    ``(w P, w)`` when its weights vary (SPEC §4: a NURBS face is the projection of a non-rational
-    B-spline in homogeneous coordinates, where the uniform theory applies exactly)."""
-    P = np.asarray(net.points, float)
-    if not net.weights_vary:
-        return P
-    w = np.asarray(net.weights, float)[:, :, None]
-    return np.concatenate([P * w, w], axis=-1)
 
 
 def from_homogeneous(H: np.ndarray) -> np.ndarray:

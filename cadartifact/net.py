@@ -28,7 +28,9 @@ __all__ = [
     "greville",
     "knots_are_uniform",
     "junctions",
+    "knot_multiplicities",
     "knot_runs",
+    "lifted",
     "bezier_direction",
 ]
 
@@ -166,7 +168,7 @@ def knot_runs(values: np.ndarray, scale: float) -> list[tuple[float, int, int]]:
     return out
 
 
-def _distinct_knots(knots: np.ndarray, degree: int, n: int, periodic: bool) -> list[tuple[float, int]]:
+def knot_multiplicities(knots: np.ndarray, degree: int, n: int, periodic: bool) -> list[tuple[float, int]]:
     """``(value, multiplicity)`` of each distinct interior knot (a periodic direction: each knot of one
     period, a run cut by the period's end merged with its start)."""
     t = np.asarray(knots, float)
@@ -194,13 +196,24 @@ def junctions(knots: np.ndarray, degree: int, n: int, periodic: bool) -> list[fl
     degree, n : int
     periodic : bool
     """
-    return [v for v, m in _distinct_knots(knots, degree, n, periodic) if m >= degree]
+    return [v for v, m in knot_multiplicities(knots, degree, n, periodic) if m >= degree]
 
 
 def bezier_direction(knots: np.ndarray, degree: int, n: int, periodic: bool) -> bool:
     """Whether every span of a direction is a piece of its own (every interior knot has multiplicity >= p:
     degree 1, piecewise Bezier): nothing along it aliases, it has no ripple band."""
-    return all(m >= degree for _, m in _distinct_knots(knots, degree, n, periodic))
+    return all(m >= degree for _, m in knot_multiplicities(knots, degree, n, periodic))
+
+
+def lifted(net: "ControlNet") -> np.ndarray:
+    """The points a net is analysed in: ``(nu, nv, 3)`` control points, or ``(nu, nv, 4)`` homogeneous
+    ``(w P, w)`` when its weights vary (SPEC §4: a NURBS face is the projection of a non-rational
+    B-spline in homogeneous coordinates, where the uniform theory applies exactly)."""
+    P = np.asarray(net.points, float)
+    if not net.weights_vary:
+        return P
+    w = np.asarray(net.weights, float)[:, :, None]
+    return np.concatenate([P * w, w], axis=-1)
 
 
 def frozen_array(a, dtype=float) -> np.ndarray:

@@ -46,6 +46,8 @@ class Piece:
         Its parameter range per direction ``(u, v)``.
     index : (int, int)
         Its position in the grid of pieces.
+    note : str or None
+        Why a face was left whole although it has junctions (too many pieces).
     """
 
     net: ControlNet
@@ -209,7 +211,9 @@ def gather_fields(net: ControlNet, pieces: list[Piece], fields: list[ArtifactFie
         ``x, y`` in the whole face's analysis coordinates (the first sample of every piece after the
         first is dropped: it repeats the junction); ``baseband`` evaluates each piece's intent.
     """
-    fu, fv = axis_frames(net, levels)
+    intent = PiecewiseIntent(net, pieces, fields, levels)
+    fu, fv = intent.frames
+    frames_of = dict(zip((p.index for p in pieces), intent.piece_frames))
     by_index = {p.index: (p, f, a) for p, f, a in zip(pieces, fields, arrays)}
     rows, cols = _grid_of(pieces)
     full = len(by_index) == len(rows) * len(cols)
@@ -217,9 +221,8 @@ def gather_fields(net: ControlNet, pieces: list[Piece], fields: list[ArtifactFie
     def axis_coords(k, keys, frame):
         out = []
         for i, key in enumerate(keys):
-            p, f, _ = next(v for kk, v in by_index.items() if kk[k] == key)
-            pf = axis_frames(p.net, levels)[k]
-            x = _whole_coords(frame, pf.param(f.x if k == 0 else f.y))
+            index, (p, f, _) = next((kk, v) for kk, v in by_index.items() if kk[k] == key)
+            x = _whole_coords(frame, frames_of[index][k].param(f.x if k == 0 else f.y))
             out.append(x if i == 0 else x[1:])
         return out
 
@@ -233,9 +236,9 @@ def gather_fields(net: ControlNet, pieces: list[Piece], fields: list[ArtifactFie
                 if (r, c) in by_index:
                     a = get(*by_index[(r, c)])
                 else:  # a piece trimmed away: nothing there
+                    like = get(*next(iter(by_index.values())))
                     shape_ = (len(xs[i]) + (0 if i == 0 else 1), len(ys[j]) + (0 if j == 0 else 1))
-                    a = np.zeros(shape_ + get(*next(iter(by_index.values()))).shape[2:],
-                                 dtype=get(*next(iter(by_index.values()))).dtype)
+                    a = np.zeros(shape_ + like.shape[2:], dtype=like.dtype)
                 a = a[(0 if i == 0 else 1):, (0 if j == 0 else 1):]
                 parts.append(a)
             out_rows.append(np.concatenate(parts, axis=1))
@@ -247,7 +250,6 @@ def gather_fields(net: ControlNet, pieces: list[Piece], fields: list[ArtifactFie
     if not full:
         gathered = {k: (v & _present(by_index, rows, cols, xs, ys) if v.dtype == bool else v)
                     for k, v in gathered.items()}
-    intent = PiecewiseIntent(net, pieces, fields, levels)
     out = ArtifactFields(x=np.concatenate(xs), y=np.concatenate(ys), surface=block(lambda p, f, a: f.surface),
                          intent=block(lambda p, f, a: f.intent), bands=bands, method=first.method,
                          levels=first.levels, reading=first.reading,
@@ -282,13 +284,12 @@ class PiecewiseIntent:
     levels : int
     """
 
-    def __init__(self, net: ControlNet, pieces: list[Piece], fields, levels: int, scheme=None):
+    def __init__(self, net: ControlNet, pieces: list[Piece], fields, levels: int):
         # the surface reading needs the pieces' fields; the net reading builds each piece's intent on demand
         self.net, self.pieces, self.fields_list = net, pieces, fields
         self.frames = axis_frames(net, levels)
-        self._scheme = scheme
+        self.piece_frames = [axis_frames(p.net, levels) for p in pieces]  # built once: evaluations reuse them
         self._intents = None
-        self.homogeneous = False
 
     @property
     def levels(self) -> int:
@@ -314,11 +315,10 @@ class PiecewiseIntent:
         x, y = np.asarray(x, float), np.asarray(y, float)
         (u, wu), (v, wv) = self._assign(0, x), self._assign(1, y)
         out = np.zeros((len(x), len(y), 3))
-        for i, p in enumerate(self.pieces):
+        for i, (p, (pu, pv)) in enumerate(zip(self.pieces, self.piece_frames)):
             ru, rv = np.flatnonzero(wu == p.index[0]), np.flatnonzero(wv == p.index[1])
             if ru.size == 0 or rv.size == 0:
                 continue
-            pu, pv = axis_frames(p.net, self.levels)
             xl, yl = (u[ru] - pu.u0) / pu.h, (v[rv] - pv.u0) / pv.h
             out[np.ix_(ru, rv)] = one(i, p, xl, yl)
         return out
@@ -332,8 +332,8 @@ class PiecewiseIntent:
         from .intent import design_intent
         from .schemes import bspline
 
-        if self._intents is None:
-            sch = self._scheme or bspline(*self.net.degrees)
+        if self._intents is None:  # a split face is analysed under its own degrees
+            sch = bspline(*self.net.degrees)
             self._intents = [design_intent(p.net, sch, self.levels) for p in self.pieces]
         x = self.frames[0].x if x is None else x
         y = self.frames[1].x if y is None else y
