@@ -28,16 +28,20 @@ from .net import ControlNet, NetOrigin
 
 __version__ = "0.1.0"
 
-# The numerical core imports numpy only, so it is loaded eagerly. This also matters for names
-# shared by a module and a function (``schemes``, ``budget``): importing a submodule binds the
-# package attribute to the module, so the function must be bound after it.
-from .schemes import Scheme, box, bspline, scheme, schemes  # noqa: E402
-from .spectral import Response  # noqa: E402
-from .artifact_budget import Budget, budget  # noqa: E402
-from .advice import Advice, advise, resample  # noqa: E402
-
-# public name -> (module, attribute) loaded on first use (OCP, cadquery); attribute None: the module
+# public name -> (module, attribute) loaded on first use; attribute None: the module. The core is
+# lazy too: the reader child (exchange.isolation) imports this package and needs none of the analysis.
 _LAZY = {
+    "Scheme": ("catalogue", "Scheme"),
+    "box": ("catalogue", "box"),
+    "bspline": ("catalogue", "bspline"),
+    "scheme": ("catalogue", "scheme"),
+    "schemes": ("catalogue", "schemes"),
+    "Response": ("spectral", "Response"),
+    "Budget": ("artifact_budget", "Budget"),
+    "budget": ("artifact_budget", "budget"),
+    "Advice": ("advice", "Advice"),
+    "advise": ("advice", "advise"),
+    "resample": ("advice", "resample"),
     "load": ("exchange", "load"),
     "read": ("exchange", "read"),
     "from_shape": ("exchange", "from_shape"),
@@ -49,8 +53,7 @@ _LAZY = {
 ERRORS = ("CadArtifactError", "InputError", "FileFormatError", "UnsupportedFormatError", "InvalidNetError",
           "OptionError", "SchemeError", "MissingDependencyError", "ArtifactToleranceError")
 
-__all__ = ["ControlNet", "NetOrigin", *ERRORS, "errors", "__version__", "Scheme", "box", "bspline",
-           "scheme", "schemes", "Response", "Budget", "budget", "Advice", "advise", "resample", *_LAZY]
+__all__ = ["ControlNet", "NetOrigin", *ERRORS, "errors", "__version__", *_LAZY]
 
 
 def __getattr__(name: str):

@@ -349,7 +349,7 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     ``n'v(n'u)`` (galloping from today's density) at ``K = 4``, then confirms at ``K = 2**levels``,
     growing until feasible and shrinking each direction while it stays so.
     """
-    from .schemes import Scheme, scheme as get_scheme
+    from .catalogue import Scheme, scheme as get_scheme
 
     check_option("metric", metric, METRICS)
     check_option("intent", intent, READINGS)
@@ -511,7 +511,7 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str 
 
 def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent, fine) -> dict:
     """Fewest points per named scheme for the intent's ripple (the intent sampled at each scheme's net)."""
-    from .schemes import scheme as get_scheme
+    from .catalogue import scheme as get_scheme
 
     out = {}
     fu, fv = fine.frames
@@ -558,7 +558,7 @@ def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: st
         A B-spline net of the face's degrees (clipped to ``n' - 1``; a cage: the scheme's) over the
         same parameter range, uniform knots, no weights; its points fit the intent by least squares.
     """
-    from .schemes import Scheme, scheme as get_scheme
+    from .catalogue import Scheme, scheme as get_scheme
 
     check_option("intent", intent, READINGS)
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))

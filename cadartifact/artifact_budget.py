@@ -43,7 +43,7 @@ class Stat:
 
 def default_scheme(net: ControlNet):
     """The scheme a net is analysed with by default: its own B-spline degrees, Catmull-Clark for cages."""
-    from .schemes import bspline, scheme
+    from .catalogue import bspline, scheme
 
     if net.degrees is not None:
         return bspline(*net.degrees)
@@ -291,7 +291,7 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     ``A r / sqrt(2)`` with ``r`` the continuous (or, at ``levels=1``, refined-vertex) response
     of SPEC §3 per direction; ``total`` RMS is ``A sqrt(3) energy / sqrt(2)``.
     """
-    from .schemes import Scheme, scheme as get_scheme
+    from .catalogue import Scheme, scheme as get_scheme
 
     check_option("metric", metric, METRICS)
     check_option("method", method, METHODS)

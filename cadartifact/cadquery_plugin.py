@@ -168,7 +168,7 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
     check_option("metric", metric, _METRICS)
     check_option("intent", intent, ("surface", "net"))
     if scheme is not None:
-        from .schemes import scheme as get_scheme
+        from .catalogue import scheme as get_scheme
 
         scheme = get_scheme(scheme)  # a bad name fails when the check is built, not mid-model
 

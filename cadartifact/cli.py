@@ -155,7 +155,7 @@ def schemes_cmd(
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
 ):
     """List the scheme catalogue: arrows, mask size, interpolation, reproduction degree."""
-    from .schemes import scheme, schemes
+    from .catalogue import scheme, schemes
 
     rows = []
     for name in schemes():
@@ -268,7 +268,7 @@ def advise_cmd(
     if not (tol > 0) or tol != tol or tol == float("inf"):
         raise fail(f"--tol: expected a positive number of model units, received {tol!r}")
     if scheme is not None:
-        from .schemes import scheme as get_scheme
+        from .catalogue import scheme as get_scheme
 
         get_scheme(scheme)  # a bad name fails before any file is read
     if report is not None and not (report.parent if str(report.parent) else Path(".")).is_dir():

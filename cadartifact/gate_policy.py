@@ -245,7 +245,7 @@ def _check_value(source: str, key: str, value):
     if key == "scheme":
         if not isinstance(value, str) or not value:
             raise PolicyError(source, key, f"expected a scheme name, received {value!r}")
-        from .schemes import scheme as get_scheme
+        from .catalogue import scheme as get_scheme
 
         try:
             get_scheme(value)

@@ -330,7 +330,7 @@ class PiecewiseIntent:
     def evaluate(self, x=None, y=None) -> np.ndarray:
         """The ``net`` reading (each piece's intent) on the grid ``x x y`` -> ``(a, b, 3)``."""
         from .intent import design_intent
-        from .schemes import bspline
+        from .catalogue import bspline
 
         if self._intents is None:  # a split face is analysed under its own degrees
             sch = bspline(*self.net.degrees)

@@ -294,7 +294,7 @@ def resampled_nets(kept) -> list:
     with uniform clamped knots; faces under non-B-spline schemes keep their own degrees.
     """
     from .net import ControlNet, clamped_uniform_knots
-    from .schemes import scheme as get_scheme
+    from .catalogue import scheme as get_scheme
 
     out = []
     for _, net, adv in kept:

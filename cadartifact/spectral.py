@@ -146,7 +146,7 @@ def response(scheme, wx, wy, stage: str = "limit") -> Response:
     Parameters
     ----------
     scheme : str or Scheme
-        A catalogue name or a :class:`~cadartifact.schemes.Scheme`.
+        A catalogue name or a :class:`~cadartifact.catalogue.Scheme`.
     wx, wy : array_like float
         ``Omega`` in cycles per control point (Nyquist square ``|w| <= 1/2``), broadcast together;
         pass ``wx`` as ``(1, N)`` and ``wy`` as ``(M, 1)`` for a fast grid.
@@ -165,7 +165,7 @@ def response(scheme, wx, wy, stage: str = "limit") -> Response:
     >>> round(float(response("bilinear", 0.1, 0.2).percent), 2)
     6.27
     """
-    from .schemes import scheme as resolve
+    from .catalogue import scheme as resolve
 
     s = resolve(scheme)
     stage = _STAGE_ALIASES.get(stage, stage) if isinstance(stage, str) else stage

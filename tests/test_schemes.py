@@ -7,7 +7,7 @@ import pytest
 
 from cadartifact import symbols as sy
 from cadartifact.errors import CadArtifactError, OptionError, SchemeError
-from cadartifact.schemes import SCHEME_NAMES, Scheme, box, bspline, scheme, schemes
+from cadartifact.catalogue import SCHEME_NAMES, Scheme, box, bspline, scheme, schemes
 
 NAMED = list(SCHEME_NAMES)
 

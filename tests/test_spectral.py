@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from cadartifact import symbols as sy
 from cadartifact.errors import OptionError
-from cadartifact.schemes import SCHEME_NAMES, Scheme, scheme
+from cadartifact.catalogue import SCHEME_NAMES, Scheme, scheme
 from cadartifact.spectral import STAGES, Response, alias_class_sums, response
 
 NAMED = list(SCHEME_NAMES)

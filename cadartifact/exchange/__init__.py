@@ -148,7 +148,20 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
 
     check_file(path)
     isolation.read_timeout(timeout)  # a bad timeout is a usage error before any work
-    if isolation.enabled():
+    if isolation.enabled() and fmt == "step":
+        # the text checks and the entity index run here while the child reads (two cores, one file)
+        from .step_text import entity_lines
+
+        records = []
+
+        def scan():
+            _prescan(path)
+            records.extend(entity_lines(path))
+
+        result = isolation.call("cadartifact.exchange:read_occt", (path, fmt, convert, True), path=path,
+                                what="STEP", timeout=timeout, during=scan)
+        _file_ids(result, records)
+    elif isolation.enabled():
         result = isolation.call("cadartifact.exchange:read_occt", (path, fmt, convert), path=path,
                                 what=fmt.upper(), timeout=timeout)
     else:
@@ -158,25 +171,44 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     return result
 
 
-def read_occt(path: Path, fmt: str, convert: bool = False) -> LoadResult:
+def _prescan(path: Path) -> list[str]:
+    """The STEP text's check for impossible numbers (:func:`~cadartifact.exchange.step_scan.check_step_text`)."""
+    from .step_scan import check_step_text
+
+    with open(path, "rb") as fh:
+        return check_step_text(path, fh.read().decode("latin-1"))
+
+
+def _file_ids(result: LoadResult, records) -> None:
+    """Turn the model entity numbers a ``prescanned`` read left in ``origin.entity`` into the file's ids."""
+    from dataclasses import replace
+
+    from .step_text import face_ids_from_model
+
+    for net in result.nets:
+        origin = replace(net.origin, entity=face_ids_from_model(records, net.origin.entity))
+        object.__setattr__(net, "origin", origin)  # just unpickled, not shared: no need to validate the net again
+
+
+def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = False) -> LoadResult:
     """Read a STEP/IGES/BREP file in this process, without issuing warnings (the reader child's job).
 
     STEP text is pre-scanned for impossible numbers first (:func:`~cadartifact.exchange.step_scan.check_step_text`).
+    ``prescanned``: the caller scans the text itself (while this runs in the reader child), so the scan is
+    skipped here and each net's ``origin.entity`` is left as the face's model entity number, for the
+    caller to map to the file's id (:func:`_file_ids`).
     """
     from .files import check_file
 
     path = check_file(path)
     dropped: list[str] = []
     ids = None
-    if fmt == "step":
-        from .step_scan import check_step_text
-
-        with open(path, "rb") as fh:
-            ids = check_step_text(path, fh.read().decode("latin-1"))
+    if fmt == "step" and not prescanned:
+        ids = _prescan(path)
     from . import occ, step
 
     if fmt == "step":
-        shape, face_name, dropped = step.read_step_audited(path, ids)
+        shape, face_name, dropped = step.read_step_audited(path, ids, model_numbers=prescanned)
     elif fmt == "iges":
         shape, face_name, dropped = step.read_iges_audited(path)
     else:

@@ -180,7 +180,7 @@ def _died_message(child: _Child) -> str:
     return f"exit status {code}"
 
 
-def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float | None = None):
+def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float | None = None, during=None):
     """Run ``module:function(*args)`` in the reader child process and return its result.
 
     Parameters
@@ -195,11 +195,14 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
         The reader's name in the errors (``"STEP"``, ``"IGES"``, ``"BREP"``).
     timeout : float, optional
         Seconds (see :func:`read_timeout`).
+    during : callable, optional
+        Work of this process's own, run once while the child works on the request (the two
+        overlap on two cores). When it raises, the child is stopped and its answer never read.
 
     Raises
     ------
     CadArtifactError
-        What the function raised (same class and message).
+        What the function raised (same class and message), or what ``during`` raised.
     FileFormatError
         The child crashed, gave no answer in time, or failed unexpectedly.
     """
@@ -217,12 +220,21 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                 _child = _Child()
             child = _child
             try:
+                # the pipe holds the request until the child, once OCP is imported, reads it
+                _write_frame(child.proc.stdin.fileno(), request)
+                if during is not None:
+                    work, during = during, None
+                    try:
+                        work()
+                    except BaseException:
+                        child.kill()
+                        _child = None
+                        raise
                 if not child.ready:  # the first answer is "ready", once OCP is imported
                     hello = _read_frame(child.proc.stdout.fileno(), time.monotonic() + START_TIMEOUT)
                     if hello != b"ready":
                         raise BrokenPipeError
                     child.ready = True
-                _write_frame(child.proc.stdin.fileno(), request)
                 reply = _read_frame(child.proc.stdout.fileno(), time.monotonic() + limit)
             except TimeoutError:
                 child.kill()

@@ -75,7 +75,15 @@ def _checks(check_list) -> dict[int, list[str]]:
     return out
 
 
-def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None) -> list[str]:
+def _model_entities(reader: STEPControl_Reader) -> list:
+    """The reader's model entities in model order (entity ``i`` is ``[i - 1]``): one pass over the
+    model, which on big files costs a tenth of a second, shared by the face audit and the id lookup."""
+    model = reader.WS().Model()
+    return [model.Value(i) for i in range(1, model.NbEntities() + 1)]
+
+
+def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None,
+                   entities=None) -> list[str]:
     """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
 
     Each names the entity (``#id``) and OCCT's own check messages on it and its surface (the
@@ -85,8 +93,8 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
     from OCP.TopExp import TopExp_Explorer
 
     session = reader.WS()
-    model = session.Model()
-    entities = [model.Value(i) for i in range(1, model.NbEntities() + 1)]
+    if entities is None:
+        entities = _model_entities(reader)
     # OCP's model.Number(entity) answers 0; pybind11 gives one wrapper per C++ object, so ids identify them
     number = {id(e): i for i, e in enumerate(entities, start=1)}
     declared = [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
@@ -132,18 +140,20 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
     return out
 
 
-def _step_name(reader: STEPControl_Reader, path=None):
+def _step_name(reader: STEPControl_Reader, path=None, *, entities=None, model_numbers: bool = False):
     """A face -> name lookup through the STEP entity the face was transferred from.
 
     The returned callable also has ``.entity(face)``: the entity's ``#id`` in the file (None when
     unknown). OCCT numbers a model's entities in file order; :func:`step_text.entity_lines` gives the
     ids in that order, and an id is only reported when the file's record there is an ``ADVANCED_FACE``.
+    With ``model_numbers``, ``.entity(face)`` is the face's model entity number instead (the caller maps
+    it to the file's id with :func:`step_text.face_ids_from_model`; the reader child does so, to leave the text
+    scan to the parent, which scans while the child reads).
     """
-    from .step_text import entity_lines
+    from .step_text import entity_lines, face_ids_from_model
 
     session = reader.WS()  # the lookup needs the reader's session alive: keep references to both
     transfer = session.TransferReader()
-    model = session.Model()
     state = {}
 
     def face_name(face, _keep=(reader, session)) -> str | None:
@@ -155,23 +165,20 @@ def _step_name(reader: STEPControl_Reader, path=None):
         return text or None
 
     def face_entity(face, _keep=(reader, session)) -> int | None:
-        if path is None:
+        if path is None and not model_numbers:
             return None
         if not state:
-            records = entity_lines(path)  # [(id, line, keyword)] in file order
             # pybind hands out the same Python object for the same entity: index the model's faces by it
-            faces = {}
-            for i in range(1, model.NbEntities() + 1):
-                value = model.Value(i)
-                if type(value).__name__ == "StepShape_AdvancedFace":
-                    faces[value] = i
-            state.update(records=records, faces=faces)
+            every = entities if entities is not None else _model_entities(reader)
+            state["faces"] = {value: i for i, value in enumerate(every, start=1)
+                              if type(value).__name__ == "StepShape_AdvancedFace"}
+            if not model_numbers:
+                state["records"] = entity_lines(path)  # [(id, line, keyword)] in file order
         entity = transfer.EntityFromShapeResult(face, 1)
         i = state["faces"].get(entity) if entity is not None else None
-        records = state["records"]
-        if i is None or i > len(records) or records[i - 1][2] != "ADVANCED_FACE":
-            return None
-        return records[i - 1][0]
+        if model_numbers or i is None:
+            return i
+        return face_ids_from_model(state["records"], i)
 
     face_name.entity = face_entity
     return face_name
@@ -217,16 +224,19 @@ def read_step(path) -> tuple[TopoDS_Shape, object]:
     return shape, face_name
 
 
-def read_step_audited(path, ids=None) -> tuple[TopoDS_Shape, object, list[str]]:
+def read_step_audited(path, ids=None, *, model_numbers: bool = False) -> tuple[TopoDS_Shape, object, list[str]]:
     """:func:`read_step`, plus one message per face of the file the transfer dropped (see :func:`_dropped_faces`).
 
     ``ids``: the file's record ids in order (:func:`~cadartifact.exchange.step_scan.record_ids`), if known.
+    ``model_numbers``: see :func:`_step_name`.
     """
     path = check_file(path)
     reader = open_step(path)
     shape = reader.OneShape()
     with quiet_occt():
-        return shape, _step_name(reader, path), _dropped_faces(path, reader, shape, ids)
+        entities = _model_entities(reader)
+        return (shape, _step_name(reader, path, entities=entities, model_numbers=model_numbers),
+                _dropped_faces(path, reader, shape, ids, entities))
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:

@@ -11,7 +11,7 @@ import functools
 import os
 import re
 
-__all__ = ["entity_lines", "entity_line"]
+__all__ = ["entity_lines", "entity_line", "face_ids_from_model"]
 
 _RECORD = re.compile(r"#(\d+)\s*=\s*([A-Za-z_][A-Za-z0-9_]*|\()")
 
@@ -84,3 +84,11 @@ def _index(path: str, mtime: int, size: int) -> dict:
     for ident, line, _ in _entity_lines(path, mtime, size):
         out.setdefault(ident, line)  # the first definition, as a scan in file order finds it
     return out
+
+
+def face_ids_from_model(records, number: int | None) -> int | None:
+    """The file's ``#id`` of model entity ``number`` given :func:`entity_lines` ``records``;
+    None when unknown or when the file's record there is not an ``ADVANCED_FACE`` (numbering mismatch)."""
+    if number is None or not 0 < number <= len(records) or records[number - 1][2] != "ADVANCED_FACE":
+        return None
+    return records[number - 1][0]

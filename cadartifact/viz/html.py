@@ -226,7 +226,7 @@ def map_schemes(doc: dict) -> tuple[list, list]:
     ``bspline(3,3)`` are one mask): ``(drawn, not drawn)``, at most :data:`MAP_SCHEMES` drawn."""
     import numpy as np
 
-    from ..schemes import scheme as get_scheme
+    from ..catalogue import scheme as get_scheme
 
     counts: dict = {}
     for entry in doc["files"]:

@@ -588,7 +588,7 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
                                                ".png")
     glb_path = None if glb is None else _check_out("glb", glb, ".glb")
     if scheme is not None:
-        from ..schemes import scheme as get_scheme
+        from ..catalogue import scheme as get_scheme
 
         scheme = get_scheme(scheme)
     nets = read(src).nets

@@ -8,7 +8,7 @@ to a refined grid). Named schemes use closed forms (box splines: products of cos
 tensor products: products of 1-D functions); any other mask goes through the generic array
 routines of :mod:`cadartifact.symbols`.
 
->>> from cadartifact.schemes import scheme
+>>> from cadartifact.catalogue import scheme
 >>> s = scheme("bicubic")
 >>> s.limit_stencil * 36                                   # doctest: +NORMALIZE_WHITESPACE
 array([[ 1.,  4.,  1.],
