@@ -162,10 +162,10 @@ def _one_blas_thread():
 
 
 def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None) -> dict:
-    import numpy as np
-
     from .exchange import read
-    from .report import _locate, analysed_share, kind_count
+    from .exchange.step_text import entity_line
+    from .gate_split import analyse_faces
+    from .report import analysed_share, kind_count
 
     if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
         from .errors import InputError
@@ -182,19 +182,14 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
         raise CadArtifactError(f"{invalid} face(s) could not be read or have invalid control points"
                                + (f" ({detail})" if detail else ""))
     key = "deviation" if settings.include_signal_error else "total"
+    todo = [net for net in res.nets if net.origin.face not in settings.ignore_faces]
     faces = []
-    for net in res.nets:
-        if net.origin.face in settings.ignore_faces:
-            continue
-        if not np.isfinite(np.sum(net.points ** 2)):  # squared norms overflow: nothing finite would come out
-            raise CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
-                                   f"(max |x| = {np.abs(net.points).max():.3g})")
-        try:
-            rec, current = _face_entry(net, settings, verify)
-        except CadArtifactError as exc:
-            raise CadArtifactError(f"face {net.origin.face}: {exc}") from None
-        _locate(rec, path, net, key, current)  # entity_line; peak_at for faces that warn or fail
-        faces.append(rec)
+    # records with peak_at for faces that warn or fail, in face order; the first error fails the file
+    for outcome in analyse_faces(todo, settings, verify, key):
+        if isinstance(outcome, BaseException):
+            raise outcome
+        outcome["entity_line"] = entity_line(path, outcome.get("entity"))
+        faces.append(outcome)
     present = {n.origin.face for n in res.nets}
     ignored = sorted(settings.ignore_faces)
     notes = []
@@ -404,10 +399,13 @@ def _execute(tasks: list, jobs: int, done, cluster=None) -> list:
         return cluster.run(tasks, done)
     jobs = max(1, min(int(jobs), len(tasks)))
     if jobs == 1 or not _workers_can_start():
+        from .gate_split import sharing
+
         out = []
-        for t in tasks:
-            out.append(gate_file(*t))
-            done(out[-1])
+        with sharing():  # the only worker: the reader child's core may take part of a file's faces
+            for t in tasks:
+                out.append(gate_file(*t))
+                done(out[-1])
         return out
     return _run_isolated(tasks, jobs, done)
 

@@ -32,7 +32,7 @@ import time
 from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
 
 __all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout", "warm",
-           "shutdown"]
+           "set_idle_imports", "shutdown"]
 
 #: Seconds a reader may take on one file before it is stopped.
 DEFAULT_TIMEOUT = 120.0
@@ -136,6 +136,16 @@ class _Child:
 
 _lock = threading.Lock()
 _child: _Child | None = None
+_idle_imports: tuple = ()
+_busy = False  # within `during` of a call
+
+
+def set_idle_imports(modules=()) -> tuple:
+    """Modules the child imports when it is idle after an answer (the work this process may send it
+    next, e.g. :mod:`cadartifact.gate_split`); returns the previous setting."""
+    global _idle_imports
+    saved, _idle_imports = _idle_imports, tuple(modules)
+    return saved
 
 
 def shutdown() -> None:
@@ -194,7 +204,7 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
     what : str
         The reader's name in the errors (``"STEP"``, ``"IGES"``, ``"BREP"``).
     timeout : float, optional
-        Seconds (see :func:`read_timeout`).
+        Seconds (see :func:`read_timeout`); ``float("inf")``: no limit (work that is not a read).
     during : callable, optional
         Work of this process's own, run once while the child works on the request (the two
         overlap on two cores). When it raises, the child is stopped and its answer never read.
@@ -206,10 +216,12 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
     FileFormatError
         The child crashed, gave no answer in time, or failed unexpectedly.
     """
-    global _child
-    limit = read_timeout(timeout)
+    global _child, _busy
+    if _busy:  # called from `during`: the child is working on the outer request (a plain Lock would hang)
+        raise RuntimeError("the reader child is busy with this process's own request (isolation.call inside during)")
+    limit = None if timeout == float("inf") else read_timeout(timeout)  # inf: no limit (analysis, not a read)
     # relative paths are relative to this process's working directory, which may change between calls
-    request = pickle.dumps((function, args, os.getcwd()), protocol=pickle.HIGHEST_PROTOCOL)
+    request = pickle.dumps((function, args, os.getcwd(), _idle_imports), protocol=pickle.HIGHEST_PROTOCOL)
     with _lock:
         for attempt in (0, 1):
             if _child is None or _child.proc.poll() is not None:
@@ -224,18 +236,21 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                 _write_frame(child.proc.stdin.fileno(), request)
                 if during is not None:
                     work, during = during, None
+                    _busy = True
                     try:
                         work()
                     except BaseException:
                         child.kill()
                         _child = None
                         raise
+                    finally:
+                        _busy = False
                 if not child.ready:  # the first answer is "ready", once OCP is imported
                     hello = _read_frame(child.proc.stdout.fileno(), time.monotonic() + START_TIMEOUT)
                     if hello != b"ready":
                         raise BrokenPipeError
                     child.ready = True
-                reply = _read_frame(child.proc.stdout.fileno(), time.monotonic() + limit)
+                reply = _read_frame(child.proc.stdout.fileno(), None if limit is None else time.monotonic() + limit)
             except TimeoutError:
                 child.kill()
                 _child = None
@@ -295,12 +310,13 @@ def _serve() -> None:
     except Exception:  # noqa: BLE001 - OCP missing: each request reports it
         pass
     _write_frame(fd_out, b"ready")
+    idle: tuple = ()
     while True:
         frame = _read_frame(fd_in, None)
         if frame is None:
             return
         try:
-            function, args, cwd = pickle.loads(frame)
+            function, args, cwd, idle = pickle.loads(frame)
             os.chdir(cwd)
             module, _, name = function.partition(":")
             value = getattr(importlib.import_module(module), name)(*args)
@@ -315,6 +331,15 @@ def _serve() -> None:
         except Exception as exc:  # noqa: BLE001
             payload = pickle.dumps(("exception", type(exc).__name__, f"unpicklable result: {exc}"))
         _write_frame(fd_out, payload)
+        # idle after an answer: import what the parent said it may send next (idle_imports), off the
+        # critical path of its next request
+        for name in [m for m in idle if m not in sys.modules]:
+            if select.select([fd_in], [], [], 0)[0]:
+                break
+            try:
+                importlib.import_module(name)
+            except Exception:  # noqa: BLE001 - an import that fails here fails again, and is reported, on use
+                pass
 
 
 if __name__ == "__main__":

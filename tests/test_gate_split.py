@@ -1,0 +1,148 @@
+"""``gate --jobs 1`` shares a file's faces with the idle reader child (cadartifact.gate_split).
+
+The shared run must give the serial run's document byte for byte (records, peak locations, the first
+error), must really hand faces to the child, and must survive a child that fails on the way.
+"""
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from cadartifact.cli import app
+from cadartifact.errors import FileFormatError
+from cadartifact.net import ControlNet, NetOrigin
+
+pytest.importorskip("OCP")
+
+
+def _net(nu, nv, amp, name, phase=0.0):
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    x, y = 100.0 * i / (nu - 1), 60.0 * j / (nv - 1)
+    z = amp * np.sin(2 * np.pi * x / 37.0 + phase) * np.cos(2 * np.pi * y / 23.0) + 0.02 * x
+    return ControlNet.from_points(np.stack([x, y, z], -1), degrees=(3, 3), origin=NetOrigin(name=name, kind="bspline"))
+
+
+@pytest.fixture(scope="module")
+def many(tmp_path_factory):
+    """A STEP file of eight faces of several sizes, some rippled enough to fail at 0.01."""
+    from cadartifact.exchange import write_step
+
+    root = tmp_path_factory.mktemp("split")
+    nets = [_net(nu, nv, amp, f"f{k}", phase=k) for k, (nu, nv, amp) in
+            enumerate([(20, 16, 2.0), (9, 7, 0.0), (16, 16, 1.0), (7, 6, 0.5), (18, 12, 0.0), (12, 12, 3.0),
+                       (8, 8, 0.2), (14, 10, 0.0)])]
+    write_step(nets, root / "many.step")
+    return root / "many.step"
+
+
+def _gate(path, *extra, env=None, monkeypatch=None):
+    if env is not None:
+        for k, v in env.items():
+            monkeypatch.setenv(k, v)
+    result = CliRunner().invoke(app, ["gate", str(path), "--format", "json", "--jobs", "1", *map(str, extra)])
+    assert "Traceback" not in result.output
+    if env is not None:
+        for k in env:
+            monkeypatch.delenv(k)
+    return result
+
+
+@pytest.fixture
+def spy(monkeypatch):
+    """Counts the shares sent to the child."""
+    from cadartifact.exchange import isolation
+
+    calls = []
+    real = isolation.call
+
+    def call(function, *args, **kwargs):
+        if function.endswith(":child_share"):
+            calls.append(len(args[0][0]))
+        return real(function, *args, **kwargs)
+
+    monkeypatch.setattr(isolation, "call", call)
+    return calls
+
+
+@pytest.mark.parametrize("tol", ["0.01", "10"])
+def test_shared_faces_give_the_serial_document(many, spy, monkeypatch, tol):
+    serial = _gate(many, "--tol", tol, env={"CADARTIFACT_SHARE_FACES": "0"}, monkeypatch=monkeypatch)
+    assert not spy
+    shared = _gate(many, "--tol", tol)
+    assert spy and 0 < spy[0] < 8, spy  # the child took part of the faces, not all
+    assert shared.exit_code == serial.exit_code
+    assert shared.stdout == serial.stdout
+    doc = json.loads(shared.stdout)
+    if tol == "0.01":  # failing faces got their advice and their peak location on both sides
+        failing = [f for f in doc["files"][0]["faces"] if f["verdict"] == "fail"]
+        assert len(failing) >= 3 and all(f["peak_at"] and f["advice"] for f in failing)
+
+
+def test_a_child_that_fails_its_share_costs_only_time(many, monkeypatch):
+    from cadartifact.exchange import isolation
+
+    serial = _gate(many, "--tol", "0.01", env={"CADARTIFACT_SHARE_FACES": "0"}, monkeypatch=monkeypatch)
+    real = isolation.call
+
+    def call(function, *args, **kwargs):
+        if function.endswith(":child_share"):
+            kwargs["during"]()  # this process's share runs, then the child "crashes"
+            raise FileFormatError("many.step", "the analysis reader crashed on this file (SIGSEGV)")
+        return real(function, *args, **kwargs)
+
+    monkeypatch.setattr(isolation, "call", call)
+    assert _gate(many, "--tol", "0.01").stdout == serial.stdout
+
+
+def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
+    """The child's side run in this process (so that one face can be made to fail on both sides): the
+    outcomes are the serial loop's, errors included, in face order."""
+    import cadartifact.gate as gate
+    import cadartifact.gate_split as split
+    from cadartifact.errors import CadArtifactError
+    from cadartifact.exchange import isolation
+    from cadartifact.gate_policy import FileSettings
+
+    real_entry = gate._face_entry
+
+    def entry(net, settings, verify):
+        if net.origin.name in ("bad", "worse"):
+            raise CadArtifactError(f"{net.origin.name} cannot be analysed")
+        if net.origin.name == "odd":
+            raise ZeroDivisionError("division by zero")
+        return real_entry(net, settings, verify)
+
+    def call(function, args, *, during=None, **kwargs):
+        during()
+        return split.child_share(*args)
+
+    monkeypatch.setattr(gate, "_face_entry", entry)
+    monkeypatch.setattr(isolation, "call", call)
+    names = ["a", "bad", "b", "odd", "c", "worse", "d", "e"]
+    nets = [_net(10 + k, 8 + k % 3, 1.0, n).replace(origin=NetOrigin(name=n, face=k, kind="bspline"))
+            for k, n in enumerate(names)]
+    settings = FileSettings(tolerance=0.01)
+    serial = [split.face_outcome(n, settings, False, "total") for n in nets]
+    monkeypatch.setattr(split, "enabled", lambda: True)
+    shared = split.analyse_faces(nets, settings, False, "total")
+    assert [type(o) for o in shared] == [type(o) for o in serial]
+    assert [str(o) if isinstance(o, Exception) else json.dumps(o, sort_keys=True) for o in shared] == \
+        [str(o) if isinstance(o, Exception) else json.dumps(o, sort_keys=True) for o in serial]
+    assert str(shared[1]) == "face 1: bad cannot be analysed"
+    assert str(shared[3]) == "analysis failed (ZeroDivisionError: division by zero)"
+
+
+def test_a_call_from_within_during_is_refused_not_a_hang():
+    from cadartifact.exchange import isolation
+
+    seen = []
+
+    def nested():
+        with pytest.raises(RuntimeError, match="busy"):
+            isolation.call("os:getpid", (), path="x.step")
+        seen.append(True)
+
+    assert isinstance(isolation.call("os:getpid", (), path="x.step", during=nested), int)
+    assert seen
