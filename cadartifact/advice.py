@@ -232,6 +232,8 @@ class Advice:
     comparison: dict = field(default_factory=dict)
     comparison_note: str | None = None
     notes: list = field(default_factory=list)
+    #: ``verify="later"``: the verification still to run (:func:`cadartifact.verification.complete`)
+    pending: object = field(default=None, repr=False, compare=False)
 
     @property
     def include_signal_error(self) -> bool:
@@ -328,9 +330,10 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     compare : bool or "auto"
         Also advise the other named schemes (ripple of the intent sampled at their points);
         ``"auto"``: for nets of up to :data:`COMPARE_MAX_POINTS` points.
-    verify : bool
+    verify : bool or "later"
         Build the advised net as a real B-spline surface (OCCT), evaluate it and measure it against
         the intent on the whole face, and the same one step coarser in the binding direction.
+        ``"later"``: leave that to :func:`cadartifact.verification.complete` (while OCCT is busy).
     current : Budget, optional
         Today's budget of this net when the caller has it (same scheme, metric, levels, component and
         intent, fields kept): it is not computed again.
@@ -433,11 +436,12 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} uniform "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
-    verification = None
+    verification, pending = None, None
     if verify:
         from .verification import verify_advice
 
-        verification = verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)
+        pending = lambda: verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)  # noqa: E731
+        verification, pending = (None, pending) if verify == "later" else (pending(), None)
     comparison, comparison_note = {}, None
     if compare == "auto":
         compare = net.size <= COMPARE_MAX_POINTS
@@ -448,7 +452,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
-                  verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes)
+                  verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,
+                  pending=pending)
 
 
 def _make_scorer(net, work, sch, reading, levels, metric, component, current=None) -> _Scorer:

@@ -150,21 +150,16 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
 
 
 def _one_blas_thread():
-    """One BLAS thread while a file is gated, in this process or a worker.
+    """One BLAS thread while a file is gated (:func:`cadartifact.face_sharing.one_blas_thread`)."""
+    from .face_sharing import one_blas_thread
 
-    Workers already fill the cores (nested BLAS threads oversubscribe them: two workers with two
-    threads each ran slower than one process), and the same thread count everywhere keeps the
-    floating-point summation order, hence the document, identical for every ``--jobs``.
-    """
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")
+    return one_blas_thread()
 
 
 def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None) -> dict:
     from .exchange import read
     from .exchange.step_text import entity_line
-    from .gate_split import analyse_faces
+    from .face_sharing import analyse_faces
     from .report import analysed_share, kind_count
 
     if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
@@ -399,7 +394,7 @@ def _execute(tasks: list, jobs: int, done, cluster=None) -> list:
         return cluster.run(tasks, done)
     jobs = max(1, min(int(jobs), len(tasks)))
     if jobs == 1 or not _workers_can_start():
-        from .gate_split import sharing
+        from .face_sharing import sharing
 
         out = []
         with sharing():  # the only worker: the reader child's core may take part of a file's faces

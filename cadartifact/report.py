@@ -208,7 +208,6 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     CadArtifactError
         For the first file that cannot be read: nothing is returned (fail closed, no partial document).
     """
-    from .advice import advise
     from .exchange import read
 
     check_option("metric", metric, METRICS)
@@ -239,27 +238,36 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         progress("files", total_faces, "")
     doc_files = []
     summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+    from .exchange.step_text import entity_line
+    from .face_sharing import advise_faces, one_blas_thread, sharing
+
+    options = dict(tolerance=tolerance, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
+                   compare=compare, verify=verify, intent=intent)
+    key = "deviation" if include_signal_error else "total"
     for path, res in zip(paths, loaded):
         entries = []
-        for net in res.nets:
-            if faces is not None and net.origin.face not in faces:
-                continue
-            adv = advise(net, tolerance, scheme, metric=metric, include_signal_error=include_signal_error,
-                         compare=compare, verify=verify, intent=intent)
-            rec = face_record(net, adv)
-            key = "deviation" if include_signal_error else "total"
-            if any(rec["budget"][k][metric] is None for k in {key, "total"}):  # face_record maps inf/NaN to None
-                raise FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
-                                            "(coordinates or weights too large?)")
-            _locate(rec, path, net, "deviation" if include_signal_error else "total")
+        todo = [net for net in res.nets if faces is None or net.origin.face in faces]
+
+        def face_done(i, todo=todo, path=path):
+            if progress:
+                progress("face", None, f"{path.name}#{todo[i].origin.face}")
+
+        # one outcome per face, in order (part of them from the idle reader child unless the advice
+        # objects are kept, which stay in the process that made them); the first error stops the run
+        # one BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
+        with sharing(keep is None), one_blas_thread():
+            outcomes = advise_faces(todo, options, path, key, done=face_done)
+        for net, outcome in zip(todo, outcomes):
+            if isinstance(outcome, BaseException):
+                raise outcome
+            rec, adv = outcome
+            rec["entity_line"] = entity_line(path, rec.get("entity"))
             entries.append(rec)
             if keep is not None:
                 keep.append((path, net, adv))
             summary["faces"] += 1
             summary["within" if rec["meets_tolerance"] else "exceeding"] += 1
-            summary["unreachable"] += 0 if adv.meets_tolerance else 1
-            if progress:
-                progress("face", None, f"{path.name}#{net.origin.face}")
+            summary["unreachable"] += 0 if rec["advice"]["meets_tolerance"] else 1
         if progress:
             progress("file", len(entries), str(path))
         doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
@@ -270,21 +278,6 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
             "intent": "net" if include_signal_error else intent,
             "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
-
-
-def _locate(rec: dict, path, net, key: str, current=None) -> None:
-    """Where a face is in its file (``entity_line``: the STEP entity's line) and, for a face beyond the
-    tolerance, where its ripple peaks (``peak_at``, :func:`peak_location`); additive record fields."""
-    from .errors import CadArtifactError
-    from .exchange.step_text import entity_line
-
-    rec["entity_line"] = entity_line(path, rec.get("entity"))
-    rec["peak_at"] = None
-    if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
-        try:
-            rec["peak_at"] = peak_location(net, rec["scheme"], key, current)
-        except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
-            rec["peak_at"] = None
 
 
 def resampled_nets(kept) -> list:

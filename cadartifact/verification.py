@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["verify_advice", "measure_on_occt"]
+__all__ = ["complete", "verify_advice", "measure_on_occt"]
 
 
 def measure_on_occt(scorer, net, x: np.ndarray, y: np.ndarray) -> dict:
@@ -22,6 +22,15 @@ def measure_on_occt(scorer, net, x: np.ndarray, y: np.ndarray) -> dict:
     I, normal, keep = scorer.target(x, y)
     S = evaluate_grid(net, fu.param(x), fv.param(y))
     return scorer._measure(S - I, normal, keep)
+
+
+def complete(advice):
+    """``advice`` with its verification run, when it was advised with ``verify="later"`` (else as is)."""
+    from dataclasses import replace
+
+    if advice.pending is None:
+        return advice
+    return replace(advice, verification=advice.pending(), pending=None)
 
 
 def verify_advice(scorer, shape, binding, tolerance: float, advised, target: float | None = None) -> dict:

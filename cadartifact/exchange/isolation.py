@@ -142,7 +142,7 @@ _busy = False  # within `during` of a call
 
 def set_idle_imports(modules=()) -> tuple:
     """Modules the child imports when it is idle after an answer (the work this process may send it
-    next, e.g. :mod:`cadartifact.gate_split`); returns the previous setting."""
+    next, e.g. :mod:`cadartifact.face_sharing`); returns the previous setting."""
     global _idle_imports
     saved, _idle_imports = _idle_imports, tuple(modules)
     return saved

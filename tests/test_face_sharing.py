@@ -1,4 +1,4 @@
-"""``gate --jobs 1`` shares a file's faces with the idle reader child (cadartifact.gate_split).
+"""``gate --jobs 1`` shares a file's faces with the idle reader child (cadartifact.face_sharing).
 
 The shared run must give the serial run's document byte for byte (records, peak locations, the first
 error), must really hand faces to the child, and must survive a child that fails on the way.
@@ -58,7 +58,7 @@ def spy(monkeypatch):
     real = isolation.call
 
     def call(function, *args, **kwargs):
-        if function.endswith(":child_share"):
+        if function.endswith(":child_gate"):
             calls.append(len(args[0][0]))
         return real(function, *args, **kwargs)
 
@@ -87,7 +87,7 @@ def test_a_child_that_fails_its_share_costs_only_time(many, monkeypatch):
     real = isolation.call
 
     def call(function, *args, **kwargs):
-        if function.endswith(":child_share"):
+        if function.endswith(":child_gate"):
             kwargs["during"]()  # this process's share runs, then the child "crashes"
             raise FileFormatError("many.step", "the analysis reader crashed on this file (SIGSEGV)")
         return real(function, *args, **kwargs)
@@ -100,7 +100,7 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
     """The child's side run in this process (so that one face can be made to fail on both sides): the
     outcomes are the serial loop's, errors included, in face order."""
     import cadartifact.gate as gate
-    import cadartifact.gate_split as split
+    import cadartifact.face_sharing as split
     from cadartifact.errors import CadArtifactError
     from cadartifact.exchange import isolation
     from cadartifact.gate_policy import FileSettings
@@ -116,7 +116,7 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
 
     def call(function, args, *, during=None, **kwargs):
         during()
-        return split.child_share(*args)
+        return split.child_gate(*args)
 
     monkeypatch.setattr(gate, "_face_entry", entry)
     monkeypatch.setattr(isolation, "call", call)

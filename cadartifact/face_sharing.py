@@ -1,0 +1,326 @@
+"""One file's faces shared between this process and the reader child (a second core, one file).
+
+``gate --jobs 1`` and ``advise`` run one process, and after OCCT's read its reader child
+(:mod:`cadartifact.exchange.isolation`) sits idle on the second core. :func:`share` hands it part of
+the file's faces, works on the rest here at the same time and returns one outcome per face in face
+order, as the serial loop would: the same records (the child runs the same code, with the same one
+BLAS thread, so the numbers are the same to the bit) and the same first error.
+:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's.
+
+The faces are shared only when that pays: this process is the only worker (:func:`enabled`;
+``--jobs 2`` workers already fill the cores), the machine has a second core, the reader child is
+running, and the file's estimated analysis time is long enough to repay the round trip. A child
+that dies on the way costs nothing but time: its share is done here. While the child works it cannot
+evaluate surfaces for this process (peak locations and verification go through it when OCP is not
+imported here), so this process's share runs in two phases: the analysis, then, once the child has
+answered, what needs OCCT.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+
+from .errors import CadArtifactError, FileFormatError
+
+__all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "share", "sharing"]
+
+#: Estimated analysis time below which the faces are not shared (ms): a round trip costs a few ms.
+MIN_SHARED_MS = 60.0
+#: What the child's first share costs before its first face: importing the analysis (ms).
+CHILD_START_MS = 60.0
+
+_enabled = False
+
+
+@contextlib.contextmanager
+def sharing(on: bool = True):
+    """Within the block, faces may be shared with the reader child (``gate --jobs 1``, ``advise``)."""
+    global _enabled
+    from .exchange import isolation
+
+    saved, _enabled = _enabled, bool(on)
+    # the child imports the analysis while idle after its read, before the first share reaches it
+    imports = isolation.set_idle_imports(("cadartifact.face_sharing", "cadartifact.gate", "cadartifact.advice")
+                                         if on else ())
+    try:
+        yield
+    finally:
+        _enabled = saved
+        isolation.set_idle_imports(imports)
+
+
+def one_blas_thread():
+    """One BLAS thread while a file is analysed, in this process, a worker or the reader child.
+
+    Workers already fill the cores (nested BLAS threads oversubscribe them: two workers with two
+    threads each ran slower than one process), and the same thread count everywhere keeps the
+    floating-point summation order, hence the document, identical for every ``--jobs``, with or
+    without shared faces (OpenBLAS sums in another order on more threads: 1e-13 apart).
+    """
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def enabled() -> bool:
+    """Whether faces may be shared now: inside :func:`sharing`, with a second core and a running reader
+    child (``CADARTIFACT_SHARE_FACES=0`` turns it off)."""
+    from .exchange import isolation
+
+    if not _enabled or os.environ.get("CADARTIFACT_SHARE_FACES", "1").strip() in ("0", "no", "off", "false"):
+        return False
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    return cores >= 2 and isolation.warm()
+
+
+def estimated_ms(net) -> float:
+    """A face's estimated budget time (ms): a constant plus the fine grid's size, which the band split's
+    FFTs over a continuation three times the face scale with (measured: 7x3 about 5 ms, 23x23 about 45)."""
+    nu, nv = net.points.shape[:2]
+    return 3.0 + 0.08 * nu * nv
+
+
+def share(items: list, costs: list, here, finish, child: str, args: tuple, *, done=None) -> list:
+    """``finish(item, here(item))`` per item, in order, part of them done by the reader child.
+
+    Parameters
+    ----------
+    items : list
+        Picklable (control nets).
+    costs : list of float
+        Estimated milliseconds per item (:func:`estimated_ms`).
+    here : callable(item) -> object
+        The first phase in this process (no OCCT evaluation: the child is busy).
+    finish : callable(item, first) -> outcome
+        The second phase, after the child has answered.
+    child : str
+        ``"module:function"`` run in the child as ``function(items, *args)``: the two phases of its
+        items, packed by :func:`pack`.
+    done : callable(index), optional
+        Called as each outcome is known (progress).
+
+    Returns
+    -------
+    list
+        One outcome per item; exceptions are outcomes too (the caller raises the first).
+    """
+    def serial():
+        out = []
+        for k, item in enumerate(items):
+            out.append(finish(item, here(item)))
+            if done:
+                done(k)
+        return out
+
+    if len(items) < 2 or sum(costs) < MIN_SHARED_MS or not enabled():
+        return serial()
+    # longest first, each to the side that would finish first; the child starts later (its imports)
+    mine, theirs, load = [], [], [0.0, CHILD_START_MS]
+    for i in sorted(range(len(items)), key=lambda i: -costs[i]):
+        side = 0 if load[0] <= load[1] else 1
+        (mine, theirs)[side].append(i)
+        load[side] += costs[i]
+    if not theirs:
+        return serial()
+    out: list = [None] * len(items)
+    first: dict = {}
+
+    def work():
+        for i in sorted(mine):
+            first[i] = here(items[i])
+
+    from .exchange import isolation
+
+    try:
+        answers = [unpack(a) for a in isolation.call(child, ([items[i] for i in theirs], *args),
+                                                       path=getattr(getattr(items[0], "origin", None), "file", None)
+                                                       or "<nets>", what="analysis", timeout=float("inf"),
+                                                       during=work)]
+    except FileFormatError:  # the child died or failed: its share is done here
+        answers = None
+    for i in sorted(mine):
+        out[i] = finish(items[i], first[i] if i in first else here(items[i]))
+        if done:
+            done(i)
+    for k, i in enumerate(theirs):
+        out[i] = answers[k] if answers is not None else finish(items[i], here(items[i]))
+        if done:
+            done(i)
+    return out
+
+
+def analyse_faces(nets: list, settings, verify: bool, key: str) -> list:
+    """The gate's per-face work (:func:`face_outcome`), shared: records (``peak_at`` set, ``entity_line``
+    not) or the :class:`CadArtifactError` naming the face, in face order. ``verify`` runs are not shared
+    (the advice's verification needs OCCT in the first phase).
+
+    Parameters
+    ----------
+    nets : list of ControlNet
+    settings : FileSettings
+    verify : bool
+    key : {"total", "deviation"}
+        The budget entry the peak is located on.
+    """
+    costs = [estimated_ms(n) for n in nets]
+    if verify:
+        costs = [0.0] * len(nets)  # below MIN_SHARED_MS: not shared
+    return share(nets, costs, lambda n: _budgeted(n, settings, verify), lambda n, f: _located(f[0], n, key, f[1]),
+                 "cadartifact.face_sharing:child_gate", (settings, verify, key))
+
+
+def child_gate(nets: list, settings, verify: bool, key: str) -> list:
+    """The reader child's side of :func:`analyse_faces`."""
+    return _in_child(lambda n: face_outcome(n, settings, verify, key), nets)
+
+
+def advise_faces(nets: list, options: dict, path, key: str, *, done=None) -> list:
+    """The advise document's per-face work, shared: ``(record, advice)`` (``peak_at`` and ``entity_line``
+    not set; the advice is None for the child's faces) or the exception, in face order.
+
+    ``options``: :func:`cadartifact.advise`'s keyword arguments (``verify`` among them).
+    """
+    costs = [4.0 * estimated_ms(n) for n in nets]  # a search and a comparison: several budgets per face
+    return share(nets, costs, lambda n: _advised(n, options, path, key, later=True),
+                 lambda n, first: _verified(first, n, options, path, key),
+                 "cadartifact.face_sharing:child_advise", (options, str(path), key), done=done)
+
+
+def child_advise(nets: list, options: dict, path, key: str) -> list:
+    """The reader child's side of :func:`advise_faces`: records only (an Advice stays where it was made)."""
+    def one(net):
+        got = _verified(_advised(net, options, path, key, later=False), net, options, path, key)
+        return got if isinstance(got, BaseException) else (got[0], None)
+
+    return _in_child(one, nets)
+
+
+def _advised(net, options: dict, path, key: str, later: bool):
+    from .advice import advise
+    from .report import face_record
+
+    try:
+        opts = dict(options)
+        tolerance = opts.pop("tolerance")
+        if later and opts.get("verify", True):
+            opts["verify"] = "later"
+        adv = advise(net, tolerance, **opts)
+        return face_record(net, adv), adv
+    except Exception as exc:  # noqa: BLE001 - raised by the caller, in face order
+        return exc
+
+
+def _verified(first, net, options: dict, path, key: str):
+    """Phase two of the advise work: the verification left for later, the record checked and located."""
+    from .report import face_record, peak_location
+    from .verification import complete
+
+    if isinstance(first, BaseException):
+        return first
+    rec, adv = first
+    try:
+        if adv.pending is not None:
+            adv = complete(adv)
+            rec = face_record(net, adv)
+        if any(rec["budget"][k][options.get("metric", "peak")] is None for k in {key, "total"}):
+            return FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
+                                         "(coordinates or weights too large?)")
+        rec["peak_at"] = None
+        if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
+            try:
+                rec["peak_at"] = peak_location(net, rec["scheme"], key, None)
+            except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
+                rec["peak_at"] = None
+        return rec, adv
+    except Exception as exc:  # noqa: BLE001
+        return exc
+
+
+def _in_child(one, items) -> list:
+    """``pack(one(item))`` per item under the gate's numerical settings (one BLAS thread, no warnings)."""
+    import warnings
+
+    import numpy as np
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"), one_blas_thread():
+        warnings.simplefilter("ignore")
+        return [pack(one(item)) for item in items]
+
+
+def pack(outcome):
+    """An outcome as plain picklable data (exceptions by class, path and problem, as the reader child
+    sends its errors)."""
+    if isinstance(outcome, BaseException):
+        return ("error", type(outcome).__module__, type(outcome).__qualname__, getattr(outcome, "path", None),
+                getattr(outcome, "problem", None), str(outcome))
+    return ("ok", outcome)
+
+
+def unpack(answer):
+    """The outcome :func:`pack` packed."""
+    if answer[0] == "ok":
+        return answer[1]
+    import importlib
+
+    from .errors import InputError
+
+    _, module, name, path, problem, message = answer
+    try:
+        cls = getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError):
+        cls = CadArtifactError
+    if isinstance(cls, type) and issubclass(cls, InputError) and problem is not None:
+        return cls(path, problem)
+    if isinstance(cls, type) and issubclass(cls, CadArtifactError):
+        exc = cls.__new__(cls)
+        Exception.__init__(exc, message)
+        return exc
+    return CadArtifactError(message)
+
+
+def face_outcome(net, settings, verify: bool, key: str):
+    """The gate record of one face with its peak location, or the :class:`CadArtifactError` the serial
+    gate raises for it (other exceptions become ``analysis failed (Type: message)``, as the gate words them)."""
+    outcome, current = _budgeted(net, settings, verify)
+    return _located(outcome, net, key, current)
+
+
+def _budgeted(net, settings, verify: bool):
+    """``(record or error, today's budget where a peak is to be located, else None)``: no OCCT evaluation
+    except the advice's verification."""
+    import numpy as np
+
+    from .gate import _face_entry
+
+    try:
+        if not np.isfinite(np.sum(net.points ** 2)):  # squared norms overflow: nothing finite would come out
+            return CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
+                                    f"(max |x| = {np.abs(net.points).max():.3g})"), None
+        try:
+            rec, current = _face_entry(net, settings, verify)
+        except CadArtifactError as exc:
+            return CadArtifactError(f"face {net.origin.face}: {exc}"), None
+        located = rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail")
+        rec["peak_at"] = None
+        return rec, (current, True) if located else None
+    except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
+        return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})"), None
+
+
+def _located(outcome, net, key: str, pending):
+    """The record with ``peak_at`` (:func:`cadartifact.report.peak_location`) where ``pending`` asks."""
+    if pending is None or isinstance(outcome, BaseException):
+        return outcome
+    from .report import peak_location
+
+    try:
+        outcome["peak_at"] = peak_location(net, outcome["scheme"], key, pending[0])
+    except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
+        outcome["peak_at"] = None
+    except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
+        return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})")
+    return outcome
