@@ -146,3 +146,31 @@ def test_a_call_from_within_during_is_refused_not_a_hang():
 
     assert isinstance(isolation.call("os:getpid", (), path="x.step", during=nested), int)
     assert seen
+
+
+def test_advise_shares_faces_and_gives_the_serial_document(many, monkeypatch):
+    from cadartifact.exchange import isolation
+
+    def advise(*env):
+        result = CliRunner().invoke(app, ["advise", str(many), "--tol", "0.01", "--json"])
+        assert result.exit_code in (0, 1) and "Traceback" not in result.output, result.output
+        return result.stdout
+
+    monkeypatch.setenv("CADARTIFACT_SHARE_FACES", "0")
+    serial = advise()
+    monkeypatch.delenv("CADARTIFACT_SHARE_FACES")
+    calls = []
+    real = isolation.call
+
+    def call(function, *args, **kwargs):
+        if function.endswith(":child_advise"):
+            calls.append(len(args[0][0]))
+        return real(function, *args, **kwargs)
+
+    monkeypatch.setattr(isolation, "call", call)
+    shared = advise()
+    assert calls and 0 < calls[0] < 8, calls
+    assert shared == serial
+    doc = json.loads(shared)
+    verified = [f["advice"]["verification"] for f in doc["files"][0]["faces"]]
+    assert all(v and v["method"] in ("occt", "today") for v in verified)  # this process's share was verified too
