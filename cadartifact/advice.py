@@ -527,12 +527,14 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
                                "meets_tolerance": bool(meets), "objective": "deviation"}
             continue
 
-        def ok(a, b, other=other):
-            xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
-            pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
-            cage = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
-            return budget(cage, other, metric=metric, component=component, levels=1,
-                          method="predicted").stats["total"].get(metric) <= tolerance
+        def ok(a, b, other=other, seen={}.copy()):  # a memo per scheme: the frontier asks some twice
+            if (a, b) not in seen:
+                xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
+                pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
+                cage = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
+                seen[(a, b)] = budget(cage, other, metric=metric, component=component, levels=1,
+                                      method="predicted").stats["total"].get(metric) <= tolerance
+            return seen[(a, b)]
 
         low = (3, 3)
         high = tuple(max(l + 1, min(MAX_POINTS // 4, GROWTH * n)) for l, n in zip(low, work.shape))
