@@ -26,7 +26,7 @@ from .errors import CadArtifactError, one_line
 from .gate_policy import FileSettings, Policy
 
 __all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
-           "run_gate"]
+           "merge_parts", "run_gate"]
 
 GATE_SCHEMA = "cadartifact.gate/1"
 
@@ -100,7 +100,8 @@ def _error_entry(path: str, settings: FileSettings | None, message: str) -> dict
 INVALID_SKIPS = ("degenerate", "conversion failed", "dropped")
 
 
-def gate_file(path: str, settings: FileSettings, verify: bool = False, read_timeout: float | None = None) -> dict:
+def gate_file(path: str, settings: FileSettings, verify: bool = False, read_timeout: float | None = None,
+              part: tuple[int, int] | None = None) -> dict:
     """Read, advise and judge one file; never raises (errors become an ``error`` entry).
 
     Parameters
@@ -111,6 +112,9 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
         Verify the advice of failing faces on the real surface (slower).
     read_timeout : float, optional
         Seconds OCCT's reader may take on the file (see :func:`cadartifact.exchange.read`).
+    part : (int, int), optional
+        ``(r, k)``: only the analysable faces at positions ``r, r + k, ...`` (a face batch of a big file
+        on a cluster); the entry then carries ``_part`` and is completed by :func:`merge_parts`.
 
     Returns
     -------
@@ -139,7 +143,7 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
         # result is turned into an error below
         with warnings.catch_warnings(), np.errstate(all="ignore"), _one_blas_thread():
             warnings.simplefilter("ignore")
-            return _gate_file(path, settings, verify, read_timeout)
+            return _gate_file(path, settings, verify, read_timeout, part)
     except CadArtifactError as exc:
         message = str(exc)
         if not message.startswith(str(path)):
@@ -156,11 +160,12 @@ def _one_blas_thread():
     return one_blas_thread()
 
 
-def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None) -> dict:
+def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None,
+               part: tuple[int, int] | None = None) -> dict:
     from .exchange import read
     from .exchange.step_text import entity_line
     from .face_sharing import analyse_faces
-    from .report import analysed_share, kind_count
+    from .report import analysed_share
 
     if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
         from .errors import InputError
@@ -178,11 +183,18 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
                                + (f" ({detail})" if detail else ""))
     key = "deviation" if settings.include_signal_error else "total"
     todo = [net for net in res.nets if net.origin.face not in settings.ignore_faces]
-    faces = []
+    positions = list(range(len(todo)))
+    if part is not None:
+        positions = positions[part[0]::part[1]]
+        todo = [todo[i] for i in positions]
+    faces, error = [], None
     # records with peak_at for faces that warn or fail, in face order; the first error fails the file
-    for outcome in analyse_faces(todo, settings, verify, key):
+    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify, key)):
         if isinstance(outcome, BaseException):
-            raise outcome
+            if part is None:
+                raise outcome
+            error = [pos, str(outcome)]  # the merge raises the first of all parts'
+            break
         outcome["entity_line"] = entity_line(path, outcome.get("entity"))
         faces.append(outcome)
     present = {n.origin.face for n in res.nets}
@@ -191,16 +203,48 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     missing = [i for i in ignored if i not in present]
     if missing:
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
-    if not faces:
-        notes.append("no analysable face (nothing to gate): pass")
     share = analysed_share(res)
     entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
              "analysed_share": None if share is None else round(share, 9),
              "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
+    if part is not None:
+        entry["_part"] = {"index": part[0], "of": part[1], "positions": positions[:len(faces)], "error": error,
+                          "share": share}
+        return entry
+    return _complete(entry, share, settings)
+
+
+def merge_parts(parts: list, settings: FileSettings) -> dict:
+    """One file's entry from its face batches (:func:`gate_file` with ``part``), as :func:`gate_file` gives it
+    whole: faces in file order, the first error of all batches (or the read error, the same in each)."""
+    for e in parts:
+        if "_part" not in e:  # the file could not be read: every batch says so alike
+            return e
+    errors = [e["_part"]["error"] for e in parts if e["_part"]["error"] is not None]
+    path = parts[0]["path"]
+    if errors:
+        message = min(errors)[1]
+        if not message.startswith(str(path)):
+            message = f"{path}: {message}"
+        return _error_entry(path, settings, one_line(message))
+    ranked = sorted((pos, k, f) for k, e in enumerate(parts) for pos, f in zip(e["_part"]["positions"], e["faces"]))
+    entry = {key: value for key, value in parts[0].items() if key != "_part"}
+    entry["notes"] = list(entry["notes"])
+    entry["faces"] = [f for _, _, f in ranked]
+    return _complete(entry, parts[0]["_part"]["share"], settings)
+
+
+def _complete(entry: dict, share, settings: FileSettings) -> dict:
+    """The file-level verdict and notes of an entry whose faces are all in."""
+    from .report import kind_count
+
+    notes = entry["notes"]
+    if not entry["faces"]:
+        notes.append("no analysable face (nothing to gate): pass")
     entry["verdict"] = file_verdict(entry)
     if share is not None:
-        skipped = ", ".join(kind_count(k, n) for k, n in sorted(res.skipped.items()))
+        skipped = ", ".join(kind_count(k, n) for k, n in sorted(entry["skipped"].items()))
         text = f"analysed charts cover {100 * share:.1f} % of the cage's area" + (f" (not analysed: {skipped})"
                                                                                    if skipped else "")
         if share < settings.min_analysed_share:

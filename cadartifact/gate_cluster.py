@@ -105,20 +105,21 @@ def _maybe_die(path: str) -> None:
         os._exit(17)
 
 
-def gate_task(path: str, payload: bytes | None, settings, verify: bool) -> dict:
-    """Gate one file on a worker; ``payload`` is its bytes with ``--ship`` (else read ``path``)."""
+def gate_task(path: str, payload: bytes | None, settings, verify: bool, part=None) -> dict:
+    """Gate one file (or with ``part = (r, k)`` one face batch of it: :func:`cadartifact.gate.merge_parts`)
+    on a worker; ``payload`` is its bytes with ``--ship`` (else read ``path``)."""
     from .gate import gate_file
 
     _maybe_die(path)
     if payload is None:
-        return gate_file(path, settings, verify)
+        return gate_file(path, settings, verify, part=part)
     import tempfile
 
     with tempfile.TemporaryDirectory(prefix="cadartifact-ship-") as tmp:
         local = os.path.join(tmp, os.path.basename(path) or "input")
         with open(local, "wb") as fh:
             fh.write(payload)
-        entry = gate_file(local, settings, verify)
+        entry = gate_file(local, settings, verify, part=part)
     return _relocate_shipped(entry, local, path)
 
 
@@ -287,6 +288,22 @@ def _batches(tasks: list, threads: int) -> list:
     return out
 
 
+#: A file this big or bigger is also split into face batches when the cluster has more threads than files.
+SPLIT_BYTES = BATCH_BYTES
+#: At most this many face batches per file (each batch reads the file again).
+MAX_PARTS = 8
+
+
+def _parts(tasks: list, threads: int) -> int:
+    """Face batches per big file: as many as leave no thread idle when there are fewer files than
+    threads (each batch reads the file again, so a busy cluster gains nothing from them), else 1.
+    ``CADARTIFACT_FACE_BATCHES`` sets the count (tests, benchmarks)."""
+    forced = os.environ.get("CADARTIFACT_FACE_BATCHES", "").strip()
+    if forced:
+        return max(1, min(MAX_PARTS, int(forced)))
+    return max(1, min(MAX_PARTS, threads // max(1, len(tasks))))
+
+
 def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
@@ -296,7 +313,7 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     token = uuid.uuid4().hex[:12]
     results: list = [None] * len(tasks)
 
-    def submit(batch: list, tag: str):
+    def submit(batch: list, tag: str, part=None):
         """A future for the files of ``batch`` that could be sent (--ship settles unreadable ones here)."""
         items, sent = [], []
         for i in batch:
@@ -305,14 +322,16 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
             if options.ship and payload is None:  # unreadable here: reported as the local gate reports it
                 from .gate import gate_file
 
-                results[i] = gate_file(path, settings, verify)
-                done(results[i])
+                if part is None or part[0] == 0:
+                    results[i] = gate_file(path, settings, verify)
+                    done(results[i])
                 continue
-            items.append((path, payload, settings, verify))
+            items.append((path, payload, settings, verify, part))
             sent.append(i)
         if not items:
             return None, sent
-        fut = client.submit(gate_batch, items, __version__, key=f"cadartifact-gate-{tag}-{sent[0]}-{token}",
+        where = f"{sent[0]}" if part is None else f"{sent[0]}-part{part[0]}"
+        fut = client.submit(gate_batch, items, __version__, key=f"cadartifact-gate-{tag}-{where}-{token}",
                             retries=options.retries, pure=False)
         return fut, sent
 
@@ -322,35 +341,69 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     window = max(16, 4 * threads) if options.ship else None
     futures, killed = {}, []
     pending = as_completed()
-    queue = iter(_batches(tasks, threads))
+    # a big file alone on a cluster with idle threads goes as face batches (read again by each), merged here
+    k = _parts(tasks, threads)
+    queue_items = []
+    for batch in _batches(tasks, threads):
+        if k > 1 and len(batch) == 1 and _size(tasks[batch[0]][0]) >= SPLIT_BYTES:
+            queue_items += [(batch, (r, k)) for r in range(k)]
+        else:
+            queue_items.append((batch, None))
+    queue = iter(queue_items)
+    parts: dict = {}  # file index -> {r: entry}
 
     def top_up():
         while window is None or len(futures) < window:
-            batch = next(queue, None)
-            if batch is None:
+            item = next(queue, None)
+            if item is None:
                 return
-            fut, sent = submit(batch, "a")
+            batch, part = item
+            fut, sent = submit(batch, "a", part)
             if fut is not None:
-                futures[fut] = sent
+                futures[fut] = (sent, part)
                 pending.add(fut)
+
+    def finished(i: int, entry: dict, part) -> None:
+        if part is None:
+            results[i] = entry
+            done(entry)
+            return
+        if i in killed:
+            return  # re-run whole below
+        got = parts.setdefault(i, {})
+        got[part[0]] = entry
+        if len(got) == part[1]:
+            from .gate import merge_parts
+
+            results[i] = merge_parts([got[r] for r in range(part[1])], tasks[i][1])
+            done(results[i])
 
     top_up()
     while futures:
         fut = next(pending)
-        batch = futures.pop(fut)
+        batch, part = futures.pop(fut)
         try:
             entries = fut.result()
         except KilledWorker:
-            killed += batch  # perhaps only neighbours of the culprit on a dying worker: re-run alone below
+            # perhaps only neighbours of the culprit on a dying worker: re-run alone (and whole) below
+            killed += [i for i in batch if i not in killed]
             entries = None
         except Exception as exc:  # fail closed: an unexpected failure must not let the files pass
             entries = [_failed_entry(tasks[i], exc) for i in batch]
+            if part is not None:  # one failed batch fails the file: no merge
+                for i, entry in zip(batch, entries):
+                    parts.pop(i, None)
+                    if results[i] is None:
+                        results[i] = entry
+                        done(entry)
+                entries = None
         for i, entry in zip(batch, entries or ()):
-            results[i] = entry
-            done(entry)
+            if results[i] is None:
+                finished(i, entry, part)
         fut.release()
         top_up()
     for i in sorted(killed):
+        results[i] = None
         fut, _ = submit([i], "alone")
         if fut is None:
             continue

@@ -294,3 +294,78 @@ def test_batches_partition_the_files_biggest_first_small_ones_grouped(tmp_path):
     assert all(len(b) == 1 or sum(sizes[i] for i in b) <= BATCH_BYTES for b in batches)
     assert len(batches) >= 4 * 2  # a few per thread
     assert [len(b) for b in _batches(tasks[:6], threads=2)] == [1] * 6  # few files: one per task
+
+
+# ---------------------------------------------------------------- face batches of a big file
+def _batch_file(tmp_path):
+    """A STEP file of nine faces, some rippled beyond the tolerance (advice, peak locations)."""
+    import numpy as np
+
+    from cadartifact.exchange import write_step
+    from cadartifact.net import ControlNet, NetOrigin
+
+    nets = []
+    for k, (nu, nv, amp) in enumerate([(14, 10, 2.0), (8, 7, 0.0), (12, 12, 1.0), (7, 6, 0.5), (10, 9, 0.0),
+                                       (9, 9, 3.0), (8, 8, 0.2), (11, 8, 0.0), (7, 7, 1.5)]):
+        i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+        x, y = 100.0 * i / (nu - 1), 60.0 * j / (nv - 1)
+        z = amp * np.sin(2 * np.pi * x / 37.0 + k) * np.cos(2 * np.pi * y / 23.0)
+        nets.append(ControlNet.from_points(np.stack([x, y, z], -1), degrees=(3, 3),
+                                           origin=NetOrigin(name=f"f{k}", kind="bspline")))
+    write_step(nets, tmp_path / "big.step")
+    return tmp_path / "big.step"
+
+
+def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
+    import cadartifact.gate as gate
+    from cadartifact.errors import CadArtifactError
+    from cadartifact.gate import gate_file, merge_parts
+    from cadartifact.gate_policy import FileSettings
+
+    path = str(_batch_file(tmp_path))
+    settings = FileSettings(tolerance=0.05)
+    whole = gate_file(path, settings)
+    assert sum(f["verdict"] == "fail" for f in whole["faces"]) >= 2
+    for k in (2, 3, 4, 9, 12):  # more batches than faces: some batches are empty
+        parts = [gate_file(path, settings, part=(r, k)) for r in range(k)]
+        assert json.dumps(merge_parts(parts, settings)) == json.dumps(whole), k
+    # the first error of all batches, in face order, is the whole file's error
+    real = gate._face_entry
+
+    def entry(net, s, verify):
+        if net.origin.face in (4, 7):
+            raise CadArtifactError(f"face {net.origin.face} refuses")
+        return real(net, s, verify)
+
+    monkeypatch.setattr(gate, "_face_entry", entry)
+    whole = gate_file(path, settings)
+    assert whole["verdict"] == "error" and "face 4" in whole["error"]
+    for k in (2, 3, 5):
+        parts = [gate_file(path, settings, part=(r, k)) for r in range(k)]
+        assert merge_parts(parts, settings) == whole, k
+    # a file that cannot be read: every batch says so, the merge too
+    (tmp_path / "bad.step").write_text("ISO-10303-21;\nnot step\n")
+    parts = [gate_file(str(tmp_path / "bad.step"), settings, part=(r, 2)) for r in range(2)]
+    assert merge_parts(parts, settings) == gate_file(str(tmp_path / "bad.step"), settings)
+
+
+@pytest.mark.cluster
+@pytest.mark.xdist_group("dask")
+def test_a_big_file_alone_on_a_cluster_goes_as_face_batches(tmp_path, monkeypatch):
+    import cadartifact.gate as gate
+    import cadartifact.gate_cluster as gc
+    from cadartifact.gate_cluster import ClusterOptions
+    from cadartifact.gate_policy import FileSettings
+
+    pytest.importorskip("distributed")
+    path = _batch_file(tmp_path)
+    monkeypatch.setattr(gc, "SPLIT_BYTES", 0)  # the test file is small; the rule is what is tested
+    merged = []
+    real = gate.merge_parts
+    monkeypatch.setattr(gate, "merge_parts", lambda parts, s: merged.append([p["_part"]["index"] for p in parts])
+                        or real(parts, s))
+    settings = [FileSettings(tolerance=0.05)]
+    clustered = run_gate([path], settings, cluster=ClusterOptions("local", workers=2))
+    serial = run_gate([path], settings, jobs=1)
+    assert merged == [[0, 1]]  # one file, two threads: two face batches, merged in the client
+    assert json.dumps(clustered) == json.dumps(serial)
