@@ -20,7 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .artifact_budget import METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme
+from .artifact_budget import (METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme,
+                              total_ripple)
 from .errors import OptionError, check_option
 from .fields import baseband_at, intent_normals, project
 from .fitting import candidate_axis, candidate_net, curve_distance, fit_points
@@ -532,8 +533,7 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
                 xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
                 pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
                 cage = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
-                seen[(a, b)] = budget(cage, other, metric=metric, component=component, levels=1,
-                                      method="predicted").stats["total"].get(metric) <= tolerance
+                seen[(a, b)] = total_ripple(cage, other, metric=metric, component=component, levels=1) <= tolerance
             return seen[(a, b)]
 
         low = (3, 3)

@@ -20,7 +20,7 @@ from .intent import READINGS, design_intent
 from .net import ControlNet
 from .pieces import gather_fields, split_net
 
-__all__ = ["Budget", "Stat", "budget", "default_scheme", "METHODS", "METRICS", "REGIONS"]
+__all__ = ["Budget", "Stat", "budget", "default_scheme", "total_ripple", "METHODS", "METRICS", "REGIONS"]
 
 METHODS = ("auto", "predicted", "measured", "both")
 METRICS = ("peak", "rms")
@@ -362,6 +362,27 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
                   fields=main if keep_fields else None,
                   scalar_fields=scalars if keep_fields or keep_scalars else None,
                   region=keep if keep_fields or keep_scalars else None)
+
+
+def total_ripple(net: ControlNet, scheme, *, metric: str = "peak", levels: int = 3,
+                 component: str = "normal") -> float:
+    """``budget(net, scheme, metric=..., levels=..., component=..., method="predicted").stats["total"][metric]``
+    of a cage (no knots), computing that number only: the same fields less the lateral one, the same
+    projection and mask, no other band's statistics. The scheme comparison's predicate asks this
+    hundreds of times per face.
+    """
+    from .fields import predicted_fields
+
+    work = analysis_net(net, scheme)
+    if work.knots is not None:  # a face: the full budget (measured road, pieces)
+        return budget(net, scheme, metric=metric, levels=levels, component=component,
+                      method="predicted").stats["total"].get(metric)
+    it = design_intent(work, scheme, levels)
+    main = predicted_fields(it, scheme, "surface", lateral=False)
+    normal = None if component == "vector" else intent_normals(main.intent, 2 ** main.levels)
+    total = project(main.bands["total"], normal, component)
+    keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, scheme))
+    return _stats({"total": total}, keep)["total"].get(metric)
 
 
 def _after_junction(a: np.ndarray, piece) -> np.ndarray:

@@ -272,7 +272,7 @@ def _fine_spectrum(intent: Intent) -> np.ndarray:
     return intent.spectrum[np.ix_(rows, cols)] * (fu.K * fv.K)
 
 
-def predicted_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFields:
+def predicted_fields(intent: Intent, scheme, reading: str = "net", lateral: bool = True) -> ArtifactFields:
     """Artifact fields from the scheme's spectral response (the *predicted* road).
 
     Fine spectrum of the residual's limit surface: ``S(xi) = K^2 T_L(xi) R(xi mod 1)``, ``T_L`` the
@@ -285,20 +285,23 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFi
     intent : Intent
     scheme : Scheme
     reading : {"net", "surface"}
+    lateral : bool
+        Also the lateral field (one more pair of FFTs); False leaves ``bands["lateral"]`` out, for
+        callers that need the other bands only (the scheme comparison's predicate).
 
     Returns
     -------
     ArtifactFields
     """
     if getattr(scheme, "tensor", False) and not any(getattr(scheme, "dual", (False, False))):
-        return _predicted_separable(intent, scheme, reading)
+        return _predicted_separable(intent, scheme, reading, lateral)
     fu, fv = intent.frames
     B = fv.K * fv.period
     h = B // 2 + 1
     T = np.asarray(scheme.transfer(_fine_freqs(fu)[:, None], np.abs(_fine_freqs(fv)[:h])[None, :], fu.levels))
     limit_spec = _fine_spectrum(intent) * T[:, :, None]
     poly = _coef_matrix(intent, trend_image_coef(intent, scheme))
-    return _finish(intent, limit_spec, poly, None, "predicted", reading)
+    return _finish(intent, limit_spec, poly, None, "predicted", reading, lateral)
 
 
 def _axis_synthesis(intent: Intent, scheme, axis: int):
@@ -343,7 +346,7 @@ def _axis_synthesis(intent: Intent, scheme, axis: int):
     return poly(frame.x) + low, high, low_at
 
 
-def _predicted_separable(intent: Intent, scheme, reading: str) -> ArtifactFields:
+def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True) -> ArtifactFields:
     """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials)."""
     fu, fv = intent.frames
     (Lu, Hu, lu), (Lv, Hv, lv) = (_axis_synthesis(intent, scheme, k) for k in (0, 1))
@@ -351,7 +354,8 @@ def _predicted_separable(intent: Intent, scheme, reading: str) -> ArtifactFields
     smooth = sandwich(Lu, P, Lv)
     bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
     bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
-    bands["lateral"] = _lateral_of(bands["total"], fu, fv)
+    if lateral:
+        bands["lateral"] = _lateral_of(bands["total"], fu, fv)
     return _assemble(intent, bands, smooth, smooth + bands["total"], "predicted", reading,
                      {"separable": (lu, lv), "points": P})
 
@@ -533,10 +537,10 @@ def _assemble(intent: Intent, bands: dict, smooth: np.ndarray, surface, method, 
                           levels=fu.levels, reading=reading, baseband=baseband)
 
 
-def _finish(intent: Intent, spec, poly, surface, method: str, reading: str) -> ArtifactFields:
+def _finish(intent: Intent, spec, poly, surface, method: str, reading: str, lateral: bool = True) -> ArtifactFields:
     """Fields from the half spectrum of a surface's non-polynomial part and its polynomial part."""
     fu, fv = intent.frames
-    bands = band_split(spec, fu, fv)
+    bands = band_split(spec, fu, fv, lateral=lateral)
     smooth = bands["signal_error"] + sandwich(_legendre(fu.x, fu.spans, poly.shape[0] - 1), poly,
                                               _legendre(fv.x, fv.spans, poly.shape[1] - 1))
     if surface is None:

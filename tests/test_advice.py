@@ -214,3 +214,23 @@ def test_gallop_equals_linear_scan(lo, span, answer, hint):
     expect = max(lo, min(hi, answer))
     assert _gallop(pred, lo, hi, hint) == expect
     assert len(calls) <= 2 * (abs(expect - max(lo, min(hi, hint))) + 1).bit_length() + 2
+
+
+@pytest.mark.parametrize("periodic", [(False, False), (True, False), (True, True)])
+def test_total_ripple_is_the_budgets_number_to_the_bit(periodic):
+    """The comparison's lean predicate (no lateral field, one band's statistics) against the full budget."""
+    from cadartifact.advice import NAMED_SCHEMES
+    from cadartifact.artifact_budget import budget, total_ripple
+    from cadartifact.catalogue import scheme
+
+    rng = np.random.default_rng(7)
+    for name in NAMED_SCHEMES:
+        for shape in [(5, 4), (9, 7), (12, 13)]:
+            i, j = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+            pts = np.stack([3.0 * i, 3.0 * j, np.zeros(shape)], -1) + rng.normal(size=shape + (3,))
+            cage = ControlNet(points=pts, periodic=periodic, unit="mm")
+            for metric in ("peak", "rms"):
+                for component in ("normal", "vector"):
+                    full = budget(cage, scheme(name), metric=metric, component=component, levels=1,
+                                  method="predicted").stats["total"].get(metric)
+                    assert total_ripple(cage, scheme(name), metric=metric, component=component, levels=1) == full
