@@ -476,8 +476,7 @@ def _ripple_of(sc: _Scorer, a, b, sch, metric, component) -> float:
     if key not in sc._scores:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
-        b_ = budget(cand, None, metric=metric, component=component, levels=int(np.log2(sc.K)))
-        sc._scores[key] = b_.stats["total"].get(metric)
+        sc._scores[key] = total_ripple(cand, None, metric=metric, component=component, levels=int(np.log2(sc.K)))
     return sc._scores[key]
 
 

@@ -364,24 +364,28 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
                   region=keep if keep_fields or keep_scalars else None)
 
 
-def total_ripple(net: ControlNet, scheme, *, metric: str = "peak", levels: int = 3,
+def total_ripple(net: ControlNet, scheme=None, *, metric: str = "peak", levels: int = 3,
                  component: str = "normal") -> float:
-    """``budget(net, scheme, metric=..., levels=..., component=..., method="predicted").stats["total"][metric]``
-    of a cage (no knots), computing that number only: the same fields less the lateral one, the same
-    projection and mask, no other band's statistics. The scheme comparison's predicate asks this
-    hundreds of times per face.
+    """``budget(net, scheme, metric=..., levels=..., component=...).stats["total"][metric]`` computed for
+    that number only: the same fields less the lateral one, the same projection and mask, no other band's
+    statistics. The advice asks this of hundreds of candidates per face (the scheme comparison's cages,
+    the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
     """
-    from .fields import predicted_fields
+    from .catalogue import Scheme, scheme as get_scheme
+    from .fields import measured_fields, predicted_fields
 
-    work = analysis_net(net, scheme)
-    if work.knots is not None:  # a face: the full budget (measured road, pieces)
-        return budget(net, scheme, metric=metric, levels=levels, component=component,
-                      method="predicted").stats["total"].get(metric)
-    it = design_intent(work, scheme, levels)
-    main = predicted_fields(it, scheme, "surface", lateral=False)
+    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    work = analysis_net(net, sch)
+    if work.knots is not None:
+        pieces = split_net(work)
+        if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
+            return budget(net, sch, metric=metric, levels=levels, component=component).stats["total"].get(metric)
+    it = design_intent(work, sch, levels)
+    road = measured_fields if work.knots is not None else predicted_fields
+    main = road(it, sch, "surface", lateral=False)
     normal = None if component == "vector" else intent_normals(main.intent, 2 ** main.levels)
     total = project(main.bands["total"], normal, component)
-    keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, scheme))
+    keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, sch))
     return _stats({"total": total}, keep)["total"].get(metric)
 
 

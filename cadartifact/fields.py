@@ -364,7 +364,7 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
 MEASURED_EXTENSION = 3
 
 
-def measured_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFields:
+def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool = True) -> ArtifactFields:
     """Artifact fields of the real surface (the *measured* road).
 
     The real surface (:func:`cadartifact.measure.real_surface`: exact NURBS evaluation of a face,
@@ -384,7 +384,7 @@ def measured_fields(intent: Intent, scheme, reading: str = "net") -> ArtifactFie
         return _assemble(intent, {k: np.zeros_like(real) for k in ("x1", "x2", "diagonal", "lateral", "total")},
                          real, real, "measured", reading, {"evaluate": _surface_of(intent)})
     wide = tuple(f.with_extension(MEASURED_EXTENSION) for f in (fu, fv))
-    bands, smooth, baseband = _bridged_bands(real, wide, scheme)
+    bands, smooth, baseband = _bridged_bands(real, wide, scheme, lateral)
     return _assemble(intent, bands, smooth, real, "measured", reading, baseband)
 
 
@@ -401,7 +401,7 @@ def _surface_of(intent: Intent):
     return at
 
 
-def _bridged_bands(field: np.ndarray, frames, scheme) -> tuple[dict, np.ndarray, dict]:
+def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> tuple[dict, np.ndarray, dict]:
     """Bands of a field on the domain, split after a polynomial fit and a smooth periodic bridge.
 
     A tensor Legendre polynomial (:func:`_poly_fit`) is fitted and kept out of the split; the rest is
@@ -423,7 +423,8 @@ def _bridged_bands(field: np.ndarray, frames, scheme) -> tuple[dict, np.ndarray,
     bands = band_split(spec, fu, fv, lateral=False)
     # the lateral weights are not a band: they would weigh what the continuation leaves far outside the
     # face; weigh the face's own ripple instead, extended by even reflection (it has no smooth part)
-    bands["lateral"] = _lateral_of(bands["total"], fu, fv)
+    if lateral:
+        bands["lateral"] = _lateral_of(bands["total"], fu, fv)
     smooth = bands["signal_error"] + sandwich(V[0], poly, V[1])
     bands["signal_error"] = np.zeros_like(smooth)
     return bands, smooth, _baseband(spec, fu, fv, poly)

@@ -234,3 +234,21 @@ def test_total_ripple_is_the_budgets_number_to_the_bit(periodic):
                     full = budget(cage, scheme(name), metric=metric, component=component, levels=1,
                                   method="predicted").stats["total"].get(metric)
                     assert total_ripple(cage, scheme(name), metric=metric, component=component, levels=1) == full
+
+
+def test_total_ripple_of_faces_is_the_budgets_number_to_the_bit():
+    """Faces take the measured road: B-spline faces of several degrees and the samples' real faces."""
+    from cadartifact.artifact_budget import budget, total_ripple
+
+    rng = np.random.default_rng(3)
+    nets = []
+    for degrees, shape in [((3, 3), (9, 7)), ((2, 3), (6, 8)), ((3, 2), (12, 5)), ((1, 3), (4, 9))]:
+        i, j = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+        pts = np.stack([5.0 * i, 4.0 * j, np.zeros(shape)], -1) + rng.normal(size=shape + (3,))
+        nets.append(ControlNet.from_points(pts, degrees=degrees))
+    samples = Path(__file__).resolve().parents[1] / "samples"
+    nets += [n for f in sorted(samples.glob("*.step")) for n in ca.load(f)]
+    for net in nets:
+        for metric in ("peak", "rms"):
+            full = budget(net, metric=metric, levels=3).stats["total"].get(metric)
+            assert total_ripple(net, metric=metric, levels=3) == full, (net.origin, metric)
