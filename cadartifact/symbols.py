@@ -57,7 +57,7 @@ EIGEN_TOL = 1e-6
 
 
 class ConvergenceError(ValueError):
-    """The local subdivision matrix has no simple, dominant eigenvalue 1 (internal; schemes.py
+    """The local subdivision matrix has no simple, dominant eigenvalue 1 (internal; catalogue.py
     turns it into a one-line SchemeError)."""
 
 
