@@ -132,6 +132,8 @@ def share(items: list, costs: list, here, finish, child: str, args: tuple, *, do
     def work():
         for i in sorted(mine):
             first[i] = here(items[i])
+            if done:  # progress as this process's faces are analysed; their second phase is short
+                done(i)
 
     from .exchange import isolation
 
@@ -143,8 +145,9 @@ def share(items: list, costs: list, here, finish, child: str, args: tuple, *, do
     except FileFormatError:  # the child died or failed: its share is done here
         answers = None
     for i in sorted(mine):
-        out[i] = finish(items[i], first[i] if i in first else here(items[i]))
-        if done:
+        had = i in first
+        out[i] = finish(items[i], first.pop(i) if had else here(items[i]))  # pop: its fields can go
+        if done and not had:
             done(i)
     for k, i in enumerate(theirs):
         out[i] = answers[k] if answers is not None else finish(items[i], here(items[i]))
@@ -178,15 +181,20 @@ def child_gate(nets: list, settings, verify: bool, key: str) -> list:
     return _in_child(lambda n: face_outcome(n, settings, verify, key), nets)
 
 
-def advise_faces(nets: list, options: dict, path, key: str, *, done=None) -> list:
-    """The advise document's per-face work, shared: ``(record, advice)`` (``peak_at`` and ``entity_line``
-    not set; the advice is None for the child's faces) or the exception, in face order.
+def advise_faces(nets: list, options: dict, path, key: str, *, done=None, keep: bool = False) -> list:
+    """The advise document's per-face work, shared: ``(record, advice)`` (``peak_at`` set, ``entity_line``
+    not; the advice only with ``keep``, else None: each holds its budget's fields) or the exception, in
+    face order.
 
     ``options``: :func:`cadartifact.advise`'s keyword arguments (``verify`` among them).
     """
     costs = [4.0 * estimated_ms(n) for n in nets]  # a search and a comparison: several budgets per face
-    return share(nets, costs, lambda n: _advised(n, options, path, key, later=True),
-                 lambda n, first: _verified(first, n, options, path, key),
+
+    def finish(net, first):
+        got = _verified(first, net, options, path, key)
+        return got if keep or isinstance(got, BaseException) else (got[0], None)
+
+    return share(nets, costs, lambda n: _advised(n, options, path, key, later=True), finish,
                  "cadartifact.face_sharing:child_advise", (options, str(path), key), done=done)
 
 
@@ -229,6 +237,7 @@ def _verified(first, net, options: dict, path, key: str):
         if any(rec["budget"][k][options.get("metric", "peak")] is None for k in {key, "total"}):
             return FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
                                          "(coordinates or weights too large?)")
+        rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
         rec["peak_at"] = None
         if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
             try:
@@ -305,6 +314,7 @@ def _budgeted(net, settings, verify: bool):
         except CadArtifactError as exc:
             return CadArtifactError(f"face {net.origin.face}: {exc}"), None
         located = rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail")
+        rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
         rec["peak_at"] = None
         return rec, (current, True) if located else None
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it

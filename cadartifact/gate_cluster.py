@@ -318,7 +318,12 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
         items, sent = [], []
         for i in batch:
             path, settings, verify = tasks[i]
-            payload = _payload(path) if options.ship else None
+            if options.ship and part is not None:  # a split file's bytes are read once for all its batches
+                if i not in payloads:
+                    payloads[i] = _payload(path)
+                payload = payloads[i] if part[0] < part[1] - 1 else payloads.pop(i)
+            else:
+                payload = _payload(path) if options.ship else None
             if options.ship and payload is None:  # unreadable here: reported as the local gate reports it
                 from .gate import gate_file
 
@@ -351,6 +356,7 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
             queue_items.append((batch, None))
     queue = iter(queue_items)
     parts: dict = {}  # file index -> {r: entry}
+    payloads: dict = {}  # --ship: a split file's bytes until its last batch is submitted
 
     def top_up():
         while window is None or len(futures) < window:
@@ -385,14 +391,17 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
         try:
             entries = fut.result()
         except KilledWorker:
-            # perhaps only neighbours of the culprit on a dying worker: re-run alone (and whole) below
-            killed += [i for i in batch if i not in killed]
+            # perhaps only neighbours of the culprit on a dying worker: re-run alone (and whole) below,
+            # unless a failed batch has already failed the file
+            killed += [i for i in batch if i not in killed and results[i] is None]
             entries = None
         except Exception as exc:  # fail closed: an unexpected failure must not let the files pass
             entries = [_failed_entry(tasks[i], exc) for i in batch]
-            if part is not None:  # one failed batch fails the file: no merge
+            if part is not None:  # one failed batch fails the file: no merge, no re-run
                 for i, entry in zip(batch, entries):
                     parts.pop(i, None)
+                    if i in killed:
+                        killed.remove(i)
                     if results[i] is None:
                         results[i] = entry
                         done(entry)
@@ -403,7 +412,6 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
         fut.release()
         top_up()
     for i in sorted(killed):
-        results[i] = None
         fut, _ = submit([i], "alone")
         if fut is None:
             continue

@@ -214,7 +214,10 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     paths = [Path(p) for p in paths]
     if not paths:
         raise OptionError("FILE", "at least one file", "none")
-    loaded = [read(p, convert=convert) for p in paths]  # read everything first: a bad file fails before any output
+    from .face_sharing import sharing
+
+    with sharing(keep is None):  # the reader child then imports the analysis while idle, for its share
+        loaded = [read(p, convert=convert) for p in paths]  # read everything first: a bad file fails before any output
     for p, res in zip(paths, loaded):
         if res.skipped.get("degenerate"):
             # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
@@ -239,7 +242,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     doc_files = []
     summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
     from .exchange.step_text import entity_line
-    from .face_sharing import advise_faces, one_blas_thread, sharing
+    from .face_sharing import advise_faces, one_blas_thread
 
     options = dict(tolerance=tolerance, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                    compare=compare, verify=verify, intent=intent)
@@ -256,7 +259,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         # objects are kept, which stay in the process that made them); the first error stops the run
         # one BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
         with sharing(keep is None), one_blas_thread():
-            outcomes = advise_faces(todo, options, path, key, done=face_done)
+            outcomes = advise_faces(todo, options, path, key, done=face_done, keep=keep is not None)
         for net, outcome in zip(todo, outcomes):
             if isinstance(outcome, BaseException):
                 raise outcome

@@ -174,3 +174,40 @@ def test_advise_shares_faces_and_gives_the_serial_document(many, monkeypatch):
     doc = json.loads(shared)
     verified = [f["advice"]["verification"] for f in doc["files"][0]["faces"]]
     assert all(v and v["method"] in ("occt", "today") for v in verified)  # this process's share was verified too
+
+
+def test_another_thread_waits_for_the_child_instead_of_failing():
+    """Only the thread running ``during`` is refused; another thread's call waits for the lock, as before."""
+    import threading
+    import time
+
+    from cadartifact.exchange import isolation
+
+    got = {}
+
+    def other():
+        time.sleep(0.2)
+        got["b"] = isolation.call("os:getpid", (), path="b.step")
+
+    t = threading.Thread(target=other)
+    t.start()
+    got["a"] = isolation.call("os:getpid", (), path="a.step", during=lambda: time.sleep(0.8))
+    t.join(30)
+    assert isinstance(got.get("b"), int) and got["a"] == got["b"]
+
+
+def test_an_error_in_during_is_raised_as_itself_and_the_next_call_works():
+    from cadartifact.exchange import isolation
+
+    def fails():
+        raise TimeoutError("this process's own work timed out")  # must not read as the child's timeout
+
+    with pytest.raises(TimeoutError, match="own work"):
+        isolation.call("os:getpid", (), path="a.step", during=fails)
+    assert isinstance(isolation.call("os:getpid", (), path="a.step"), int)
+
+
+def test_records_keep_their_key_order(many):
+    doc = json.loads(_gate(many, "--tol", "0.01").stdout)
+    for face in doc["files"][0]["faces"]:
+        assert list(face)[-3:] == ["advice_skipped", "entity_line", "peak_at"], list(face)[-4:]

@@ -137,7 +137,11 @@ class _Child:
 _lock = threading.Lock()
 _child: _Child | None = None
 _idle_imports: tuple = ()
-_busy = False  # within `during` of a call
+_busy: int | None = None  # the thread running `during` of a call (it holds _lock)
+
+
+class _DuringFailed(Exception):
+    """What ``during`` raised, carried past the handlers of the child's failures."""
 
 
 def set_idle_imports(modules=()) -> tuple:
@@ -159,6 +163,8 @@ def shutdown() -> None:
 
 def warm() -> bool:
     """Whether a reader child is running (started, not dead), so a call costs no start-up."""
+    if _busy == threading.get_ident():  # inside `during`: the child is busy with this thread's request
+        return False
     with _lock:
         return enabled() and _child is not None and _child.proc.poll() is None
 
@@ -168,7 +174,7 @@ def prestart() -> None:
     this process's own imports and setup instead of following them. The first :func:`call` waits for
     it as usual; a child never called is stopped at exit. Does nothing with isolation off."""
     global _child
-    if not enabled():
+    if not enabled() or _busy == threading.get_ident():
         return
     with _lock:
         if _child is None or _child.proc.poll() is not None:
@@ -217,7 +223,7 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
         The child crashed, gave no answer in time, or failed unexpectedly.
     """
     global _child, _busy
-    if _busy:  # called from `during`: the child is working on the outer request (a plain Lock would hang)
+    if _busy == threading.get_ident():  # from `during`: the child works on this thread's request (the Lock would hang)
         raise RuntimeError("the reader child is busy with this process's own request (isolation.call inside during)")
     limit = None if timeout == float("inf") else read_timeout(timeout)  # inf: no limit (analysis, not a read)
     # relative paths are relative to this process's working directory, which may change between calls
@@ -236,25 +242,28 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                 _write_frame(child.proc.stdin.fileno(), request)
                 if during is not None:
                     work, during = during, None
-                    _busy = True
+                    _busy = threading.get_ident()
                     try:
                         work()
-                    except BaseException:
-                        child.kill()
-                        _child = None
-                        raise
+                    except BaseException as exc:  # not to be read as the child's failure by the handlers below
+                        raise _DuringFailed(exc) from None
                     finally:
-                        _busy = False
+                        _busy = None
                 if not child.ready:  # the first answer is "ready", once OCP is imported
                     hello = _read_frame(child.proc.stdout.fileno(), time.monotonic() + START_TIMEOUT)
                     if hello != b"ready":
                         raise BrokenPipeError
                     child.ready = True
                 reply = _read_frame(child.proc.stdout.fileno(), None if limit is None else time.monotonic() + limit)
+            except _DuringFailed as failed:  # this process's own work failed: the child's answer is not wanted
+                child.kill()
+                _child = None
+                raise failed.args[0] from None
             except TimeoutError:
                 child.kill()
                 _child = None
-                raise FileFormatError(path, f"the {what} reader gave no answer in {limit:g} s and was stopped "
+                waited = START_TIMEOUT if limit is None or not child.ready else limit
+                raise FileFormatError(path, f"the {what} reader gave no answer in {waited:g} s and was stopped "
                                       f"(corrupt file? for a very large file raise {ENV_TIMEOUT} or "
                                       "--read-timeout)") from None
             except (BrokenPipeError, ConnectionResetError):
