@@ -402,3 +402,19 @@ def test_collapsed_pole_grids_give_the_same_checks_as_the_full_parse():
                     assert fast[1].get(key) == full[1].get(key)
             seen += 1
     assert seen >= 20
+
+
+def test_the_reader_child_ignores_a_cadartifact_folder_in_the_working_directory(tmp_path):
+    """``python -m`` puts the working directory first on sys.path: the child is started with ``-P`` so that
+    another checkout's (or any) ``cadartifact`` folder there cannot stand in for the installed package."""
+    script = Path(sys.executable).with_name("cadartifact")
+    if not script.exists():
+        pytest.skip("no cadartifact console script beside this interpreter")
+    fake = tmp_path / "cadartifact"
+    fake.mkdir()
+    (fake / "__init__.py").write_text("raise ImportError('the wrong cadartifact')\n")
+    sample = Path(__file__).resolve().parents[1] / "samples" / "clean_panel.step"
+    out = subprocess.run([str(script), "gate", str(sample), "--tol", "0.05", "--format", "json"], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300)
+    assert out.returncode in (0, 1), out.stdout[-500:] + out.stderr[-500:]
+    assert json.loads(out.stdout)["files"][0]["verdict"] != "error"

@@ -116,7 +116,8 @@ class _Child:
         # the child must import this very package, wherever it was imported from
         root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
         env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
-        self.proc = subprocess.Popen([sys.executable, "-m", "cadartifact.exchange.isolation"],
+        # -P: not the working directory first on sys.path, where another checkout's cadartifact would win
+        self.proc = subprocess.Popen([sys.executable, "-P", "-m", "cadartifact.exchange.isolation"],
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
                                      env=env, close_fds=True)
         self.ready = False
