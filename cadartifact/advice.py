@@ -437,12 +437,17 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} uniform "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
-    verification, pending = None, None
+    verification = pending = None
     if verify:
         from .verification import verify_advice
 
-        pending = lambda: verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)  # noqa: E731
-        verification, pending = (None, pending) if verify == "later" else (pending(), None)
+        def check():
+            return verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)
+
+        if verify == "later":
+            pending = check
+        else:
+            verification = check()
     comparison, comparison_note = {}, None
     if compare == "auto":
         compare = net.size <= COMPARE_MAX_POINTS
@@ -527,7 +532,9 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
                                "meets_tolerance": bool(meets), "objective": "deviation"}
             continue
 
-        def ok(a, b, other=other, seen={}.copy()):  # a memo per scheme: the frontier asks some twice
+        seen = {}  # a memo per scheme: the frontier asks about some densities twice
+
+        def ok(a, b, other=other, seen=seen):
             if (a, b) not in seen:
                 xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
                 pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)

@@ -23,7 +23,8 @@ import os
 
 from .errors import CadArtifactError, FileFormatError
 
-__all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "share", "sharing"]
+__all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "quiet_analysis", "share",
+           "sharing"]
 
 #: Estimated analysis time below which the faces are not shared (ms): a round trip costs a few ms.
 MIN_SHARED_MS = 60.0
@@ -61,6 +62,19 @@ def one_blas_thread():
     from threadpoolctl import threadpool_limits
 
     return threadpool_limits(limits=1, user_api="blas")
+
+
+@contextlib.contextmanager
+def quiet_analysis():
+    """The gate's numerical settings: :func:`one_blas_thread`, no numpy floating-point warnings and no
+    warnings at all (e.g. 1e300 coordinates overflow: the non-finite result becomes an error instead)."""
+    import warnings
+
+    import numpy as np
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"), one_blas_thread():
+        warnings.simplefilter("ignore")
+        yield
 
 
 def enabled() -> bool:
@@ -169,11 +183,10 @@ def analyse_faces(nets: list, settings, verify: bool, key: str) -> list:
     key : {"total", "deviation"}
         The budget entry the peak is located on.
     """
-    costs = [estimated_ms(n) for n in nets]
     if verify:
-        costs = [0.0] * len(nets)  # below MIN_SHARED_MS: not shared
-    return share(nets, costs, lambda n: _budgeted(n, settings, verify), lambda n, f: _located(f[0], n, key, f[1]),
-                 "cadartifact.face_sharing:child_gate", (settings, verify, key))
+        return [face_outcome(n, settings, verify, key) for n in nets]
+    return share(nets, [estimated_ms(n) for n in nets], lambda n: _budgeted(n, settings, verify),
+                 lambda n, first: _located(*first, n, key), "cadartifact.face_sharing:child_gate", (settings, verify, key))
 
 
 def child_gate(nets: list, settings, verify: bool, key: str) -> list:
@@ -189,118 +202,87 @@ def advise_faces(nets: list, options: dict, path, key: str, *, done=None, keep: 
     ``options``: :func:`cadartifact.advise`'s keyword arguments (``verify`` among them).
     """
     costs = [4.0 * estimated_ms(n) for n in nets]  # a search and a comparison: several budgets per face
-
-    def finish(net, first):
-        got = _verified(first, net, options, path, key)
-        return got if keep or isinstance(got, BaseException) else (got[0], None)
-
-    return share(nets, costs, lambda n: _advised(n, options, path, key, later=True), finish,
+    return share(nets, costs, lambda n: _advised(n, options, later=True),
+                 lambda n, adv: _recorded(adv, n, options, path, key, keep),
                  "cadartifact.face_sharing:child_advise", (options, str(path), key), done=done)
 
 
 def child_advise(nets: list, options: dict, path, key: str) -> list:
     """The reader child's side of :func:`advise_faces`: records only (an Advice stays where it was made)."""
-    def one(net):
-        got = _verified(_advised(net, options, path, key, later=False), net, options, path, key)
-        return got if isinstance(got, BaseException) else (got[0], None)
-
-    return _in_child(one, nets)
+    return _in_child(lambda n: _recorded(_advised(n, options, later=False), n, options, path, key, False), nets)
 
 
-def _advised(net, options: dict, path, key: str, later: bool):
+def _advised(net, options: dict, later: bool):
+    """Phase one of the advise work: the :class:`~cadartifact.advice.Advice` (its verification left for
+    later with ``later``) or the exception."""
     from .advice import advise
-    from .report import face_record
 
     try:
         opts = dict(options)
         tolerance = opts.pop("tolerance")
         if later and opts.get("verify", True):
             opts["verify"] = "later"
-        adv = advise(net, tolerance, **opts)
-        return face_record(net, adv), adv
+        return advise(net, tolerance, **opts)
     except Exception as exc:  # noqa: BLE001 - raised by the caller, in face order
         return exc
 
 
-def _verified(first, net, options: dict, path, key: str):
-    """Phase two of the advise work: the verification left for later, the record checked and located."""
+def _recorded(adv, net, options: dict, path, key: str, keep: bool):
+    """Phase two: the verification left for later, then ``(record, advice if keep else None)``, checked and
+    located, or the exception."""
     from .report import face_record, peak_location
     from .verification import complete
 
-    if isinstance(first, BaseException):
-        return first
-    rec, adv = first
+    if isinstance(adv, BaseException):
+        return adv
     try:
-        if adv.pending is not None:
-            adv = complete(adv)
-            rec = face_record(net, adv)
+        adv = complete(adv)
+        rec = face_record(net, adv)
         if any(rec["budget"][k][options.get("metric", "peak")] is None for k in {key, "total"}):
             return FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
                                          "(coordinates or weights too large?)")
         rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
         rec["peak_at"] = None
-        if rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail"):
+        if _beyond(rec):
             try:
                 rec["peak_at"] = peak_location(net, rec["scheme"], key, None)
             except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
                 rec["peak_at"] = None
-        return rec, adv
+        return rec, (adv if keep else None)
     except Exception as exc:  # noqa: BLE001
         return exc
 
 
 def _in_child(one, items) -> list:
-    """``pack(one(item))`` per item under the gate's numerical settings (one BLAS thread, no warnings)."""
-    import warnings
-
-    import numpy as np
-
-    with warnings.catch_warnings(), np.errstate(all="ignore"), one_blas_thread():
-        warnings.simplefilter("ignore")
+    """``pack(one(item))`` per item under the gate's numerical settings (:func:`quiet_analysis`)."""
+    with quiet_analysis():
         return [pack(one(item)) for item in items]
 
 
 def pack(outcome):
-    """An outcome as plain picklable data (exceptions by class, path and problem, as the reader child
-    sends its errors)."""
-    if isinstance(outcome, BaseException):
-        return ("error", type(outcome).__module__, type(outcome).__qualname__, getattr(outcome, "path", None),
-                getattr(outcome, "problem", None), str(outcome))
-    return ("ok", outcome)
+    """An outcome as plain picklable data (errors as the reader child sends its own:
+    :func:`cadartifact.exchange.isolation.error_fields`)."""
+    from .exchange.isolation import error_fields
+
+    return ("error", *error_fields(outcome)) if isinstance(outcome, BaseException) else ("ok", outcome)
 
 
 def unpack(answer):
     """The outcome :func:`pack` packed."""
-    if answer[0] == "ok":
-        return answer[1]
-    import importlib
+    from .exchange.isolation import rebuilt_error
 
-    from .errors import InputError
-
-    _, module, name, path, problem, message = answer
-    try:
-        cls = getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError):
-        cls = CadArtifactError
-    if isinstance(cls, type) and issubclass(cls, InputError) and problem is not None:
-        return cls(path, problem)
-    if isinstance(cls, type) and issubclass(cls, CadArtifactError):
-        exc = cls.__new__(cls)
-        Exception.__init__(exc, message)
-        return exc
-    return CadArtifactError(message)
+    return answer[1] if answer[0] == "ok" else rebuilt_error(*answer[1:])
 
 
 def face_outcome(net, settings, verify: bool, key: str):
     """The gate record of one face with its peak location, or the :class:`CadArtifactError` the serial
     gate raises for it (other exceptions become ``analysis failed (Type: message)``, as the gate words them)."""
-    outcome, current = _budgeted(net, settings, verify)
-    return _located(outcome, net, key, current)
+    return _located(*_budgeted(net, settings, verify), net, key)
 
 
 def _budgeted(net, settings, verify: bool):
-    """``(record or error, today's budget where a peak is to be located, else None)``: no OCCT evaluation
-    except the advice's verification."""
+    """``(record or error, whether its peak is to be located, today's budget with fields or None)``: no OCCT
+    evaluation except the advice's verification."""
     import numpy as np
 
     from .gate import _face_entry
@@ -308,27 +290,33 @@ def _budgeted(net, settings, verify: bool):
     try:
         if not np.isfinite(np.sum(net.points ** 2)):  # squared norms overflow: nothing finite would come out
             return CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
-                                    f"(max |x| = {np.abs(net.points).max():.3g})"), None
+                                    f"(max |x| = {np.abs(net.points).max():.3g})"), False, None
         try:
             rec, current = _face_entry(net, settings, verify)
         except CadArtifactError as exc:
-            return CadArtifactError(f"face {net.origin.face}: {exc}"), None
-        located = rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail")
+            return CadArtifactError(f"face {net.origin.face}: {exc}"), False, None
+        located = _beyond(rec)
         rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
         rec["peak_at"] = None
-        return rec, (current, True) if located else None
+        return rec, located, current if located else None
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
-        return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})"), None
+        return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})"), False, None
 
 
-def _located(outcome, net, key: str, pending):
-    """The record with ``peak_at`` (:func:`cadartifact.report.peak_location`) where ``pending`` asks."""
-    if pending is None or isinstance(outcome, BaseException):
+def _beyond(rec: dict) -> bool:
+    """Whether a face's record is beyond the tolerance or warns: its peak is located."""
+    return rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail")
+
+
+def _located(outcome, located: bool, current, net, key: str):
+    """The record with ``peak_at`` (:func:`cadartifact.report.peak_location`, on ``current`` when given)
+    where ``located`` asks."""
+    if not located or isinstance(outcome, BaseException):
         return outcome
     from .report import peak_location
 
     try:
-        outcome["peak_at"] = peak_location(net, outcome["scheme"], key, pending[0])
+        outcome["peak_at"] = peak_location(net, outcome["scheme"], key, current)
     except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
         outcome["peak_at"] = None
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it

@@ -134,30 +134,24 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
     coincident: :data:`INVALID_SKIPS`) make the whole file an ``error``. Faces skipped because they
     are analytic (planes, cylinders...) are simply not gated.
     """
-    import warnings
-
-    import numpy as np
+    from .face_sharing import quiet_analysis
 
     try:
         # numpy overflow warnings (e.g. 1e300 coordinates) would only add noise: the non-finite
         # result is turned into an error below
-        with warnings.catch_warnings(), np.errstate(all="ignore"), _one_blas_thread():
-            warnings.simplefilter("ignore")
+        with quiet_analysis():
             return _gate_file(path, settings, verify, read_timeout, part)
     except CadArtifactError as exc:
-        message = str(exc)
-        if not message.startswith(str(path)):
-            message = f"{path}: {message}"
-        return _error_entry(path, settings, one_line(message))
+        return _file_error(path, settings, str(exc))
     except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
         return _error_entry(path, settings, one_line(f"{path}: analysis failed ({type(exc).__name__}: {exc})"))
 
 
-def _one_blas_thread():
-    """One BLAS thread while a file is gated (:func:`cadartifact.face_sharing.one_blas_thread`)."""
-    from .face_sharing import one_blas_thread
-
-    return one_blas_thread()
+def _file_error(path: str, settings: FileSettings, message: str) -> dict:
+    """The error entry of a file for an error message, prefixed with the file's path when it is not."""
+    if not message.startswith(str(path)):
+        message = f"{path}: {message}"
+    return _error_entry(path, settings, one_line(message))
 
 
 def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None,
@@ -224,10 +218,7 @@ def merge_parts(parts: list, settings: FileSettings) -> dict:
     errors = [e["_part"]["error"] for e in parts if e["_part"]["error"] is not None]
     path = parts[0]["path"]
     if errors:
-        message = min(errors)[1]
-        if not message.startswith(str(path)):
-            message = f"{path}: {message}"
-        return _error_entry(path, settings, one_line(message))
+        return _file_error(path, settings, min(errors)[1])
     ranked = sorted((pos, k, f) for k, e in enumerate(parts) for pos, f in zip(e["_part"]["positions"], e["faces"]))
     entry = {key: value for key, value in parts[0].items() if key != "_part"}
     entry["notes"] = list(entry["notes"])
@@ -282,9 +273,12 @@ def _face_entry(net, settings: FileSettings, verify: bool) -> tuple[dict, object
     reading = "net" if settings.include_signal_error else settings.intent
     current = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=reading,
                      keep_fields=reading == "surface")
-    rec = budget_record(net, current, reading == "net")
-    if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
-        raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
+    def finite(rec):
+        if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
+            raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
+        return rec
+
+    rec = finite(budget_record(net, current, reading == "net"))
     verdict, reason, value = face_verdict(rec, settings)
     skipped = _advice_wanted(settings, verdict)
     if skipped is None:
@@ -293,9 +287,7 @@ def _face_entry(net, settings: FileSettings, verify: bool) -> tuple[dict, object
         adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
                      include_signal_error=settings.include_signal_error, compare=False, verify=check,
                      current=current if current.fields is not None else None)
-        rec = face_record(net, adv)
-        if rec["budget"][key][settings.metric] is None:
-            raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
+        rec = finite(face_record(net, adv))
         verdict, reason, value = face_verdict(rec, settings)
     rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
     return rec, (current if reading == "surface" else None)

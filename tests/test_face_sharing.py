@@ -51,15 +51,18 @@ def _gate(path, *extra, env=None, monkeypatch=None):
 
 @pytest.fixture
 def spy(monkeypatch):
-    """Counts the shares sent to the child."""
+    """The shares sent to the child: function name (``child_gate``, ``child_advise``) -> face counts."""
+    from collections import defaultdict
+
     from cadartifact.exchange import isolation
 
-    calls = []
+    calls = defaultdict(list)
     real = isolation.call
 
     def call(function, *args, **kwargs):
-        if function.endswith(":child_gate"):
-            calls.append(len(args[0][0]))
+        name = function.rpartition(":")[2]
+        if name.startswith("child_"):
+            calls[name].append(len(args[0][0]))
         return real(function, *args, **kwargs)
 
     monkeypatch.setattr(isolation, "call", call)
@@ -71,7 +74,7 @@ def test_shared_faces_give_the_serial_document(many, spy, monkeypatch, tol):
     serial = _gate(many, "--tol", tol, env={"CADARTIFACT_SHARE_FACES": "0"}, monkeypatch=monkeypatch)
     assert not spy
     shared = _gate(many, "--tol", tol)
-    assert spy and 0 < spy[0] < 8, spy  # the child took part of the faces, not all
+    assert spy["child_gate"] and 0 < spy["child_gate"][0] < 8, spy  # the child took part of the faces, not all
     assert shared.exit_code == serial.exit_code
     assert shared.stdout == serial.stdout
     doc = json.loads(shared.stdout)
@@ -148,10 +151,8 @@ def test_a_call_from_within_during_is_refused_not_a_hang():
     assert seen
 
 
-def test_advise_shares_faces_and_gives_the_serial_document(many, monkeypatch):
-    from cadartifact.exchange import isolation
-
-    def advise(*env):
+def test_advise_shares_faces_and_gives_the_serial_document(many, spy, monkeypatch):
+    def advise():
         result = CliRunner().invoke(app, ["advise", str(many), "--tol", "0.01", "--json"])
         assert result.exit_code in (0, 1) and "Traceback" not in result.output, result.output
         return result.stdout
@@ -159,17 +160,10 @@ def test_advise_shares_faces_and_gives_the_serial_document(many, monkeypatch):
     monkeypatch.setenv("CADARTIFACT_SHARE_FACES", "0")
     serial = advise()
     monkeypatch.delenv("CADARTIFACT_SHARE_FACES")
-    calls = []
-    real = isolation.call
-
-    def call(function, *args, **kwargs):
-        if function.endswith(":child_advise"):
-            calls.append(len(args[0][0]))
-        return real(function, *args, **kwargs)
-
-    monkeypatch.setattr(isolation, "call", call)
+    assert not spy
     shared = advise()
-    assert calls and 0 < calls[0] < 8, calls
+    calls = spy["child_advise"]
+    assert calls and 0 < calls[0] < 8, spy
     assert shared == serial
     doc = json.loads(shared)
     verified = [f["advice"]["verification"] for f in doc["files"][0]["faces"]]

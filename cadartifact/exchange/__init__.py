@@ -183,10 +183,10 @@ def _file_ids(result: LoadResult, records) -> None:
     """Turn the model entity numbers a ``prescanned`` read left in ``origin.entity`` into the file's ids."""
     from dataclasses import replace
 
-    from .step_text import face_ids_from_model
+    from .step_text import face_id_from_model
 
     for net in result.nets:
-        origin = replace(net.origin, entity=face_ids_from_model(records, net.origin.entity))
+        origin = replace(net.origin, entity=face_id_from_model(records, net.origin.entity))
         object.__setattr__(net, "origin", origin)  # just unpickled, not shared: no need to validate the net again
 
 

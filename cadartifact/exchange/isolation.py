@@ -282,27 +282,36 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
     return _unpack(reply, path, what)
 
 
+def error_fields(exc: CadArtifactError) -> tuple:
+    """A cadartifact error as plain picklable data: ``(module, class name, path, problem, message)``."""
+    return (type(exc).__module__, type(exc).__qualname__, getattr(exc, "path", None), getattr(exc, "problem", None),
+            str(exc))
+
+
+def rebuilt_error(module: str, name: str, path, problem, message: str) -> CadArtifactError:
+    """The error :func:`error_fields` described: same class and message (a :class:`CadArtifactError` when
+    the class cannot be found or is not one)."""
+    try:
+        cls = getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError):
+        cls = CadArtifactError
+    if not (isinstance(cls, type) and issubclass(cls, CadArtifactError)):
+        return CadArtifactError(message)
+    if issubclass(cls, InputError) and problem is not None:
+        return cls(path, problem)
+    exc = cls.__new__(cls)
+    Exception.__init__(exc, message)
+    return exc
+
+
 def _unpack(reply: bytes, path, what: str):
     kind, *rest = pickle.loads(reply)
     if kind == "ok":
         return rest[0]
     if kind == "error":
-        module, name, err_path, problem, message = rest
-        try:
-            cls = getattr(importlib.import_module(module), name)
-        except (ImportError, AttributeError):
-            cls = CadArtifactError
-        if issubclass(cls, InputError) and problem is not None:
-            return _raise(cls(err_path, problem))
-        exc = cls.__new__(cls)
-        Exception.__init__(exc, message)
-        return _raise(exc)
+        raise rebuilt_error(*rest)
     name, message = rest
     raise FileFormatError(path, f"the {what} reader failed ({name}: {' '.join(message.split())[:200]})")
-
-
-def _raise(exc):
-    raise exc
 
 
 # ---------------------------------------------------------------- child side
@@ -332,8 +341,7 @@ def _serve() -> None:
             value = getattr(importlib.import_module(module), name)(*args)
             reply = ("ok", value)
         except CadArtifactError as exc:
-            reply = ("error", type(exc).__module__, type(exc).__qualname__, getattr(exc, "path", None),
-                     getattr(exc, "problem", None), str(exc))
+            reply = ("error", *error_fields(exc))
         except BaseException as exc:  # noqa: BLE001 - every failure must reach the parent as an answer
             reply = ("exception", type(exc).__name__, str(exc))
         try:

@@ -151,10 +151,10 @@ def _step_name(reader: STEPControl_Reader, path=None, *, entities=None, model_nu
     unknown). OCCT numbers a model's entities in file order; :func:`step_text.entity_lines` gives the
     ids in that order, and an id is only reported when the file's record there is an ``ADVANCED_FACE``.
     With ``model_numbers``, ``.entity(face)`` is the face's model entity number instead (the caller maps
-    it to the file's id with :func:`step_text.face_ids_from_model`; the reader child does so, to leave the text
+    it to the file's id with :func:`step_text.face_id_from_model`; the reader child does so, to leave the text
     scan to the parent, which scans while the child reads).
     """
-    from .step_text import entity_lines, face_ids_from_model
+    from .step_text import entity_lines, face_id_from_model
 
     session = reader.WS()  # the lookup needs the reader's session alive: keep references to both
     transfer = session.TransferReader()
@@ -182,7 +182,7 @@ def _step_name(reader: STEPControl_Reader, path=None, *, entities=None, model_nu
         i = state["faces"].get(entity) if entity is not None else None
         if model_numbers or i is None:
             return i
-        return face_ids_from_model(state["records"], i)
+        return face_id_from_model(state["records"], i)
 
     face_name.entity = face_entity
     return face_name

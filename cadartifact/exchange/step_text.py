@@ -11,7 +11,7 @@ import functools
 import os
 import re
 
-__all__ = ["entity_lines", "entity_line", "face_ids_from_model"]
+__all__ = ["entity_lines", "entity_line", "face_id_from_model"]
 
 _RECORD = re.compile(r"#(\d+)\s*=\s*([A-Za-z_][A-Za-z0-9_]*|\()")
 
@@ -86,7 +86,7 @@ def _index(path: str, mtime: int, size: int) -> dict:
     return out
 
 
-def face_ids_from_model(records, number: int | None) -> int | None:
+def face_id_from_model(records, number: int | None) -> int | None:
     """The file's ``#id`` of model entity ``number`` given :func:`entity_lines` ``records``;
     None when unknown or when the file's record there is not an ``ADVANCED_FACE`` (numbering mismatch)."""
     if number is None or not 0 < number <= len(records) or records[number - 1][2] != "ADVANCED_FACE":
