@@ -40,7 +40,7 @@ from .frames import AxisFrame, axis_frames
 from .net import ControlNet, knot_multiplicities, lifted
 from .tensor import sandwich
 
-__all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "lifted", "from_homogeneous", "READINGS", "F_MAX", "SOBOLEV",
+__all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "from_homogeneous", "READINGS", "F_MAX", "SOBOLEV",
            "UNDERSAMPLED_FREQUENCY"]
 
 #: The two readings of the design intent (SPEC §4).

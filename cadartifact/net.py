@@ -183,7 +183,8 @@ def knot_multiplicities(knots: np.ndarray, degree: int, n: int, periodic: bool) 
     for v, _, m in knot_runs(t[p + 1: p + n + 1], scale):
         key = round(((v - t[p]) % period) / period, 9) % 1.0
         value = v - period if v - t[p] >= period - 1e-12 * scale else v  # the start, not one period on
-        total[key] = (total.get(key, (value, 0))[0], total.get(key, (value, 0))[1] + m)
+        first, count = total.get(key, (value, 0))
+        total[key] = (first, count + m)
     return sorted(total.values())
 
 
