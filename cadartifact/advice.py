@@ -589,8 +589,8 @@ def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: st
 
 
 def clear_caches() -> None:
-    """Forget the cached per-axis operators (intent and candidate bases): benchmarks measure cold runs."""
-    from . import fitting, intent
+    """Forget the cached per-axis operators (intent, candidate bases, scheme syntheses): benchmarks measure cold
+    runs."""
+    from .operator_cache import clear_all
 
-    intent._CACHE.clear()
-    fitting._CACHE.clear()
+    clear_all()

@@ -37,6 +37,7 @@ import numpy as np
 from .errors import check_option
 from .frames import AxisFrame
 from .intent import READINGS, Intent, _legendre, design_intent, from_homogeneous
+from .operator_cache import OperatorCache
 from .tensor import sandwich
 
 __all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "predicted_fields", "measured_fields",
@@ -304,15 +305,26 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net", lateral: bool
     return _finish(intent, limit_spec, poly, None, "predicted", reading, lateral)
 
 
+#: One direction's synthesis operators per (direction intent, levels, period, scheme, axis): the scheme
+#: comparison builds hundreds of cages of a few sizes per face.
+_SYNTHESES = OperatorCache(256)
+
+
 def _axis_synthesis(intent: Intent, scheme, axis: int):
-    """One direction of a tensor scheme's limit surface: ``(low, high, low_at)``.
+    """One direction of a tensor scheme's limit surface: ``(low, high, low_at)`` (cached; read-only).
 
     ``low``, ``high`` : ``(fine, n)`` samples -> the base band / the ripple band of the limit along this
     direction on the fine grid; ``low_at(x)`` the base band anywhere. The direction's polynomial goes
     through the 1-D limit stencil (a polynomial of the same degree, base band); the rest through the
-    lattice spectrum of its Fourier extension times the scheme's 1-D transfer function.
+    lattice spectrum of its Fourier extension times the scheme's 1-D transfer function. They depend on
+    the direction's geometry and the scheme only, never on the points.
     """
     frame, ax = intent.frames[axis], intent.axes[axis]
+    key = (ax, frame.levels, frame.period, frame.shift, frame.fine_count, scheme, axis)
+    return _SYNTHESES.get(key, lambda: _build_axis_synthesis(frame, ax, scheme, axis))
+
+
+def _build_axis_synthesis(frame: AxisFrame, ax, scheme, axis: int):
     K, T, n = frame.K, frame.period, frame.n
     d = ax.degree
     st = np.asarray(scheme.limit_stencil, float).sum(axis=1 - axis)
@@ -343,7 +355,9 @@ def _axis_synthesis(intent: Intent, scheme, axis: int):
         ph = 2 * np.pi * np.outer(z, fl)
         return poly(x) + (np.cos(ph) @ Xl.real - np.sin(ph) @ Xl.imag) / (K * T)
 
-    return poly(frame.x) + low, high, low_at
+    low = poly(frame.x) + low
+    low.flags.writeable = high.flags.writeable = False  # shared by every net of this size
+    return low, high, low_at
 
 
 def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True) -> ArtifactFields:

@@ -28,6 +28,7 @@ import numpy as np
 
 from .frames import AxisFrame, fine_positions
 from .net import ControlNet, clamped_uniform_knots
+from .operator_cache import OperatorCache
 from .splines import basis_matrix
 from .tensor import sandwich
 
@@ -76,24 +77,22 @@ class CandidateAxis:
     pinv: np.ndarray
 
 
-_CACHE: dict = {}
+_CACHE = OperatorCache(512)
 
 
 def candidate_axis(frame: AxisFrame, n_new: int, degree: int, K: int) -> CandidateAxis:
     """The (cached) :class:`CandidateAxis` of ``n_new`` points along a frame's direction."""
     key = (frame.n, frame.periodic, frame.spans, frame.u0, frame.h, n_new, degree, K)
-    got = _CACHE.pop(key, None)
-    if got is None:
+
+    def build():
         p = int(min(degree, n_new - 1))
         lo, hi = frame.u0, frame.u0 + frame.h * frame.spans
         t = uniform_knots(n_new, p, lo, hi, frame.periodic)
         x = fine_positions(frame, check_count(frame, n_new, p, K))
         B = basis_matrix(t, p, frame.param(x), n_new, frame.periodic)
-        got = CandidateAxis(n_new, p, t, x, B, _fit_operator(B, frame.periodic))
-    _CACHE[key] = got  # most recently used last; the least recently used go first
-    while len(_CACHE) > 512:
-        _CACHE.pop(next(iter(_CACHE)))
-    return got
+        return CandidateAxis(n_new, p, t, x, B, _fit_operator(B, frame.periodic))
+
+    return _CACHE.get(key, build)
 
 
 def _fit_operator(B: np.ndarray, periodic: bool) -> np.ndarray:

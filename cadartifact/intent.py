@@ -33,11 +33,13 @@ Fourier extensions for oscillatory functions*, J. Comput. Appl. Math. 260 (2014)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from .frames import AxisFrame, axis_frames
 from .net import ControlNet, knot_multiplicities, lifted
+from .operator_cache import OperatorCache
 from .tensor import sandwich
 
 __all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "from_homogeneous", "READINGS", "F_MAX", "SOBOLEV",
@@ -118,6 +120,7 @@ class AxisIntent:
         self.V = _legendre(frame.xs, frame.spans, degree)  # (n, d+1)
         self.Vp = np.linalg.pinv(self.V)
         self.rest = np.eye(n) - self.V @ self.Vp  # samples -> what this direction's polynomial leaves
+        self._lattice = None
 
     def basis(self, x: np.ndarray) -> np.ndarray:
         """``(len(x), M)``: ``[1, cos(2 pi k x / T), sin(2 pi k x / T), (cos pi x)]``."""
@@ -139,29 +142,25 @@ class AxisIntent:
         return self.trend_at(x) @ self.Vp + self.at(x) @ self.rest
 
     def lattice(self) -> np.ndarray:
-        """``(T, n)``: residual samples -> the intent on the lattice ``x = j + offset``, ``j = 0..T-1``."""
-        return self.at(np.arange(self.T) + self.frame.offset)
+        """``(T, n)``: residual samples -> the intent on the lattice ``x = j + offset``, ``j = 0..T-1`` (read-only)."""
+        if self._lattice is None:
+            self._lattice = self.at(np.arange(self.T) + self.frame.offset)
+            self._lattice.flags.writeable = False
+        return self._lattice
 
     def trend_at(self, x: np.ndarray) -> np.ndarray:
         return _legendre(x, self.frame.spans, self.degree)
 
 
-_CACHE: dict = {}
-
-#: Per-axis operators kept (least recently used dropped first).
-CACHE_SIZE = 1024
+#: Per-axis operators kept (a density search revisits its sizes).
+_CACHE = OperatorCache(1024)
 
 
 def axis_intent(frame: AxisFrame, degree: int) -> AxisIntent:
     """The cached :class:`AxisIntent` of a frame (keyed by its geometry, not its levels)."""
-    key = (frame.n, frame.periodic, frame.spans, round(frame.offset, 12), frame.xs.round(12).tobytes(), degree)
-    got = _CACHE.pop(key, None)
-    if got is None:
-        got = AxisIntent(frame, degree)
-    _CACHE[key] = got  # most recently used last
-    while len(_CACHE) > CACHE_SIZE:  # least recently used first out (a density search revisits its sizes)
-        _CACHE.pop(next(iter(_CACHE)))
-    return got
+    key = (frame.n, frame.periodic, frame.spans, round(frame.offset, 12), frame.xs.round(12).tobytes(),
+           frame.period, degree)
+    return _CACHE.get(key, lambda: AxisIntent(frame, degree))
 
 
 def trend_terms(scheme, frames) -> tuple[list, tuple[int, int]]:
@@ -205,8 +204,14 @@ class Intent:
     terms: list
     coef: np.ndarray
     residual: np.ndarray
-    spectrum: np.ndarray
     points: np.ndarray | None = None
+
+    @cached_property
+    def spectrum(self) -> np.ndarray:
+        """``(Tu, Tv, c)`` complex: the DFT of the residual's intent on the lattice (computed when first
+        asked: the separable road never needs it)."""
+        ext = sandwich(self.axes[0].lattice(), self.residual, self.axes[1].lattice())
+        return np.fft.fft2(ext, axes=(0, 1))
 
     @property
     def homogeneous(self) -> bool:
@@ -331,7 +336,7 @@ def intent_on_frames(net: ControlNet, points: np.ndarray, frames, scheme) -> Int
     P = np.asarray(points, float)
     full = terms == [(a, b) for a in range(caps[0] + 1) for b in range(caps[1] + 1)]
     if full:  # separable least squares: pinv(Vu (x) Vv) = pinv(Vu) (x) pinv(Vv)
-        C = sandwich(np.linalg.pinv(axes[0].V), P, np.linalg.pinv(axes[1].V))
+        C = sandwich(axes[0].Vp, P, axes[1].Vp)
         coef = C.reshape(-1, P.shape[-1])
         residual = P - sandwich(axes[0].V, C, axes[1].V)
     else:
@@ -339,7 +344,5 @@ def intent_on_frames(net: ControlNet, points: np.ndarray, frames, scheme) -> Int
         A = np.stack([Vu[:, a][:, None] * Vv[:, b][None, :] for a, b in terms], axis=-1).reshape(-1, len(terms))
         coef, *_ = np.linalg.lstsq(A, P.reshape(-1, P.shape[-1]), rcond=None)
         residual = (P.reshape(-1, P.shape[-1]) - A @ coef).reshape(P.shape)
-    ext = sandwich(axes[0].lattice(), residual, axes[1].lattice())
-    spectrum = np.fft.fft2(ext, axes=(0, 1))
     return Intent(net=net, frames=tuple(frames), axes=axes, terms=terms, coef=coef, residual=residual,
-                  spectrum=spectrum, points=P if P.shape[-1] == 4 else None)
+                  points=P if P.shape[-1] == 4 else None)

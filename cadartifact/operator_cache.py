@@ -1,0 +1,49 @@
+"""Per-axis operators kept between faces and candidates (least recently used dropped first).
+
+A density search, a scheme comparison and a file of similar faces ask for the same per-direction
+operators (intent extensions, candidate bases, scheme syntheses) many times: they depend on a
+direction's geometry only, never on the points, so one build serves every net of that size.
+"""
+
+from __future__ import annotations
+
+__all__ = ["OperatorCache", "clear_all"]
+
+_ALL: list = []
+
+
+class OperatorCache:
+    """A bounded mapping ``key -> operator`` in least-recently-used order.
+
+    Parameters
+    ----------
+    size : int
+        Operators kept; the least recently used go first.
+    """
+
+    def __init__(self, size: int):
+        self.size = int(size)
+        self._items: dict = {}
+        _ALL.append(self)
+
+    def get(self, key, build):
+        """The operator of ``key``, built by ``build()`` the first time (and after eviction)."""
+        got = self._items.pop(key, None)
+        if got is None:
+            got = build()
+        self._items[key] = got  # most recently used last
+        while len(self._items) > self.size:
+            self._items.pop(next(iter(self._items)))
+        return got
+
+    def clear(self) -> None:
+        self._items.clear()
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+
+def clear_all() -> None:
+    """Empty every operator cache (benchmarks measure cold runs)."""
+    for cache in _ALL:
+        cache.clear()
