@@ -1,8 +1,8 @@
 """cadartifact: measure the ripples a control net puts into a surface and advise its density.
 
-The public API is loaded lazily: ``import cadartifact`` imports numpy only, and
-OCP/cadquery, pyvista, matplotlib and trimesh load the first time a feature
-needs them.
+The public API is loaded lazily: ``import cadartifact`` imports the standard library only (so the
+CLI starts OCCT's reader child before anything else), numpy loads with the first net, and
+OCP/cadquery, pyvista, matplotlib and trimesh the first time a feature needs them.
 
 >>> import cadartifact as ca
 >>> ca.scheme("bicubic").response(0.1, 0.2, stage="limit").percent   # doctest: +SKIP
@@ -24,13 +24,13 @@ from .errors import (  # the error hierarchy, so that callers can write ``except
     SchemeError,
     UnsupportedFormatError,
 )
-from .net import ControlNet, NetOrigin
-
 __version__ = "0.1.0"
 
 # public name -> (module, attribute) loaded on first use; attribute None: the module. The core is
 # lazy too: the reader child (exchange.isolation) imports this package and needs none of the analysis.
 _LAZY = {
+    "ControlNet": ("net", "ControlNet"),
+    "NetOrigin": ("net", "NetOrigin"),
     "Scheme": ("catalogue", "Scheme"),
     "box": ("catalogue", "box"),
     "bspline": ("catalogue", "bspline"),
@@ -53,7 +53,7 @@ _LAZY = {
 ERRORS = ("CadArtifactError", "InputError", "FileFormatError", "UnsupportedFormatError", "InvalidNetError",
           "OptionError", "SchemeError", "MissingDependencyError", "ArtifactToleranceError")
 
-__all__ = ["ControlNet", "NetOrigin", *ERRORS, "errors", "__version__", *_LAZY]
+__all__ = [*ERRORS, "errors", "__version__", *_LAZY]
 
 
 def __getattr__(name: str):

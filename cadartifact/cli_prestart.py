@@ -2,19 +2,23 @@
 
 The reader child (:mod:`cadartifact.exchange.isolation`) spends about a second importing OCP. Started
 before the command line's own imports (typer, rich, the analysis modules), that second overlaps
-them, which matters for ``gate`` on one file, whose whole cost should be close to OCCT's read. Only
-the argument list is looked at (no imports beyond the standard library): a guess that is wrong costs
-an idle child, stopped at exit, never a different result.
+them, which matters for ``gate`` on one file, whose whole cost should be close to OCCT's read. When
+the command names one file, the child starts reading it at once (:func:`first_read`), while this
+process is still importing. Only the argument list is looked at (no imports beyond the standard
+library): a guess that is wrong costs an idle child or a second start, stopped at exit, never a
+different result (the early answer serves only the identical request).
 """
 
 from __future__ import annotations
 
 import os
 
-__all__ = ["BREP_SUFFIXES", "maybe_prestart", "will_read_here"]
+from .reader_start import BREP_FORMATS
+
+__all__ = ["BREP_SUFFIXES", "first_read", "maybe_prestart", "will_read_here"]
 
 #: Files the reader child reads (OBJ is read in this process).
-BREP_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp")
+BREP_SUFFIXES = tuple(BREP_FORMATS)
 _COMMANDS = ("advise", "gate", "inspect", "view")
 
 
@@ -49,9 +53,28 @@ def will_read_here(argv) -> bool:
     return True
 
 
-def maybe_prestart(argv) -> None:
-    """Start the reader child if :func:`will_read_here` (the console script's first step)."""
-    if will_read_here(argv):
-        from .exchange import isolation
+def first_read(argv):
+    """The read ``gate`` or ``advise`` will send the reader child first, guessed from ``argv``: the one
+    STEP/IGES/BREP file named (an existing file; none when two or more are named), with ``--convert``
+    as given (a policy's ``convert`` is not known here). ``(function, args)`` or None."""
+    from pathlib import Path
 
-        isolation.prestart()
+    from .reader_start import read_request
+
+    if len(argv) < 2 or argv[1] not in ("gate", "advise"):
+        return None
+    args = list(argv[2:])
+    named = [a for a in args if not a.startswith("-") and Path(a).suffix.lower() in BREP_FORMATS]
+    if len(named) != 1 or not os.path.isfile(named[0]):
+        return None
+    convert = "--convert" in args and "--no-convert" not in args
+    return read_request(named[0], BREP_FORMATS[Path(named[0]).suffix.lower()], convert)
+
+
+def maybe_prestart(argv) -> None:
+    """Start the reader child if :func:`will_read_here` (the console script's first step), already
+    reading the file :func:`first_read` names. Only the standard library is imported before it starts."""
+    if will_read_here(argv):
+        from .reader_start import ANALYSIS_MODULES, start
+
+        start(first_read(argv), idle=ANALYSIS_MODULES)

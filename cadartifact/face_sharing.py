@@ -22,6 +22,7 @@ import contextlib
 import os
 
 from .errors import CadArtifactError, FileFormatError
+from .reader_start import ANALYSIS_MODULES
 
 __all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "quiet_analysis", "share",
            "sharing"]
@@ -42,8 +43,7 @@ def sharing(on: bool = True):
 
     saved, _enabled = _enabled, bool(on)
     # the child imports the analysis while idle after its read, before the first share reaches it
-    imports = isolation.set_idle_imports(("cadartifact.face_sharing", "cadartifact.gate", "cadartifact.advice")
-                                         if on else ())
+    imports = isolation.set_idle_imports(ANALYSIS_MODULES if on else ())
     try:
         yield
     finally:

@@ -44,3 +44,81 @@ def test_prestarted_child_serves_the_first_read_and_isolation_off_starts_none(mo
     monkeypatch.setenv(isolation.ENV_ISOLATION, "0")
     isolation.prestart()
     assert isolation._child is None
+
+
+# ---------------------------------------------------------------- the early read (reader_start)
+def _sample():
+    from pathlib import Path
+
+    return Path(__file__).resolve().parents[1] / "cadartifact" / "samples" / "clean_panel.step"
+
+
+def test_first_read_names_the_one_file(tmp_path, monkeypatch):
+    from pathlib import Path
+
+    from cadartifact.cli_prestart import first_read
+    from cadartifact.reader_start import READ_FUNCTION
+
+    monkeypatch.chdir(tmp_path)
+    for name in ("a.step", "b.IGS", "c.brep", "d.step"):
+        (tmp_path / name).write_text("x")
+    assert first_read(["cadartifact", "gate", "a.step", "--tol", "0.05"]) == (
+        READ_FUNCTION, (Path("a.step"), "step", False, True))
+    assert first_read(["cadartifact", "advise", "b.IGS", "--convert"]) == (READ_FUNCTION, (Path("b.IGS"), "iges", True))
+    assert first_read(["cadartifact", "gate", "c.brep", "--no-convert"]) == (READ_FUNCTION, (Path("c.brep"), "brep",
+                                                                                               False))
+    assert first_read(["cadartifact", "gate", "a.step", "d.step", "--jobs", "1"]) is None  # which first: not guessed
+    assert first_read(["cadartifact", "gate", "missing.step"]) is None
+    assert first_read(["cadartifact", "inspect", "a.step"]) is None
+
+
+def test_early_read_serves_the_same_request_only(monkeypatch):
+    """A child started with an early read answers that read (no second request, same result as a read
+    without it); a different first read stops that child and is answered by a new one."""
+    pytest.importorskip("OCP")
+    from cadartifact import reader_start
+    from cadartifact.exchange import isolation, read
+
+    sample = _sample()
+    isolation.shutdown()
+    plain = read(sample)
+    isolation.shutdown()
+
+    reader_start.start(reader_start.read_request(sample, "step", False))
+    isolation.prestart()  # adopts the started child and its early request
+    child = isolation._child
+    assert child.early is not None
+    sent = []
+    real_write = isolation._write_frame
+    monkeypatch.setattr(isolation, "_write_frame", lambda fd, payload: (sent.append(payload), real_write(fd, payload)))
+    early = read(sample)
+    assert sent == [] and isolation._child is child and child.early is None  # the early answer was the reply
+    assert [n.points.tobytes() for n in early.nets] == [n.points.tobytes() for n in plain.nets]
+    assert [n.origin for n in early.nets] == [n.origin for n in plain.nets]
+    isolation.shutdown()
+
+    reader_start.start(reader_start.read_request(sample, "step", True))  # guessed --convert, read without
+    isolation.prestart()
+    guessed = isolation._child
+    again = read(sample)
+    assert isolation._child is not guessed and guessed.proc.poll() is not None  # stopped, a new child answered
+    assert [n.points.tobytes() for n in again.nets] == [n.points.tobytes() for n in plain.nets]
+    isolation.shutdown()
+
+
+def test_an_unused_early_child_is_stopped_at_exit():
+    from cadartifact import reader_start
+
+    reader_start.start(reader_start.read_request(_sample(), "step", False))
+    proc = reader_start._prestarted[0]
+    reader_start._stop_unused()
+    assert proc.poll() is not None and reader_start._prestarted is None
+
+
+def test_brep_formats_agree_with_the_exchange():
+    from cadartifact.cli_prestart import BREP_SUFFIXES
+    from cadartifact.exchange import SUPPORTED_EXTENSIONS
+    from cadartifact.reader_start import BREP_FORMATS
+
+    assert BREP_FORMATS == {k: v for k, v in SUPPORTED_EXTENSIONS.items() if v != "obj"}
+    assert set(BREP_SUFFIXES) == set(BREP_FORMATS)

@@ -143,6 +143,7 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
         from .obj import read_obj
 
         return read_obj(path)
+    from ..reader_start import read_request
     from .files import check_file
     from . import isolation
 
@@ -158,12 +159,11 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
             _prescan(path)
             records.extend(entity_lines(path))
 
-        result = isolation.call("cadartifact.exchange:read_occt", (path, fmt, convert, True), path=path,
-                                what="STEP", timeout=timeout, during=scan)
+        result = isolation.call(*read_request(path, fmt, convert), path=path, what="STEP", timeout=timeout,
+                                during=scan)
         _file_ids(result, records)
     elif isolation.enabled():
-        result = isolation.call("cadartifact.exchange:read_occt", (path, fmt, convert), path=path,
-                                what=fmt.upper(), timeout=timeout)
+        result = isolation.call(*read_request(path, fmt, convert), path=path, what=fmt.upper(), timeout=timeout)
     else:
         result = read_occt(path, fmt, convert)
     for message in result.warnings:

@@ -23,12 +23,12 @@ import os
 import pickle
 import select
 import signal
-import struct
 import subprocess
 import sys
 import threading
 import time
 
+from .. import reader_start
 from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
 
 __all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout", "warm",
@@ -39,14 +39,14 @@ DEFAULT_TIMEOUT = 120.0
 #: Seconds the child may take to start (import OCP) before its first request.
 START_TIMEOUT = 120.0
 ENV_TIMEOUT = "CADARTIFACT_READ_TIMEOUT"
-ENV_ISOLATION = "CADARTIFACT_READ_ISOLATION"
+ENV_ISOLATION = reader_start.ENV_ISOLATION
 
-_HEADER = struct.Struct("!Q")
+_HEADER = reader_start.HEADER
 
 
 def enabled() -> bool:
     """Whether readers run in the child process (``CADARTIFACT_READ_ISOLATION`` is not ``0``)."""
-    return os.environ.get(ENV_ISOLATION, "1").strip().lower() not in ("0", "false", "no", "off")
+    return reader_start.isolation_enabled()
 
 
 def read_timeout(timeout: float | None = None) -> float:
@@ -73,12 +73,7 @@ def read_timeout(timeout: float | None = None) -> float:
 
 
 # ---------------------------------------------------------------- framing
-def _write_frame(fd: int, payload: bytes) -> None:
-    data = _HEADER.pack(len(payload)) + payload
-    view = memoryview(data)
-    while view:
-        n = os.write(fd, view)
-        view = view[n:]
+_write_frame = reader_start.write_frame
 
 
 def _read_exact(fd: int, n: int, deadline: float | None) -> bytes | None:
@@ -109,18 +104,22 @@ def _read_frame(fd: int, deadline: float | None) -> bytes | None:
 
 # ---------------------------------------------------------------- parent side
 class _Child:
-    """One child process serving requests."""
+    """One child process serving requests.
 
-    def __init__(self):
-        env = dict(os.environ)
-        # the child must import this very package, wherever it was imported from
-        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-        env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
-        # -P: not the working directory first on sys.path, where another checkout's cadartifact would win
-        self.proc = subprocess.Popen([sys.executable, "-P", "-m", "cadartifact.exchange.isolation"],
-                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
-                                     env=env, close_fds=True)
+    ``early``: the key (:func:`cadartifact.reader_start.request_key`) of a request the child was sent when
+    the CLI started it, whose answer is still to be read.
+    """
+
+    def __init__(self, proc: subprocess.Popen | None = None, early: bytes | None = None):
+        self.proc = proc if proc is not None else reader_start.spawn()
+        self.early = early
         self.ready = False
+
+    @classmethod
+    def new(cls) -> "_Child":
+        """The child the CLI started (:func:`cadartifact.reader_start.start`), else a new one."""
+        got = reader_start.take()
+        return cls(*got) if got is not None else cls()
 
     def kill(self) -> None:
         try:
@@ -183,7 +182,7 @@ def prestart() -> None:
                 _child.kill()
             else:
                 atexit.register(shutdown)
-            _child = _Child()
+            _child = _Child.new()
 
 
 def _died_message(child: _Child) -> str:
@@ -236,11 +235,19 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                     _child.kill()
                 if _child is None:
                     atexit.register(shutdown)  # once per child: a closed pipe ends it anyway, this reaps it
-                _child = _Child()
+                _child = _Child.new()
             child = _child
+            if child.early is not None:  # the CLI's guess of its first read: its answer serves only that request
+                if child.early != reader_start.request_key(function, args):
+                    child.kill()
+                    _child = child = _Child()
+                sent, child.early = child.early is not None, None
+            else:
+                sent = False
             try:
                 # the pipe holds the request until the child, once OCP is imported, reads it
-                _write_frame(child.proc.stdin.fileno(), request)
+                if not sent:
+                    _write_frame(child.proc.stdin.fileno(), request)
                 if during is not None:
                     work, during = during, None
                     _busy = threading.get_ident()
