@@ -300,7 +300,10 @@ def _parts(tasks: list, threads: int) -> int:
     ``CADARTIFACT_FACE_BATCHES`` sets the count (tests, benchmarks)."""
     forced = os.environ.get("CADARTIFACT_FACE_BATCHES", "").strip()
     if forced:
-        return max(1, min(MAX_PARTS, int(forced)))
+        try:
+            return max(1, min(MAX_PARTS, int(forced)))
+        except ValueError:
+            raise OptionError("CADARTIFACT_FACE_BATCHES", "a whole number of face batches", forced) from None
     return max(1, min(MAX_PARTS, threads // max(1, len(tasks))))
 
 

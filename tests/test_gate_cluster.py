@@ -369,3 +369,14 @@ def test_a_big_file_alone_on_a_cluster_goes_as_face_batches(tmp_path, monkeypatc
     serial = run_gate([path], settings, jobs=1)
     assert merged == [[0, 1]]  # one file, two threads: two face batches, merged in the client
     assert json.dumps(clustered) == json.dumps(serial)
+
+
+def test_face_batches_env_must_be_a_whole_number(monkeypatch):
+    from cadartifact.errors import OptionError
+    from cadartifact.gate_cluster import _parts
+
+    monkeypatch.setenv("CADARTIFACT_FACE_BATCHES", "two")
+    with pytest.raises(OptionError, match="CADARTIFACT_FACE_BATCHES.*whole number"):
+        _parts([("a.step",)], 4)
+    monkeypatch.setenv("CADARTIFACT_FACE_BATCHES", "3")
+    assert _parts([("a.step",)], 4) == 3
