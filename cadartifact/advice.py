@@ -24,7 +24,8 @@ from .artifact_budget import (METRICS, Budget, Stat, analysis_net, budget, check
                               total_ripple)
 from .errors import OptionError, check_option
 from .fields import baseband_at, intent_normals, project
-from .fitting import candidate_axis, candidate_net, curve_distance, fit_points
+from .fitting import candidate_axis, candidate_net, curve_distance
+from .tensor import sandwich, sandwich_left, sandwich_right
 from .frames import fine_positions
 from .intent import READINGS
 from .density_search import frontier, gallop
@@ -73,6 +74,7 @@ class _Scorer:
         self._scores: dict = {}
         self._trim = trim_mask
         self._borders: dict = {}
+        self._halves: dict = {}  # (a, grid) -> the fit's u half (least recently used first out)
 
     def target(self, x: np.ndarray, y: np.ndarray):
         """The intent, its normals and the trim mask on the grid ``x x y`` (cached by grid size)."""
@@ -96,11 +98,19 @@ class _Scorer:
                 candidate_axis(self.frames[1], b, self.degrees[1], self.K))
 
     def fit(self, a: int, b: int):
-        """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b``."""
+        """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b`` (:func:`fit_points`; the
+        fit's ``u`` half is kept per ``a`` and grid, since the search pairs each ``a`` with many ``b``)."""
         cu, cv = self.axes(a, b)
         I, normal, keep = self.target(cu.x, cv.x)
-        Q, S = fit_points(I, cu, cv)
-        return Q, S, I, normal, keep, (cu, cv)
+        key = (a, len(cu.x), len(cv.x))
+        half = self._halves.pop(key, None)
+        if half is None:
+            half = sandwich_left(cu.pinv, I)
+        self._halves[key] = half
+        if len(self._halves) > 8:
+            self._halves.pop(next(iter(self._halves)))
+        Q = sandwich_right(half, cv.pinv)
+        return Q, sandwich(cu.B, Q, cv.B), I, normal, keep, (cu, cv)
 
     def score(self, a: int, b: int) -> dict:
         """``{"peak", "rms", "boundary"}`` of the candidate's error (model units)."""

@@ -56,3 +56,19 @@ def test_cached_synthesis_is_read_only():
     with pytest.raises(ValueError):
         low[0, 0] = 1.0
     assert _axis_synthesis(it, scheme("bicubic"), 0)[0] is low
+
+
+def test_scorer_fit_with_kept_halves_equals_fit_points():
+    """The search keeps the fit's u half per candidate count: the same bits as fitting from scratch."""
+    from cadartifact.advice import _make_scorer
+    from cadartifact.artifact_budget import analysis_net, default_scheme
+    from cadartifact.fitting import fit_points
+
+    i, j = np.meshgrid(np.arange(14.0), np.arange(11.0), indexing="ij")
+    net = ca.ControlNet.from_points(np.stack([i, j, np.sin(0.7 * i) * np.cos(0.4 * j)], -1), degrees=(3, 3))
+    sch = default_scheme(net)
+    sc = _make_scorer(net, analysis_net(net, sch), sch, "surface", 2, "peak", "normal")
+    for a, b in [(6, 5), (6, 7), (9, 5), (6, 5), (13, 11), (9, 8)]:
+        Q, S, I, *_ , (cu, cv) = sc.fit(a, b)
+        Q0, S0 = fit_points(I, cu, cv)
+        assert np.array_equal(Q, Q0) and np.array_equal(S, S0)
