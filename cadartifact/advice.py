@@ -438,7 +438,9 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         Q, S, I, normal, keep, (cu, cv) = fine.fit(*shape)
         advised = candidate_net(net, Q, cu, cv)
         sc = fine.score(*shape)
-    stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc)
+    # kept: the advised net is today's, whose budget under the same options is `current` already
+    stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc,
+                          current if kept else None)
     if stats["boundary"].peak > t:
         notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
                      "the tolerance): neighbouring faces must follow")
@@ -495,8 +497,11 @@ def _ripple_of(sc: _Scorer, a, b, sch, metric, component) -> float:
     return sc._scores[key]
 
 
-def _advice_stats(advised, scheme, tolerance, metric, levels, component, intent, score) -> dict:
-    b = budget(advised, scheme, tolerance, metric=metric, levels=levels, component=component, intent=intent)
+def _advice_stats(advised, scheme, tolerance, metric, levels, component, intent, score, known=None) -> dict:
+    """The advised net's stats: its own budget (``known``: that budget, already computed) with the candidate's
+    deviation and border distance."""
+    b = known if known is not None else budget(advised, scheme, tolerance, metric=metric, levels=levels,
+                                               component=component, intent=intent)
     stats = {k: v for k, v in b.stats.items() if k != "deviation"}
     stats["deviation"] = Stat(peak=score["peak"], rms=score["rms"])
     stats["boundary"] = Stat(peak=score.get("boundary", 0.0), rms=score.get("boundary", 0.0))

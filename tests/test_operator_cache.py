@@ -72,3 +72,15 @@ def test_scorer_fit_with_kept_halves_equals_fit_points():
         Q, S, I, *_ , (cu, cv) = sc.fit(a, b)
         Q0, S0 = fit_points(I, cu, cv)
         assert np.array_equal(Q, Q0) and np.array_equal(S, S0)
+
+
+def test_kept_advice_reuses_todays_budget_to_the_bit():
+    """A face kept as it is: its stats are today's budget's (reused, not computed again), bit for bit."""
+    i, j = np.meshgrid(np.arange(10.0), np.arange(10.0), indexing="ij")
+    net = ca.ControlNet(points=np.stack([i, j, np.cos(2 * np.pi * (i + 0.5 * j) / (10 / 3.0))], -1))
+    adv = ca.advise(net, 0.05, "bicubic", compare=False, verify=False)
+    assert adv.kept_today
+    fresh = ca.budget(net, "bicubic", 0.05)
+    for k, s in fresh.stats.items():
+        if k != "deviation":
+            assert (adv.stats[k].peak, adv.stats[k].rms) == (s.peak, s.rms)
