@@ -1,7 +1,8 @@
 """Lazy loading of the heavy optional stack (OCP, cadquery, pyvista, matplotlib, trimesh).
 
-``import cadartifact`` loads numpy only; everything else is imported the first
-time a feature needs it, through :func:`require`, so that a missing package
+``import cadartifact`` loads the standard library only (numpy comes with the first
+net); everything else is imported the first time a feature needs it, through
+:func:`require`, so that a missing package
 gives a one-line error naming what to install rather than an ImportError deep
 in a traceback.
 """

@@ -1,4 +1,4 @@
-"""``import cadartifact`` must stay light: numpy only."""
+"""``import cadartifact`` must stay light: no heavy package (not even numpy, see below)."""
 
 import subprocess
 import sys
