@@ -23,7 +23,8 @@ import numpy as np
 from .artifact_budget import (METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme,
                               total_ripple)
 from .errors import OptionError, check_option
-from .fields import baseband_at, intent_normals, project
+from .baseband import baseband_at
+from .fields import intent_normals, project
 from .fitting import candidate_axis, candidate_net, curve_distance
 from .tensor import sandwich, sandwich_left, sandwich_right
 from .frames import fine_positions

@@ -36,6 +36,7 @@ import numpy as np
 
 from .errors import check_option
 from .frames import AxisFrame
+from .baseband import baseband_at
 from .intent import READINGS, Intent, _legendre, design_intent, from_homogeneous
 from .operator_cache import OperatorCache
 from .tensor import sandwich
@@ -161,62 +162,6 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
         out["lateral"] = _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out
-
-
-def baseband_at(fields: "ArtifactFields", x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """The ``surface`` reading's intent (the surface less its ripple) at analysis coordinates ``x x y``.
-
-    A polynomial (tensor Legendre coefficients) plus ``sum_kl X_kl exp(2 pi i (f_k z + g_l w)) / N``
-    over the base-band bins of the fine-grid spectrum (lattice coordinates ``z = x - offset``;
-    direct DFT sums, no FFT grid).
-    """
-    bb = fields.baseband
-    if "evaluate" in bb:  # a face split into pieces (cadartifact.pieces)
-        return bb["evaluate"](np.asarray(x, float), np.asarray(y, float))
-    out = _baseband_lifted(bb, x, y)
-    return from_homogeneous(out) if bb.get("homogeneous") else out
-
-
-#: Per-axis evaluation matrices a base band keeps (the scheme comparison samples it at a few dozen counts).
-_BASEBAND_ROWS = 64
-
-
-def _axis_rows(bb: dict, axis: int, pts: np.ndarray, build):
-    """``build(pts)`` memoised in the base band per direction and abscissae."""
-    memo = bb.setdefault("_rows", {})
-    key = (axis, pts.tobytes())
-    got = memo.get(key)
-    if got is None:
-        got = build(pts)
-        if len(memo) >= _BASEBAND_ROWS:
-            memo.pop(next(iter(memo)))
-        memo[key] = got
-    return got
-
-
-def _baseband_lifted(bb: dict, x, y) -> np.ndarray:
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    if "separable" in bb:
-        lu, lv = bb["separable"]
-        return sandwich(_axis_rows(bb, 0, x, lu), bb["points"], _axis_rows(bb, 1, y, lv))
-
-    def dft_rows(frame, f):
-        def build(pts):
-            # the fine grid was rolled by the whole fine steps of `shift`: evaluate on that same grid
-            z = pts + frame.shift / frame.K
-            ph = 2 * np.pi * np.outer(z, f)
-            N = frame.K * frame.period
-            return np.cos(ph) / N, np.sin(ph) / N
-        return build
-
-    (Cu, Su), (Cv, Sv) = (_axis_rows(bb, k, pts, dft_rows(frame, f))
-                          for k, (frame, f, pts) in enumerate(zip(bb["frames"], bb["freqs"], (x, y))))
-    spec = bb["spec"]
-    Xr, Xi = np.ascontiguousarray(spec.real), np.ascontiguousarray(spec.imag)
-    out = sandwich(Cu, Xr, Cv) - sandwich(Su, Xr, Sv) - sandwich(Cu, Xi, Sv) - sandwich(Su, Xi, Cv)
-    M = bb["poly"]
-    fu, fv = bb["frames"]
-    return out + sandwich(_legendre(x, fu.spans, M.shape[0] - 1), M, _legendre(y, fv.spans, M.shape[1] - 1))
 
 
 def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:

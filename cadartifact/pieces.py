@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fields import ArtifactFields, baseband_at
+from .baseband import baseband_at
+from .fields import ArtifactFields
 from .frames import axis_frames
 from .net import ControlNet, bezier_direction, junctions, knot_runs as _runs
 
