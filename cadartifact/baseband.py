@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .intent import _legendre, from_homogeneous
-from .tensor import sandwich
+from .tensor import sandwich, sandwich_left, sandwich_right
 
 __all__ = ["baseband_at"]
 
@@ -41,7 +41,8 @@ def baseband_at(fields, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return from_homogeneous(out) if bb.get("homogeneous") else out
 
 
-#: Per-axis evaluation matrices a base band keeps (the scheme comparison samples it at a few dozen counts).
+#: Per-axis evaluation matrices a base band keeps (the scheme comparison samples it at a few dozen counts);
+#: along u, with the spectrum already applied (the first half of each product).
 _BASEBAND_ROWS = 64
 
 
@@ -62,7 +63,8 @@ def _baseband_lifted(bb: dict, x, y) -> np.ndarray:
     x, y = np.asarray(x, float), np.asarray(y, float)
     if "separable" in bb:
         lu, lv = bb["separable"]
-        return sandwich(_axis_rows(bb, 0, x, lu), bb["points"], _axis_rows(bb, 1, y, lv))
+        half = _axis_rows(bb, 0, x, lambda pts: sandwich_left(lu(pts), bb["points"]))
+        return sandwich_right(half, _axis_rows(bb, 1, y, lv))
 
     def dft_rows(frame, f):
         def build(pts):
@@ -73,11 +75,17 @@ def _baseband_lifted(bb: dict, x, y) -> np.ndarray:
             return np.cos(ph) / N, np.sin(ph) / N
         return build
 
-    (Cu, Su), (Cv, Sv) = (_axis_rows(bb, k, pts, dft_rows(frame, f))
-                          for k, (frame, f, pts) in enumerate(zip(bb["frames"], bb["freqs"], (x, y))))
-    spec = bb["spec"]
-    Xr, Xi = np.ascontiguousarray(spec.real), np.ascontiguousarray(spec.imag)
-    out = sandwich(Cu, Xr, Cv) - sandwich(Su, Xr, Sv) - sandwich(Cu, Xi, Sv) - sandwich(Su, Xi, Cv)
+    (fu, fv), (gu, gv) = bb["frames"], bb["freqs"]
+
+    def left_halves(pts):  # the u half of each product (sandwich_left), kept with the u abscissae
+        Cu, Su = dft_rows(fu, gu)(pts)
+        spec = bb["spec"]
+        Xr, Xi = np.ascontiguousarray(spec.real), np.ascontiguousarray(spec.imag)
+        return tuple(sandwich_left(A, X) for A, X in ((Cu, Xr), (Su, Xr), (Cu, Xi), (Su, Xi)))
+
+    CXr, SXr, CXi, SXi = _axis_rows(bb, 0, x, left_halves)
+    Cv, Sv = _axis_rows(bb, 1, y, dft_rows(fv, gv))
+    out = (sandwich_right(CXr, Cv) - sandwich_right(SXr, Sv) - sandwich_right(CXi, Sv)
+           - sandwich_right(SXi, Cv))
     M = bb["poly"]
-    fu, fv = bb["frames"]
     return out + sandwich(_legendre(x, fu.spans, M.shape[0] - 1), M, _legendre(y, fv.spans, M.shape[1] - 1))

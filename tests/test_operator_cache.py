@@ -84,3 +84,23 @@ def test_kept_advice_reuses_todays_budget_to_the_bit():
     for k, s in fresh.stats.items():
         if k != "deviation":
             assert (adv.stats[k].peak, adv.stats[k].rms) == (s.peak, s.rms)
+
+
+@pytest.mark.parametrize("cage", [True, False])
+def test_baseband_rows_memo_gives_the_same_bits(cage):
+    """The base band keeps its per-direction rows (and u halves): a call served from them equals one on a
+    fresh budget's fields, for the separable (cage, bicubic) and the spectral (B-spline face) forms."""
+    from cadartifact.baseband import baseband_at
+
+    i, j = np.meshgrid(np.arange(12.0), np.arange(9.0), indexing="ij")
+    pts = np.stack([i, j, np.sin(0.6 * i) * np.cos(0.5 * j)], -1)
+    net = ca.ControlNet(points=pts) if cage else ca.ControlNet.from_points(pts, degrees=(3, 3))
+
+    def fields():
+        return ca.budget(net, "bicubic" if cage else None, 0.05, keep_fields=True).fields
+
+    warm = fields()
+    grids = [(np.linspace(0, 8, 17), np.linspace(0, 6, 13)), (np.linspace(0, 8, 9), np.linspace(0, 6, 13)),
+             (np.linspace(0, 8, 17), np.linspace(0, 6, 7))]
+    for x, y in grids + grids:
+        assert np.array_equal(baseband_at(warm, x, y), baseband_at(fields(), x, y))
