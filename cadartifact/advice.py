@@ -23,7 +23,7 @@ import numpy as np
 from .artifact_budget import (METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme,
                               total_ripple)
 from .errors import OptionError, check_option
-from .baseband import baseband_at
+from .baseband import baseband_at, release
 from .fields import intent_normals, project
 from .fitting import candidate_axis, candidate_net, curve_distance
 from .tensor import sandwich, sandwich_left, sandwich_right
@@ -440,8 +440,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         advised = candidate_net(net, Q, cu, cv)
         sc = fine.score(*shape)
     # kept: the advised net is today's, whose budget under the same options is `current` already
-    stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc,
-                          current if kept else None)
+    known = current if kept and current.options == ("auto", "auto") else None
+    stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc, known)
     if stats["boundary"].peak > t:
         notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
                      "the tolerance): neighbouring faces must follow")
@@ -455,7 +455,10 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         from .verification import verify_advice
 
         def check():
-            return verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)
+            try:
+                return verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)
+            finally:
+                release(fine.fields)
 
         if verify == "later":
             pending = check
@@ -468,6 +471,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
             comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
         comparison = _compare(net, work, sch, shape, meets, tolerance, metric, component, intent, fine)
+    for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
+        release(sc.fields)
     return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,

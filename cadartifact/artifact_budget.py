@@ -94,6 +94,8 @@ class Budget:
         A face split at its junctions (:mod:`cadartifact.pieces`): the grid of pieces analysed.
     caveats : tuple of str
         What the analysis could not do for this face (it is then in :attr:`notes`).
+    options : (str, str)
+        The ``method`` and ``region`` asked of :func:`budget` (``("auto", "auto")`` by default).
     """
 
     net: ControlNet
@@ -113,6 +115,7 @@ class Budget:
     region: np.ndarray | None = field(default=None, repr=False)
     pieces: tuple | None = None
     caveats: tuple = ()
+    options: tuple = ("auto", "auto")
 
     @property
     def notes(self) -> list[str]:
@@ -304,15 +307,18 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
         raise OptionError("net", "a ControlNet", type(net).__name__)
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
     work = analysis_net(net, sch)
+    b = None
     if work.knots is not None:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work:
-            return _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region,
-                                     intent, keep_fields)
-        if pieces[0].note:
+            b = _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region,
+                                  intent, keep_fields)
+        elif pieces[0].note:
             b = _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
-            return dataclasses.replace(b, reason=f"{b.reason}; {pieces[0].note}", caveats=(pieces[0].note,))
-    return _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
+            b = dataclasses.replace(b, reason=f"{b.reason}; {pieces[0].note}", caveats=(pieces[0].note,))
+    if b is None:
+        b = _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
+    return b if (method, region) == ("auto", "auto") else dataclasses.replace(b, options=(method, region))
 
 
 def _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields,

@@ -13,7 +13,7 @@ import numpy as np
 from .intent import _legendre, from_homogeneous
 from .tensor import sandwich, sandwich_left, sandwich_right
 
-__all__ = ["baseband_at"]
+__all__ = ["baseband_at", "release", "MEMO_ENTRIES", "MEMO_BYTES"]
 
 
 def baseband_at(fields, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -41,22 +41,42 @@ def baseband_at(fields, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return from_homogeneous(out) if bb.get("homogeneous") else out
 
 
-#: Per-axis evaluation matrices a base band keeps (the scheme comparison samples it at a few dozen counts);
-#: along u, with the spectrum already applied (the first half of each product).
-_BASEBAND_ROWS = 64
+#: What a base band keeps of its per-direction evaluation (the scheme comparison samples it at a few dozen
+#: counts): rows per abscissae, along u with the spectrum already applied (the first half of each product);
+#: at most this many entries and bytes, oldest first out, and all of it dropped by :func:`release`.
+MEMO_ENTRIES, MEMO_BYTES = 64, 64 * 2 ** 20
 
 
 def _axis_rows(bb: dict, axis: int, pts: np.ndarray, build):
-    """``build(pts)`` memoised in the base band per direction and abscissae."""
+    """``build(pts)`` memoised in the base band per direction and abscissae (valid because a base band is
+    never changed once built: its points and spectrum are the fields')."""
     memo = bb.setdefault("_rows", {})
     key = (axis, pts.tobytes())
     got = memo.get(key)
     if got is None:
         got = build(pts)
-        if len(memo) >= _BASEBAND_ROWS:
-            memo.pop(next(iter(memo)))
-        memo[key] = got
+        size = sum(a.nbytes for a in (got if isinstance(got, tuple) else (got,)))
+        used = bb.get("_rows_bytes", 0) + size
+        while memo and (len(memo) >= MEMO_ENTRIES or used > MEMO_BYTES):
+            old = memo.pop(next(iter(memo)))
+            used -= sum(a.nbytes for a in (old if isinstance(old, tuple) else (old,)))
+        if size <= MEMO_BYTES:
+            memo[key] = got
+        else:
+            used -= size
+        bb["_rows_bytes"] = used
     return got
+
+
+def release(fields) -> None:
+    """Drop what :func:`baseband_at` kept in a face's fields (and its pieces'), once its callers are done."""
+    bb = getattr(fields, "baseband", None)
+    if not bb:
+        return
+    bb.pop("_rows", None)
+    bb.pop("_rows_bytes", None)
+    for piece in getattr(bb.get("intent"), "fields_list", ()) or ():
+        release(piece)
 
 
 def _baseband_lifted(bb: dict, x, y) -> np.ndarray:

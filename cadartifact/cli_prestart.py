@@ -53,10 +53,23 @@ def will_read_here(argv) -> bool:
     return True
 
 
+#: Options of ``gate`` and ``advise`` whose value is a file (possibly a .step one written, never read first).
+_PATH_OPTIONS = ("--write-resampled", "--output", "-o", "--report", "--policy", "--cache")
+
+
 def first_read(argv):
-    """The read ``gate`` or ``advise`` will send the reader child first, guessed from ``argv``: the one
-    STEP/IGES/BREP file named (an existing file; none when two or more are named), with ``--convert``
-    as given (a policy's ``convert`` is not known here). ``(function, args)`` or None."""
+    """The read ``gate`` or ``advise`` will send the reader child first, guessed from ``argv``, or None.
+
+    The one STEP/IGES/BREP file named (an existing file, not an option's value; none when two or more
+    are named), with ``--convert`` as given. For ``gate`` without ``--convert/--no-convert``, a policy
+    (``--policy``, or ``cadartifact.toml`` / ``[tool.cadartifact]`` found upward) may set ``convert``, which
+    is not read here: no guess then.
+
+    Returns
+    -------
+    (str, tuple) or None
+        ``(function, args)`` as :func:`cadartifact.reader_start.read_request` gives them.
+    """
     from pathlib import Path
 
     from .reader_start import read_request
@@ -64,11 +77,35 @@ def first_read(argv):
     if len(argv) < 2 or argv[1] not in ("gate", "advise"):
         return None
     args = list(argv[2:])
-    named = [a for a in args if not a.startswith("-") and Path(a).suffix.lower() in BREP_FORMATS]
+    named = [a for k, a in enumerate(args) if not a.startswith("-") and Path(a).suffix.lower() in BREP_FORMATS
+             and (k == 0 or args[k - 1] not in _PATH_OPTIONS)]
     if len(named) != 1 or not os.path.isfile(named[0]):
+        return None
+    explicit = "--convert" in args or "--no-convert" in args
+    if argv[1] == "gate" and not explicit and ("--policy" in args or any(a.startswith("--policy=") for a in args)
+                                               or _policy_upward()):
         return None
     convert = "--convert" in args and "--no-convert" not in args
     return read_request(named[0], BREP_FORMATS[Path(named[0]).suffix.lower()], convert)
+
+
+def _policy_upward() -> bool:
+    """Whether a gate policy may apply here (``cadartifact.gate_policy.find_policy``'s files, looked for
+    without parsing them: a ``pyproject.toml`` counts when it mentions ``[tool.cadartifact``)."""
+    from pathlib import Path
+
+    here = Path.cwd()
+    for folder in (here, *here.parents):
+        if (folder / "cadartifact.toml").is_file():
+            return True
+        pyproject = folder / "pyproject.toml"
+        if pyproject.is_file():
+            try:
+                if "[tool.cadartifact" in pyproject.read_text(errors="replace"):
+                    return True
+            except OSError:
+                return True
+    return False
 
 
 def maybe_prestart(argv) -> None:

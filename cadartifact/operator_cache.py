@@ -7,6 +7,8 @@ direction's geometry only, never on the points, so one build serves every net of
 
 from __future__ import annotations
 
+import threading
+
 __all__ = ["OperatorCache", "clear_all"]
 
 _ALL: list = []
@@ -24,20 +26,32 @@ class OperatorCache:
     def __init__(self, size: int):
         self.size = int(size)
         self._items: dict = {}
+        # a Dask worker's threads share the caches: the reorder and the eviction must not interleave
+        self._lock = threading.Lock()
         _ALL.append(self)
 
     def get(self, key, build):
-        """The operator of ``key``, built by ``build()`` the first time (and after eviction)."""
-        got = self._items.pop(key, None)
-        if got is None:
-            got = build()
-        self._items[key] = got  # most recently used last
-        while len(self._items) > self.size:
-            self._items.pop(next(iter(self._items)))
+        """The operator of ``key``, built by ``build()`` the first time (and after eviction).
+
+        Safe from several threads; two may build the same operator at once (both results are equal,
+        one is kept), since ``build`` runs outside the lock.
+        """
+        with self._lock:
+            got = self._items.pop(key, None)
+            if got is not None:
+                self._items[key] = got  # most recently used last
+                return got
+        got = build()
+        with self._lock:
+            self._items[key] = got
+            while len(self._items) > self.size:
+                self._items.pop(next(iter(self._items)))
         return got
 
     def clear(self) -> None:
-        self._items.clear()
+        """Drop every operator."""
+        with self._lock:
+            self._items.clear()
 
     def __len__(self) -> int:
         return len(self._items)

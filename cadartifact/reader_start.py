@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 
 __all__ = ["HEADER", "ENV_ISOLATION", "READ_FUNCTION", "ANALYSIS_MODULES", "BREP_FORMATS", "isolation_enabled",
-           "spawn", "write_frame", "request_key", "read_request", "start", "take"]
+           "spawn", "stop", "write_frame", "request_key", "read_request", "start", "take"]
 
 HEADER = struct.Struct("!Q")
 ENV_ISOLATION = "CADARTIFACT_READ_ISOLATION"
@@ -100,12 +100,13 @@ def take() -> tuple | None:
     global _prestarted
     got, _prestarted = _prestarted, None
     if got is not None and got[0].poll() is not None:
-        _kill(got[0])
+        stop(got[0])
         return None
     return got
 
 
-def _kill(proc: subprocess.Popen) -> None:
+def stop(proc: subprocess.Popen) -> None:
+    """Kill a reader child and reap it (its pipes closed)."""
     try:
         proc.kill()
     except OSError:
@@ -122,4 +123,4 @@ def _stop_unused() -> None:
     """At exit: a child started for a read that never came (a usage error, a cached result) is stopped."""
     got = take()
     if got is not None:
-        _kill(got[0])
+        stop(got[0])

@@ -70,6 +70,22 @@ def test_first_read_names_the_one_file(tmp_path, monkeypatch):
     assert first_read(["cadartifact", "gate", "a.step", "d.step", "--jobs", "1"]) is None  # which first: not guessed
     assert first_read(["cadartifact", "gate", "missing.step"]) is None
     assert first_read(["cadartifact", "inspect", "a.step"]) is None
+    # an option's file is not the input
+    assert first_read(["cadartifact", "advise", "a.step", "--write-resampled", "d.step"]) == (
+        READ_FUNCTION, (Path("a.step"), "step", False, True))
+    assert first_read(["cadartifact", "advise", "cage.obj", "--write-resampled", "d.step"]) is None
+    # a gate policy may set convert: no guess unless the command line says
+    (tmp_path / "cadartifact.toml").write_text("tolerance = 0.05\n")
+    assert first_read(["cadartifact", "gate", "a.step"]) is None
+    assert first_read(["cadartifact", "gate", "a.step", "--no-convert"]) == (
+        READ_FUNCTION, (Path("a.step"), "step", False, True))
+    assert first_read(["cadartifact", "advise", "a.step"]) is not None  # advise reads no policy
+    (tmp_path / "cadartifact.toml").unlink()
+    (tmp_path / "pyproject.toml").write_text("[tool.cadartifact]\ntolerance = 0.05\n")
+    assert first_read(["cadartifact", "gate", "a.step"]) is None
+    (tmp_path / "pyproject.toml").write_text("[project]\nname = 'x'\n")
+    assert first_read(["cadartifact", "gate", "a.step"]) is not None
+    assert first_read(["cadartifact", "gate", "a.step", "--policy", "p.toml"]) is None
 
 
 def test_early_read_serves_the_same_request_only(monkeypatch):

@@ -104,3 +104,51 @@ def test_baseband_rows_memo_gives_the_same_bits(cage):
              (np.linspace(0, 8, 17), np.linspace(0, 6, 7))]
     for x, y in grids + grids:
         assert np.array_equal(baseband_at(warm, x, y), baseband_at(fields(), x, y))
+
+
+def test_cache_under_threads():
+    """Dask workers run threads that share the caches: concurrent gets with evictions never fail."""
+    import threading
+
+    c = OperatorCache(4)
+    errors = []
+
+    def hammer(seed):
+        rng = np.random.default_rng(seed)
+        try:
+            for k in rng.integers(0, 12, 3000):
+                assert c.get(int(k), lambda k=int(k): k * 2) == 2 * int(k)
+        except Exception as exc:  # noqa: BLE001
+            errors.append(exc)
+
+    threads = [threading.Thread(target=hammer, args=(s,)) for s in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors and len(c) <= 4
+
+
+def test_advise_releases_what_the_base_band_kept():
+    from cadartifact.baseband import MEMO_BYTES
+
+    i, j = np.meshgrid(np.arange(12.0), np.arange(9.0), indexing="ij")
+    net = ca.ControlNet.from_points(np.stack([i, j, np.sin(0.6 * i) * np.cos(0.5 * j)], -1), degrees=(3, 3))
+    adv = ca.advise(net, 0.01, compare=True, verify=False)
+    assert "_rows" not in adv.current.fields.baseband
+    assert MEMO_BYTES <= 64 * 2 ** 20
+
+
+def test_base_band_memo_is_bounded_in_bytes(monkeypatch):
+    from cadartifact import baseband
+
+    monkeypatch.setattr(baseband, "MEMO_BYTES", 200_000)
+    i, j = np.meshgrid(np.arange(12.0), np.arange(9.0), indexing="ij")
+    net = ca.ControlNet.from_points(np.stack([i, j, np.sin(0.6 * i) * np.cos(0.5 * j)], -1), degrees=(3, 3))
+    f = ca.budget(net, None, 0.05, keep_fields=True).fields
+    for n in range(5, 60, 3):
+        ref = baseband.baseband_at(f, np.linspace(0, 9, n), np.linspace(0, 6, 11))
+        assert np.array_equal(ref, baseband.baseband_at(f, np.linspace(0, 9, n), np.linspace(0, 6, 11)))
+        rows = f.baseband["_rows"].values()
+        kept = sum(a.nbytes for r in rows for a in (r if isinstance(r, tuple) else (r,)))
+        assert kept == f.baseband["_rows_bytes"] <= 200_000

@@ -122,16 +122,7 @@ class _Child:
         return cls(*got) if got is not None else cls()
 
     def kill(self) -> None:
-        try:
-            self.proc.kill()
-        except OSError:
-            pass
-        self.proc.wait()
-        for f in (self.proc.stdin, self.proc.stdout):
-            try:
-                f.close()
-            except OSError:
-                pass
+        reader_start.stop(self.proc)
 
 
 _lock = threading.Lock()
