@@ -546,6 +546,19 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
 
     out = {}
     fu, fv = fine.frames
+    cages: dict = {}  # the intent sampled at a density, for every scheme (their frontiers start alike)
+    room = [32 * 2 ** 20]  # bytes of cage points kept; the first ones asked (the shared start) stay
+
+    def cage_of(a, b):
+        got = cages.get((a, b))
+        if got is None:
+            xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
+            pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
+            got = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
+            if pts.nbytes <= room[0]:
+                cages[(a, b)], room[0] = got, room[0] - pts.nbytes
+        return got
+
     for name in NAMED_SCHEMES:
         other = get_scheme(name)
         if other.name == sch.name:
@@ -557,10 +570,8 @@ def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent,
 
         def ok(a, b, other=other, seen=seen):
             if (a, b) not in seen:
-                xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
-                pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
-                cage = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
-                seen[(a, b)] = total_ripple(cage, other, metric=metric, component=component, levels=1) <= tolerance
+                seen[(a, b)] = total_ripple(cage_of(a, b), other, metric=metric, component=component,
+                                            levels=1) <= tolerance
             return seen[(a, b)]
 
         low = (3, 3)
