@@ -27,15 +27,14 @@ from .baseband import baseband_at, release
 from .fields import intent_normals, project
 from .fitting import candidate_axis, candidate_net, curve_distance
 from .tensor import sandwich, sandwich_left, sandwich_right
-from .frames import fine_positions
 from .intent import READINGS
 from .density_search import frontier, gallop
 from .net import ControlNet
 from .pieces import face_kind
+from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 
 __all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
 
-NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 
 #: What the tolerance bounds: the candidate's whole error against the intent, or its ripple only.
 OBJECTIVES = ("deviation", "ripple")
@@ -470,7 +469,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         if not compare:
             comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
-        comparison = _compare(net, work, sch, shape, meets, tolerance, metric, component, intent, fine)
+        comparison = compare_schemes(net, work, sch, shape, meets, tolerance, metric, component, fine,
+                                     growth=GROWTH, max_points=MAX_POINTS)
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
     return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
@@ -538,48 +538,6 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str 
                   "coarser_value": _f(val), "binding": bool(val is not None and val > t), "reason": why}
     binding = max(worse, key=worse.get) if worse and not kept else None
     return binding, out
-
-
-def _compare(net, work, sch, shape, meets, tolerance, metric, component, intent, fine) -> dict:
-    """Fewest points per named scheme for the intent's ripple (the intent sampled at each scheme's net)."""
-    from .catalogue import scheme as get_scheme
-
-    out = {}
-    fu, fv = fine.frames
-    cages: dict = {}  # the intent sampled at a density, for every scheme (their frontiers start alike)
-    room = [32 * 2 ** 20]  # bytes of cage points kept; the first ones asked (the shared start) stay
-
-    def cage_of(a, b):
-        got = cages.get((a, b))
-        if got is None:
-            xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
-            pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
-            got = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
-            if pts.nbytes <= room[0]:
-                cages[(a, b)], room[0] = got, room[0] - pts.nbytes
-        return got
-
-    for name in NAMED_SCHEMES:
-        other = get_scheme(name)
-        if other.name == sch.name:
-            out[other.name] = {"net": list(shape), "points": int(shape[0] * shape[1]),
-                               "meets_tolerance": bool(meets), "objective": "deviation"}
-            continue
-
-        seen = {}  # a memo per scheme: the frontier asks about some densities twice
-
-        def ok(a, b, other=other, seen=seen):
-            if (a, b) not in seen:
-                seen[(a, b)] = total_ripple(cage_of(a, b), other, metric=metric, component=component,
-                                            levels=1) <= tolerance
-            return seen[(a, b)]
-
-        low = (3, 3)
-        high = tuple(max(l + 1, min(MAX_POINTS // 4, GROWTH * n)) for l, n in zip(low, work.shape))
-        s2, ok2 = frontier(ok, low, high, tuple(shape))  # the schemes' answers lie near this scheme's
-        out[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2),
-                           "objective": "ripple"}
-    return out
 
 
 def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: str = "surface",
