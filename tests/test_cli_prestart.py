@@ -138,3 +138,18 @@ def test_brep_formats_agree_with_the_exchange():
 
     assert BREP_FORMATS == {k: v for k, v in SUPPORTED_EXTENSIONS.items() if v != "obj"}
     assert set(BREP_SUFFIXES) == set(BREP_FORMATS)
+
+
+def test_an_early_child_that_died_is_replaced():
+    pytest.importorskip("OCP")
+    from cadartifact import reader_start
+    from cadartifact.exchange import isolation, read
+
+    isolation.shutdown()
+    reader_start.start(reader_start.read_request(_sample(), "step", False))
+    proc = reader_start._prestarted[0]
+    proc.kill()
+    proc.wait()
+    assert read(_sample()).nets  # a new child answers; the dead one is reaped
+    assert isolation._child.proc is not proc and isolation._child.early is None
+    isolation.shutdown()
