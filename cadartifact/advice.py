@@ -347,7 +347,7 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         ``"later"``: leave that to :func:`cadartifact.verification.complete` (while OCCT is busy).
     current : Budget, optional
         Today's budget of this net when the caller has it (same scheme, metric, levels, component and
-        intent, fields kept): it is not computed again.
+        intent, default method and region, fields kept): it is not computed again.
 
     Returns
     -------
@@ -376,7 +376,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
     reuse = (current is not None and current.net is net and current.fields is not None and current.scheme == sch.name
              and (current.metric, current.levels, current.component, current.intent) == (metric, levels, component,
-                                                                                         intent))
+                                                                                         intent)
+             and current.options == ("auto", "auto"))  # the road and region advise() itself would use
     if not reuse:
         current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component, intent=intent,
                          keep_fields=True)
@@ -439,7 +440,7 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         advised = candidate_net(net, Q, cu, cv)
         sc = fine.score(*shape)
     # kept: the advised net is today's, whose budget under the same options is `current` already
-    known = current if kept and current.options == ("auto", "auto") else None
+    known = current if kept else None
     stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc, known)
     if stats["boundary"].peak > t:
         notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "

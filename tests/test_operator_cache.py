@@ -152,3 +152,16 @@ def test_base_band_memo_is_bounded_in_bytes(monkeypatch):
         rows = f.baseband["_rows"].values()
         kept = sum(a.nbytes for r in rows for a in (r if isinstance(r, tuple) else (r,)))
         assert kept == f.baseband["_rows_bytes"] <= 200_000
+
+
+def test_a_non_default_budget_given_is_not_reused():
+    """advise(current=...) takes a caller's budget only when it is the one advise() would compute (default road
+    and region): a predicted-road or interior-only budget of a face is computed again."""
+    i, j = np.meshgrid(np.arange(10.0), np.arange(10.0), indexing="ij")
+    net = ca.ControlNet(points=np.stack([i, j, np.cos(2 * np.pi * (i + 0.5 * j) / (10 / 3.0))], -1))
+    plain = ca.advise(net, 0.05, "bicubic", compare=False, verify=False)
+    for opts in ({"region": "interior"}, {"method": "measured"}):
+        other = ca.budget(net, "bicubic", 0.05, keep_fields=True, **opts)
+        adv = ca.advise(net, 0.05, "bicubic", compare=False, verify=False, current=other)
+        assert adv.current is not other
+        assert adv.shape == plain.shape and adv.stats["total"].peak == plain.stats["total"].peak
