@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 
 __all__ = ["HEADER", "ENV_ISOLATION", "READ_FUNCTION", "ANALYSIS_MODULES", "BREP_FORMATS", "isolation_enabled",
-           "spawn", "stop", "write_frame", "request_key", "read_request", "start", "take"]
+           "spawn", "stop", "write_frame", "request", "request_key", "read_request", "start", "take"]
 
 HEADER = struct.Struct("!Q")
 ENV_ISOLATION = "CADARTIFACT_READ_ISOLATION"
@@ -62,6 +62,12 @@ def write_frame(fd: int, payload: bytes) -> None:
         view = view[os.write(fd, view):]
 
 
+def request(function: str, args: tuple, idle: tuple = ()) -> bytes:
+    """The frame payload of a request: ``module:function``, its arguments, the working directory they are
+    relative to, and what the child imports once it has answered (``idle``)."""
+    return pickle.dumps((function, args, os.getcwd(), tuple(idle)), protocol=pickle.HIGHEST_PROTOCOL)
+
+
 def request_key(function: str, args: tuple) -> bytes:
     """What identifies a request: the function, its arguments and the working directory they are relative to."""
     return pickle.dumps((function, args, os.getcwd()), protocol=pickle.HIGHEST_PROTOCOL)
@@ -85,9 +91,8 @@ def start(early: tuple | None = None, idle: tuple = ()) -> None:
     key = None
     if early is not None:
         function, args = early
-        payload = pickle.dumps((function, args, os.getcwd(), tuple(idle)), protocol=pickle.HIGHEST_PROTOCOL)
         try:
-            write_frame(proc.stdin.fileno(), payload)  # the pipe holds it until the child has imported OCP
+            write_frame(proc.stdin.fileno(), request(function, args, idle))  # held by the pipe until OCP is in
             key = request_key(function, args)
         except OSError:
             key = None

@@ -218,7 +218,7 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
         raise RuntimeError("the reader child is busy with this process's own request (isolation.call inside during)")
     limit = None if timeout == float("inf") else read_timeout(timeout)  # inf: no limit (analysis, not a read)
     # relative paths are relative to this process's working directory, which may change between calls
-    request = pickle.dumps((function, args, os.getcwd(), _idle_imports), protocol=pickle.HIGHEST_PROTOCOL)
+    request = reader_start.request(function, args, _idle_imports)
     with _lock:
         for attempt in (0, 1):
             if _child is None or _child.proc.poll() is not None:
@@ -228,13 +228,12 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                     atexit.register(shutdown)  # once per child: a closed pipe ends it anyway, this reaps it
                 _child = _Child.new()
             child = _child
-            if child.early is not None:  # the CLI's guess of its first read: its answer serves only that request
-                if child.early != reader_start.request_key(function, args):
-                    child.kill()
-                    _child = child = _Child()
-                sent, child.early = child.early is not None, None
-            else:
-                sent = False
+            # the CLI's guess of its first read (already sent): its answer serves only that very request
+            sent = child.early is not None and child.early == reader_start.request_key(function, args)
+            if child.early is not None and not sent:
+                child.kill()
+                _child = child = _Child()
+            child.early = None
             try:
                 # the pipe holds the request until the child, once OCP is imported, reads it
                 if not sent:
