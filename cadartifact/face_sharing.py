@@ -230,7 +230,7 @@ def _advised(net, options: dict, later: bool):
 def _recorded(adv, net, options: dict, path, key: str, keep: bool):
     """Phase two: the verification left for later, then ``(record, advice if keep else None)``, checked and
     located, or the exception."""
-    from .report import face_record, peak_location
+    from .report import face_record
     from .verification import complete
 
     if isinstance(adv, BaseException):
@@ -242,12 +242,7 @@ def _recorded(adv, net, options: dict, path, key: str, keep: bool):
             return FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
                                          "(coordinates or weights too large?)")
         rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
-        rec["peak_at"] = None
-        if _beyond(rec):
-            try:
-                rec["peak_at"] = peak_location(net, rec["scheme"], key, None)
-            except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
-                rec["peak_at"] = None
+        rec["peak_at"] = _peak_at(net, rec["scheme"], key, None) if _beyond(rec) else None
         return rec, (adv if keep else None)
     except Exception as exc:  # noqa: BLE001
         return exc
@@ -313,12 +308,19 @@ def _located(outcome, located: bool, current, net, key: str):
     where ``located`` asks."""
     if not located or isinstance(outcome, BaseException):
         return outcome
-    from .report import peak_location
-
     try:
-        outcome["peak_at"] = peak_location(net, outcome["scheme"], key, current)
-    except (CadArtifactError, ValueError, KeyError):  # a location helps; it never fails a run
-        outcome["peak_at"] = None
+        outcome["peak_at"] = _peak_at(net, outcome["scheme"], key, current)
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
         return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})")
     return outcome
+
+
+def _peak_at(net, scheme: str, key: str, current):
+    """:func:`cadartifact.report.peak_location`, or None where it cannot say (a location helps; it never fails
+    a run). Other exceptions pass: each caller words them as its document does."""
+    from .report import peak_location
+
+    try:
+        return peak_location(net, scheme, key, current)
+    except (CadArtifactError, ValueError, KeyError):
+        return None
