@@ -216,71 +216,74 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         raise OptionError("FILE", "at least one file", "none")
     from .face_sharing import sharing
 
-    with sharing(keep is None):  # the reader child then imports the analysis while idle, for its share
-        loaded = [read(p, convert=convert) for p in paths]  # read everything first: a bad file fails before any output
-    for p, res in zip(paths, loaded):
-        if res.skipped.get("degenerate"):
-            # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
-            import re
+    # one sharing block for the reads and the faces: after its read the reader child imports the analysis while
+    # idle, then takes its share of each file's faces (not when the Advice objects are kept: they stay here)
+    with sharing(keep is None):
+        loaded = [read(p, convert=convert) for p in paths]  # read all first: a bad file fails before any output
+        for p, res in zip(paths, loaded):
+            if res.skipped.get("degenerate"):
+                # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
+                import re
 
-            why = next((w for w in res.warnings if re.search(r"#\d+: ", w)), "")
-            m = re.search(r"#(\d+): (.*)", why)
-            raise FileFormatError(p, f"face {m.group(1)}: {m.group(2)}" if m else "a face has invalid control points")
-        if res.skipped.get("dropped"):  # faces the STEP transfer lost: the file is not what it says
-            why = next((w for w in res.warnings if "was dropped" in w), "")
-            raise FileFormatError(p, why.removeprefix(f"{p}: ") or "a face could not be read")
-    if faces is not None:  # a face index no file has is a usage error, not an empty (passing) report
-        have = sorted({n.origin.face for r in loaded for n in r.nets})
-        missing = sorted(set(faces) - set(have))
-        if missing:
-            where = paths[0].name if len(paths) == 1 else f"any of the {len(paths)} files"
-            shown = ", ".join(map(str, have[:20])) + (", ..." if len(have) > 20 else "") if have else "none"
-            raise OptionError("faces", f"an analysable face index of {where} ({shown})", missing[0])
-    total_faces = sum(len([n for n in r.nets if faces is None or n.origin.face in faces]) for r in loaded)
-    if progress:
-        progress("files", total_faces, "")
-    doc_files = []
-    summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
-    from .exchange.step_text import entity_line
-    from .face_sharing import advise_faces, one_blas_thread
-
-    options = dict(tolerance=tolerance, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
-                   compare=compare, verify=verify, intent=intent)
-    key = "deviation" if include_signal_error else "total"
-    for path, res in zip(paths, loaded):
-        entries = []
-        todo = [net for net in res.nets if faces is None or net.origin.face in faces]
-
-        def face_done(i, todo=todo, path=path):
-            if progress:
-                progress("face", None, f"{path.name}#{todo[i].origin.face}")
-
-        # one outcome per face, in order (part of them from the idle reader child unless the advice
-        # objects are kept, which stay in the process that made them); the first error stops the run
-        # one BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
-        with sharing(keep is None), one_blas_thread():
-            outcomes = advise_faces(todo, options, path, key, done=face_done, keep=keep is not None)
-        for net, outcome in zip(todo, outcomes):
-            if isinstance(outcome, BaseException):
-                raise outcome
-            rec, adv = outcome
-            rec["entity_line"] = entity_line(path, rec.get("entity"))
-            entries.append(rec)
-            if keep is not None:
-                keep.append((path, net, adv))
-            summary["faces"] += 1
-            summary["within" if rec["meets_tolerance"] else "exceeding"] += 1
-            summary["unreachable"] += 0 if rec["advice"]["meets_tolerance"] else 1
+                why = next((w for w in res.warnings if re.search(r"#\d+: ", w)), "")
+                m = re.search(r"#(\d+): (.*)", why)
+                raise FileFormatError(p, f"face {m.group(1)}: {m.group(2)}" if m else
+                                      "a face has invalid control points")
+            if res.skipped.get("dropped"):  # faces the STEP transfer lost: the file is not what it says
+                why = next((w for w in res.warnings if "was dropped" in w), "")
+                raise FileFormatError(p, why.removeprefix(f"{p}: ") or "a face could not be read")
+        if faces is not None:  # a face index no file has is a usage error, not an empty (passing) report
+            have = sorted({n.origin.face for r in loaded for n in r.nets})
+            missing = sorted(set(faces) - set(have))
+            if missing:
+                where = paths[0].name if len(paths) == 1 else f"any of the {len(paths)} files"
+                shown = ", ".join(map(str, have[:20])) + (", ..." if len(have) > 20 else "") if have else "none"
+                raise OptionError("faces", f"an analysable face index of {where} ({shown})", missing[0])
+        total_faces = sum(len([n for n in r.nets if faces is None or n.origin.face in faces]) for r in loaded)
         if progress:
-            progress("file", len(entries), str(path))
-        doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
-                          "faces_total": res.faces_total, "analysed_share": _f(analysed_share(res)),
-                          "skipped": dict(res.skipped),
-                          "warnings": list(res.warnings), "faces": entries})
-    units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
-    return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
-            "intent": "net" if include_signal_error else intent,
-            "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
+            progress("files", total_faces, "")
+        doc_files = []
+        summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+        from .exchange.step_text import entity_line
+        from .face_sharing import advise_faces, one_blas_thread
+
+        options = dict(tolerance=tolerance, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
+                       compare=compare, verify=verify, intent=intent)
+        key = "deviation" if include_signal_error else "total"
+        for path, res in zip(paths, loaded):
+            entries = []
+            todo = [net for net in res.nets if faces is None or net.origin.face in faces]
+
+            def face_done(i, todo=todo, path=path):
+                if progress:
+                    progress("face", None, f"{path.name}#{todo[i].origin.face}")
+
+            # one outcome per face, in order (part of them from the idle reader child unless the advice
+            # objects are kept, which stay in the process that made them); the first error stops the run.
+            # One BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
+            with one_blas_thread():
+                outcomes = advise_faces(todo, options, path, key, done=face_done, keep=keep is not None)
+            for net, outcome in zip(todo, outcomes):
+                if isinstance(outcome, BaseException):
+                    raise outcome
+                rec, adv = outcome
+                rec["entity_line"] = entity_line(path, rec.get("entity"))
+                entries.append(rec)
+                if keep is not None:
+                    keep.append((path, net, adv))
+                summary["faces"] += 1
+                summary["within" if rec["meets_tolerance"] else "exceeding"] += 1
+                summary["unreachable"] += 0 if rec["advice"]["meets_tolerance"] else 1
+            if progress:
+                progress("file", len(entries), str(path))
+            doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
+                              "faces_total": res.faces_total, "analysed_share": _f(analysed_share(res)),
+                              "skipped": dict(res.skipped),
+                              "warnings": list(res.warnings), "faces": entries})
+        units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
+        return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
+                "intent": "net" if include_signal_error else intent,
+                "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
 
 
 def resampled_nets(kept) -> list:
