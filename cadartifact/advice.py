@@ -22,16 +22,17 @@ import numpy as np
 
 from .artifact_budget import (METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme,
                               total_ripple)
-from .errors import OptionError, check_option
 from .baseband import baseband_at, release
+from .density_search import frontier, gallop
+from .errors import OptionError, check_option
 from .fields import intent_normals, project
 from .fitting import candidate_axis, candidate_net, curve_distance
-from .tensor import sandwich, sandwich_left, sandwich_right
 from .intent import READINGS
-from .density_search import frontier, gallop
 from .net import ControlNet
+from .operator_cache import OperatorCache
 from .pieces import face_kind
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
+from .tensor import sandwich, sandwich_left, sandwich_right
 
 __all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
 
@@ -74,7 +75,7 @@ class _Scorer:
         self._scores: dict = {}
         self._trim = trim_mask
         self._borders: dict = {}
-        self._halves: dict = {}  # (a, grid) -> the fit's u half (least recently used first out)
+        self._halves = OperatorCache(8, shared=False)  # (a, grid) -> the fit's u half
 
     def target(self, x: np.ndarray, y: np.ndarray):
         """The intent, its normals and the trim mask on the grid ``x x y`` (cached by grid size)."""
@@ -102,13 +103,7 @@ class _Scorer:
         fit's ``u`` half is kept per ``a`` and grid, since the search pairs each ``a`` with many ``b``)."""
         cu, cv = self.axes(a, b)
         I, normal, keep = self.target(cu.x, cv.x)
-        key = (a, len(cu.x), len(cv.x))
-        half = self._halves.pop(key, None)
-        if half is None:
-            half = sandwich_left(cu.pinv, I)
-        self._halves[key] = half
-        if len(self._halves) > 8:
-            self._halves.pop(next(iter(self._halves)))
+        half = self._halves.get((a, len(cu.x), len(cv.x)), lambda: sandwich_left(cu.pinv, I))
         Q = sandwich_right(half, cv.pinv)
         return Q, sandwich(cu.B, Q, cv.B), I, normal, keep, (cu, cv)
 

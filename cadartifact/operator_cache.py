@@ -21,14 +21,18 @@ class OperatorCache:
     ----------
     size : int
         Operators kept; the least recently used go first.
+    shared : bool
+        A module-level cache, emptied by :func:`clear_all`; False for one computation's own (it goes
+        with the computation).
     """
 
-    def __init__(self, size: int):
+    def __init__(self, size: int, shared: bool = True):
         self.size = int(size)
         self._items: dict = {}
         # a Dask worker's threads share the caches: the reorder and the eviction must not interleave
         self._lock = threading.Lock()
-        _ALL.append(self)
+        if shared:
+            _ALL.append(self)
 
     def get(self, key, build):
         """The operator of ``key``, built by ``build()`` the first time (and after eviction).
