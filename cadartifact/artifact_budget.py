@@ -326,10 +326,7 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
     """:func:`budget` of a net that needs no splitting."""
     it = design_intent(work, sch, levels)
     face = work.knots is not None
-    if method in ("auto", "both"):
-        primary = "measured" if face else "predicted"
-    else:
-        primary = method
+    primary = _road(work, method)
     if primary == "measured":
         reason = ("the real surface (exact NURBS evaluation of the face)" if face else
                   "the real surface (numerical subdivision / uniform B-spline of the net)")
@@ -370,6 +367,13 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
                   region=keep if keep_fields or keep_scalars else None)
 
 
+def _road(work: ControlNet, method: str = "auto") -> str:
+    """The primary road of a method: ``auto`` (and ``both``) measure a face's real surface and predict a cage's."""
+    if method in ("auto", "both"):
+        return "measured" if work.knots is not None else "predicted"
+    return method
+
+
 def total_ripple(net: ControlNet, scheme=None, *, metric: str = "peak", levels: int = 3,
                  component: str = "normal") -> float:
     """``budget(net, scheme, metric=..., levels=..., component=...).stats["total"][metric]`` computed for
@@ -378,7 +382,6 @@ def total_ripple(net: ControlNet, scheme=None, *, metric: str = "peak", levels: 
     the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
     """
     from .catalogue import Scheme, scheme as get_scheme
-    from .fields import measured_fields, predicted_fields
 
     sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
     work = analysis_net(net, sch)
@@ -387,8 +390,7 @@ def total_ripple(net: ControlNet, scheme=None, *, metric: str = "peak", levels: 
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
             return budget(net, sch, metric=metric, levels=levels, component=component).stats["total"].get(metric)
     it = design_intent(work, sch, levels)
-    road = measured_fields if work.knots is not None else predicted_fields
-    main = road(it, sch, "surface", lateral=False)
+    main = artifact_fields(it, sch, _road(work), "surface", lateral=False)
     normal = None if component == "vector" else intent_normals(main.intent, 2 ** main.levels)
     total = project(main.bands["total"], normal, component)
     keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, sch))

@@ -530,10 +530,11 @@ def _finish(intent: Intent, spec, poly, surface, method: str, reading: str, late
     return _assemble(intent, bands, smooth, surface, method, reading, _baseband(spec, fu, fv, poly))
 
 
-def artifact_fields(intent: Intent, scheme, method: str = "predicted", reading: str = "surface") -> ArtifactFields:
-    """:func:`predicted_fields` or :func:`measured_fields` by name."""
+def artifact_fields(intent: Intent, scheme, method: str = "predicted", reading: str = "surface",
+                    lateral: bool = True) -> ArtifactFields:
+    """:func:`predicted_fields` or :func:`measured_fields` by name (``lateral``: see there)."""
     check_option("method", method, ("predicted", "measured"))
-    return (predicted_fields if method == "predicted" else measured_fields)(intent, scheme, reading)
+    return (predicted_fields if method == "predicted" else measured_fields)(intent, scheme, reading, lateral)
 
 
 # ---------------------------------------------------------------- scalars
