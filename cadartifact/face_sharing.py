@@ -24,8 +24,8 @@ import os
 from .errors import CadArtifactError, FileFormatError
 from .reader_start import ANALYSIS_MODULES
 
-__all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "quiet_analysis", "share",
-           "sharing"]
+__all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "per_instance",
+           "quiet_analysis", "share", "sharing"]
 
 #: Estimated analysis time below which the faces are not shared (ms): a round trip costs a few ms.
 MIN_SHARED_MS = 60.0
@@ -183,10 +183,16 @@ def analyse_faces(nets: list, settings, verify: bool, key: str) -> list:
     key : {"total", "deviation"}
         The budget entry the peak is located on.
     """
-    if verify:
-        return [face_outcome(n, settings, verify, key) for n in nets]
-    return share(nets, [estimated_ms(n) for n in nets], lambda n: _budgeted(n, settings, verify),
-                 lambda n, first: _located(*first, n, key), "cadartifact.face_sharing:child_gate", (settings, verify, key))
+    def run(faces, done):
+        if verify:
+            return [face_outcome(n, settings, verify, key) for n in faces]
+        return share(faces, [estimated_ms(n) for n in faces], lambda n: _budgeted(n, settings, verify),
+                     lambda n, first: _located(*first, n, key), "cadartifact.face_sharing:child_gate",
+                     (settings, verify, key))
+
+    from .face_instances import instance_record
+
+    return per_instance(nets, run, instance_record)
 
 
 def child_gate(nets: list, settings, verify: bool, key: str) -> list:
@@ -201,10 +207,43 @@ def advise_faces(nets: list, options: dict, path, key: str, *, done=None, keep: 
 
     ``options``: :func:`cadartifact.advise`'s keyword arguments (``verify`` among them).
     """
-    costs = [4.0 * estimated_ms(n) for n in nets]  # a search and a comparison: several budgets per face
-    return share(nets, costs, lambda n: _advised(n, options, later=True),
-                 lambda n, adv: _recorded(adv, n, options, path, key, keep),
-                 "cadartifact.face_sharing:child_advise", (options, str(path), key), done=done)
+    def run(faces, done):
+        costs = [4.0 * estimated_ms(n) for n in faces]  # a search and a comparison: several budgets per face
+        return share(faces, costs, lambda n: _advised(n, options, later=True),
+                     lambda n, adv: _recorded(adv, n, options, path, key, keep),
+                     "cadartifact.face_sharing:child_advise", (options, str(path), key), done=done)
+
+    if keep:  # the Advice objects (advised nets to write) are each face's own
+        return run(nets, done)
+    from .face_instances import instance_record
+
+    return per_instance(nets, run, lambda out, face, net, motion: (instance_record(out[0], face, net, motion), None),
+                        done=done)
+
+
+def per_instance(nets: list, run, moved, *, done=None) -> list:
+    """``run(faces, done)``'s outcomes for the first face of each shape, and for the faces that repeat one
+    (:func:`cadartifact.face_instances.instances`) ``moved(outcome, face, net, motion)`` of it, in face order.
+
+    A repeated face's error is its first face's (which comes earlier, so the run stops there first).
+    ``done(index)`` is called as each outcome is known, the repeats' after the others'.
+    """
+    from .face_instances import enabled, instances
+
+    plan = instances(nets) if enabled() and len(nets) > 1 else [(i, None) for i in range(len(nets))]
+    firsts = [i for i, (rep, _) in enumerate(plan) if rep == i]
+    if len(firsts) == len(nets):
+        return run(nets, done)
+    outs = dict(zip(firsts, run([nets[i] for i in firsts], (lambda k: done(firsts[k])) if done else None)))
+    out = []
+    for i, (rep, motion) in enumerate(plan):
+        got = outs[rep]
+        if rep != i:
+            got = got if isinstance(got, BaseException) else moved(got, nets[rep], nets[i], motion)
+            if done:
+                done(i)
+        out.append(got)
+    return out
 
 
 def child_advise(nets: list, options: dict, path, key: str) -> list:
