@@ -49,6 +49,9 @@ SEARCH_LEVELS = 2
 #: Nets above this many control points skip the scheme comparison unless asked for.
 COMPARE_MAX_POINTS = 2000
 
+#: Greedy steps of the confirmation before it searches the fine grid's frontier from where it stands.
+GREEDY_STEPS = 4
+
 #: A face within the tolerance today keeps its net unless the advice saves at least this share of points.
 MIN_REDUCTION = 0.1
 
@@ -399,10 +402,17 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
 
     shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
     a, b = shape
-    # confirm on the fine grid: grow until it agrees, then shrink each direction while it holds
+    # confirm on the fine grid: grow until it agrees (a few greedy steps, then the frontier of the fine grid's
+    # own test from there: the own ripple need not fall at every step, and a greedy walk along the direction
+    # that does not bind can climb to the search's bound), then shrink each direction while it holds
+    steps = 0
     while value(fine, a, b) > t and (a < high[0] or b < high[1]):
+        if steps == GREEDY_STEPS:
+            (a, b), _ = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b))
+            break
         grow_u = a < high[0] and (b >= high[1] or value(fine, a + 1, b) <= value(fine, a, min(b + 1, high[1])))
         a, b = (a + 1, b) if grow_u else (a, b + 1)
+        steps += 1
     changed = value(fine, a, b) <= t
     while changed:
         changed = False

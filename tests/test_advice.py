@@ -252,3 +252,33 @@ def test_total_ripple_of_faces_is_the_budgets_number_to_the_bit():
         for metric in ("peak", "rms"):
             full = budget(net, metric=metric, levels=3).stats["total"].get(metric)
             assert total_ripple(net, metric=metric, levels=3) == full, (net.origin, metric)
+
+
+def test_confirmation_does_not_climb_along_the_direction_that_does_not_bind(monkeypatch):
+    """A degree-5 face whose candidates' own ripple rises with one more v point: the fine grid's greedy walk
+    used to add u points up to the search's bound (260 candidates, 40 s). After a few greedy steps the
+    confirmation now searches the fine grid's frontier: a handful of candidates, an answer that meets the
+    tolerance and whose coarser neighbours do not."""
+    from cadartifact import advice as advice_module
+
+    rng = np.random.default_rng(13)
+    net, _, what = family(13, 1, nmin=8, nmax=20)[0]
+    scale = float(rng.choice([0.1, 1.0, 30.0]))
+    face = ControlNet(points=net.points * scale, degrees=net.degrees, knots=net.knots)
+    scored = []
+    real = advice_module._Scorer.score
+
+    def spy(self, a, b):
+        if (a, b) not in self._scores:
+            scored.append((self.K, a, b))
+        return real(self, a, b)
+
+    monkeypatch.setattr(advice_module._Scorer, "score", spy)
+    tol = 0.02 * scale
+    adv = advise(face, tol, compare=False, verify=False)
+    assert adv.meets_tolerance, what
+    assert max(a for _, a, _ in scored) < 4 * face.shape[0], scored  # the walk stayed near the answer
+    assert len(scored) < 80
+    for d in "uv":
+        r = adv.reasons[d]
+        assert r["coarser_value"] is None or r["coarser_value"] > tol or not r["binding"]
