@@ -2,10 +2,11 @@
 
 ``gate --jobs 1`` and ``advise`` run one process, and after OCCT's read its reader child
 (:mod:`cadartifact.exchange.isolation`) sits idle on the second core. :func:`share` hands it part of
-the file's faces, works on the rest here at the same time and returns one outcome per face in face
-order, as the serial loop would: the same records (the child runs the same code, with the same one
+the file's faces in rounds (half of what is left, longest first, whenever it has answered), works on
+the rest here at the same time and returns one outcome per face in face order, as the serial loop would: the same records (the child runs the same code, with the same one
 BLAS thread, so the numbers are the same to the bit) and the same first error.
-:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's.
+:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's; both
+analyse a face that repeats an earlier one moved rigidly only once (:func:`per_instance`).
 
 The faces are shared only when that pays: this process is the only worker (:func:`enabled`;
 ``--jobs 2`` workers already fill the cores), the machine has a second core, the reader child is
@@ -31,6 +32,9 @@ __all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas
 MIN_SHARED_MS = 60.0
 #: What the child's first share costs before its first face: importing the analysis (ms).
 CHILD_START_MS = 60.0
+#: What a face's advice costs beyond its budgets, whatever its size (ms): the search's and the scheme
+#: comparison's many small steps (measured: a 3x5 face of boxed_sphere 50 ms, a 23x23 one 130 ms).
+ADVICE_MS = 40.0
 
 _enabled = False
 
@@ -121,6 +125,14 @@ def share(items: list, costs: list, here, finish, child: str, args: tuple, *, do
     -------
     list
         One outcome per item; exceptions are outcomes too (the caller raises the first).
+
+    Notes
+    -----
+    Rounds, longest items first: the child is sent the longest items up to half the estimated work
+    left; meanwhile this process takes the next longest one at a time, and as soon as the child has
+    answered (checked between items) the next round sends it half of what is left. The estimates
+    only size the rounds, so a wrong one costs at most an item's time on either side, never an idle
+    core for the rest of the file. Who computed an item does not change its outcome.
     """
     def serial():
         out = []
@@ -132,39 +144,45 @@ def share(items: list, costs: list, here, finish, child: str, args: tuple, *, do
 
     if len(items) < 2 or sum(costs) < MIN_SHARED_MS or not enabled():
         return serial()
-    # longest first, each to the side that would finish first; the child starts later (its imports)
-    mine, theirs, load = [], [], [0.0, CHILD_START_MS]
-    for i in sorted(range(len(items)), key=lambda i: -costs[i]):
-        side = 0 if load[0] <= load[1] else 1
-        (mine, theirs)[side].append(i)
-        load[side] += costs[i]
-    if not theirs:
-        return serial()
-    out: list = [None] * len(items)
+    from collections import deque
+
+    from .exchange import isolation
+
+    todo = deque(sorted(range(len(items)), key=lambda i: -costs[i]))
+    mine: list = []
     first: dict = {}
+    answers: dict = {}
 
     def work():
-        for i in sorted(mine):
+        while todo and not isolation.answered():
+            i = todo.popleft()
+            mine.append(i)
             first[i] = here(items[i])
             if done:  # progress as this process's faces are analysed; their second phase is short
                 done(i)
 
-    from .exchange import isolation
-
-    try:
-        answers = [unpack(a) for a in isolation.call(child, ([items[i] for i in theirs], *args),
-                                                       path=getattr(getattr(items[0], "origin", None), "file", None)
-                                                       or "<nets>", what="analysis", timeout=float("inf"),
-                                                       during=work)]
-    except FileFormatError:  # the child died or failed: its share is done here
-        answers = None
+    path = getattr(getattr(items[0], "origin", None), "file", None) or "<nets>"
+    while len(todo) >= 2:
+        left, batch, taken = sum(costs[i] for i in todo), [], 0.0
+        while todo and (not batch or taken + costs[todo[0]] <= left / 2):
+            batch.append(todo.popleft())
+            taken += costs[batch[-1]]
+        try:
+            got = isolation.call(child, ([items[i] for i in batch], *args), path=path, what="analysis",
+                                 timeout=float("inf"), during=work)
+        except FileFormatError:  # the child died or failed: its share, and what is left, is done here
+            mine.extend(batch)
+            break
+        answers.update(zip(batch, (unpack(a) for a in got)))
+    mine.extend(todo)
+    out: list = [None] * len(items)
     for i in sorted(mine):
         had = i in first
         out[i] = finish(items[i], first.pop(i) if had else here(items[i]))  # pop: its fields can go
         if done and not had:
             done(i)
-    for k, i in enumerate(theirs):
-        out[i] = answers[k] if answers is not None else finish(items[i], here(items[i]))
+    for i in sorted(answers):
+        out[i] = answers[i]
         if done:
             done(i)
     return out
@@ -208,7 +226,7 @@ def advise_faces(nets: list, options: dict, path, key: str, *, done=None, keep: 
     ``options``: :func:`cadartifact.advise`'s keyword arguments (``verify`` among them).
     """
     def run(faces, done):
-        costs = [4.0 * estimated_ms(n) for n in faces]  # a search and a comparison: several budgets per face
+        costs = [ADVICE_MS + 4.0 * estimated_ms(n) for n in faces]  # a search and a comparison: several budgets
         return share(faces, costs, lambda n: _advised(n, options, later=True),
                      lambda n, adv: _recorded(adv, n, options, path, key, keep),
                      "cadartifact.face_sharing:child_advise", (options, str(path), key), done=done)

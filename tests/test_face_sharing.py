@@ -205,3 +205,44 @@ def test_records_keep_their_key_order(many):
     doc = json.loads(_gate(many, "--tol", "0.01").stdout)
     for face in doc["files"][0]["faces"]:
         assert list(face)[-3:] == ["advice_skipped", "entity_line", "peak_at"], list(face)[-4:]
+
+
+def test_rounds_send_the_child_what_is_left_when_it_answers_first(many, spy, monkeypatch):
+    """A child that answers before this process is done with its faces is sent half of what is left (rounds,
+    longest first): here it is made to look done after each of this process's faces. Every face is computed
+    once, the document is the serial one."""
+    from cadartifact.exchange import isolation
+
+    serial = _gate(many, "--tol", "0.01", env={"CADARTIFACT_SHARE_FACES": "0"}, monkeypatch=monkeypatch)
+    checks = []
+    real = isolation.answered
+
+    def answered():  # the child's real answer is then read by call() as usual (it waits for it)
+        checks.append(real())
+        return len(checks) % 2 == 0
+
+    monkeypatch.setattr(isolation, "answered", answered)
+    shared = _gate(many, "--tol", "0.01")
+    rounds = spy["child_gate"]
+    assert len(rounds) >= 2 and sum(rounds) < 8, rounds  # several rounds, and this process kept some faces
+    assert shared.exit_code == serial.exit_code
+    assert shared.stdout == serial.stdout
+
+
+def test_answered_is_false_outside_during_and_true_once_the_child_has_replied():
+    import time
+
+    from cadartifact.exchange import isolation
+
+    assert isolation.answered() is False
+    isolation.call("os:getpid", (), path="x.step")  # a started child (before its hello, answered() is False)
+    seen = []
+
+    def wait():
+        deadline = time.monotonic() + 30
+        while not isolation.answered() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        seen.append(isolation.answered())
+
+    assert isinstance(isolation.call("os:getpid", (), path="x.step", during=wait), int)
+    assert seen == [True]

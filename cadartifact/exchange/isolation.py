@@ -160,6 +160,23 @@ def warm() -> bool:
         return enabled() and _child is not None and _child.proc.poll() is None
 
 
+def answered() -> bool:
+    """Inside ``during``: whether the child's answer to this thread's request is waiting to be read (or the
+    child has died), so that the caller's own work can stop early and read it. False elsewhere.
+
+    Reads nothing (``select`` with no wait on the child's pipe); the lock is not taken, since the
+    :func:`call` running ``during`` holds it on this very thread.
+    """
+    child = _child
+    if _busy != threading.get_ident() or child is None or not child.ready:
+        return False
+    if child.proc.poll() is not None:
+        return True
+    import select
+
+    return bool(select.select([child.proc.stdout.fileno()], [], [], 0)[0])
+
+
 def prestart() -> None:
     """Start the child now, without waiting for it: its import of OCP (about a second) then overlaps
     this process's own imports and setup instead of following them. The first :func:`call` waits for
