@@ -52,7 +52,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .artifact_budget import METRICS
+from .artifact_budget import METRICS, check_tolerance
 from .errors import FileFormatError, OptionError, check_option
 
 __all__ = ["advise_files", "budget_record", "face_record", "render", "write_advised", "SCHEMA"]
@@ -211,6 +211,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     from .exchange import read
 
     check_option("metric", metric, METRICS)
+    tolerance = check_tolerance(tolerance)  # before any file is read (each face's advice would raise it too)
     paths = [Path(p) for p in paths]
     if not paths:
         raise OptionError("FILE", "at least one file", "none")

@@ -246,3 +246,15 @@ def test_answered_is_false_outside_during_and_true_once_the_child_has_replied():
 
     assert isinstance(isolation.call("os:getpid", (), path="x.step", during=wait), int)
     assert seen == [True]
+
+
+def test_an_error_from_the_child_keeps_its_attributes():
+    """The CLI names the option from an OptionError's ``parameter``: a face's error computed in the child must
+    carry it (``demo --tol -1`` once failed with AttributeError when the first face's error came from there)."""
+    from cadartifact.errors import OptionError
+    from cadartifact.face_sharing import pack, unpack
+
+    back = unpack(pack(OptionError("tolerance", "a positive number", -1.0)))
+    assert isinstance(back, OptionError)
+    assert (back.parameter, back.expected, back.received) == ("tolerance", "a positive number", -1.0)
+    assert str(back) == "tolerance: expected a positive number, received -1.0"

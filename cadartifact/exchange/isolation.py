@@ -297,14 +297,18 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
 
 
 def error_fields(exc: CadArtifactError) -> tuple:
-    """A cadartifact error as plain picklable data: ``(module, class name, path, problem, message)``."""
+    """A cadartifact error as plain picklable data: ``(module, class name, path, problem, message, attributes)``;
+    ``attributes``: its own plain ones (an :class:`~cadartifact.errors.OptionError`'s ``parameter``, ``expected``,
+    ``received`` as text when not plain), which callers read (the CLI names the option from ``parameter``)."""
+    plain = (str, int, float, bool, type(None))
+    attrs = {k: (v if isinstance(v, plain) else repr(v)) for k, v in vars(exc).items() if not k.startswith("_")}
     return (type(exc).__module__, type(exc).__qualname__, getattr(exc, "path", None), getattr(exc, "problem", None),
-            str(exc))
+            str(exc), attrs)
 
 
-def rebuilt_error(module: str, name: str, path, problem, message: str) -> CadArtifactError:
-    """The error :func:`error_fields` described: same class and message (a :class:`CadArtifactError` when
-    the class cannot be found or is not one)."""
+def rebuilt_error(module: str, name: str, path, problem, message: str, attrs: dict | None = None) -> CadArtifactError:
+    """The error :func:`error_fields` described: same class, message and plain attributes (a
+    :class:`CadArtifactError` when the class cannot be found or is not one)."""
     try:
         cls = getattr(importlib.import_module(module), name)
     except (ImportError, AttributeError):
@@ -315,6 +319,7 @@ def rebuilt_error(module: str, name: str, path, problem, message: str) -> CadArt
         return cls(path, problem)
     exc = cls.__new__(cls)
     Exception.__init__(exc, message)
+    exc.__dict__.update(attrs or {})
     return exc
 
 
