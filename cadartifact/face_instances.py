@@ -26,7 +26,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Motion", "RTOL", "congruence", "enabled", "instance_record", "instances", "rigid_motion"]
+__all__ = ["Motion", "NOTE", "RTOL", "congruence", "enabled", "instance_record", "instances", "rigid_motion"]
+
+#: How a repeat's note begins (the text report counts these instead of printing each).
+NOTE = "the same shape as face "
 
 #: Largest mismatch of two faces that count as one shape moved, relative to the face's size (points)
 #: and to its parameter ranges (knots, uv bounds) and largest weight. 1e-9 of a 100 mm face is 0.1 nm.
@@ -127,7 +130,8 @@ def congruence(face, other, rtol: float = RTOL) -> Motion | None:
     Motion or None
         None unless the degrees, periodicity, knot counts, unit, kind and exact directions are equal,
         the knots and uv bounds equal up to one shift per direction, the weights equal, and the points
-        related by a proper rigid motion, each within ``rtol``.
+        related by a proper rigid motion, each within ``rtol``, and the analysis reads both alike
+        where it decides at finer tolerances (:func:`_decisions`).
     """
     if face.knots is None or other.knots is None or _key(face) != _key(other):
         return None
@@ -149,9 +153,26 @@ def congruence(face, other, rtol: float = RTOL) -> Motion | None:
     if np.abs(_radii(face) - _radii(other)).max() > 2.0 * rtol * size:  # cheap: most non-matches stop here
         return None
     rotation, translation, residual = rigid_motion(face.points, other.points)
-    if residual > rtol * size:
+    if residual > rtol * size or _decisions(face) != _decisions(other):
         return None
     return Motion(rotation, translation, (shift[0], shift[1]), residual / size)
+
+
+def _decisions(net) -> tuple:
+    """The analysis's own yes/no readings of a face, taken at tolerances finer than :data:`RTOL` or on absolute
+    coordinates: where a repeat would read differently it is analysed on its own, so that reuse never hands
+    a face another path's record (weights varying, knots uniform, interior knot multiplicities, directions
+    that are one polynomial or exact, trimmed inside the surface, straight degree-1 rows)."""
+    from .advice import _straight, _trimmed
+    from .frames import axis_frames
+    from .net import knot_multiplicities
+
+    frames = axis_frames(net)
+    mults = tuple(tuple(m for _, m in knot_multiplicities(k, d, n, pr))
+                  for k, d, n, pr in zip(net.knots, net.degrees, net.shape, net.periodic))
+    straight = tuple(bool(d == 1 and _straight(net.points, k)) for k, d in enumerate(net.degrees))
+    kinds = tuple((f.polynomial, f.exact, f.periodic, f.spans) for f in frames)
+    return net.weights_vary, net.knots_uniform, mults, kinds, _trimmed(net, frames), straight
 
 
 def instances(nets: list, rtol: float = RTOL) -> list[tuple[int, Motion | None]]:
@@ -212,7 +233,7 @@ def instance_record(record: dict, face, net, motion: Motion) -> dict:
     rec.update(face=net.origin.face, name=net.origin.name, kind=net.origin.kind,
                entity=getattr(net.origin, "entity", None))
     rec["notes"] = list(rec.get("notes") or []) + [
-        f"the same shape as face {face.origin.face}, moved rigidly (within {max(motion.residual, 1e-16):.0e} of "
+        f"{NOTE}{face.origin.face}, moved rigidly (within {max(motion.residual, 1e-16):.0e} of "
         "its size): its analysis is reused"]
     peak = rec.get("peak_at")
     if peak is not None:

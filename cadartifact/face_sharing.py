@@ -188,7 +188,7 @@ def share(items: list, costs: list, here, finish, child: str, args: tuple, *, do
     return out
 
 
-def analyse_faces(nets: list, settings, verify: bool, key: str) -> list:
+def analyse_faces(nets: list, settings, verify: bool, key: str, *, only=None) -> list:
     """The gate's per-face work (:func:`face_outcome`), shared: records (``peak_at`` set, ``entity_line``
     not) or the :class:`CadArtifactError` naming the face, in face order. ``verify`` runs are not shared
     (the advice's verification needs OCCT in the first phase).
@@ -200,6 +200,8 @@ def analyse_faces(nets: list, settings, verify: bool, key: str) -> list:
     verify : bool
     key : {"total", "deviation"}
         The budget entry the peak is located on.
+    only : list of int, optional
+        The outcomes of these faces only (a batch of the file's faces), as the whole file's run gives them.
     """
     def run(faces, done):
         if verify:
@@ -210,7 +212,7 @@ def analyse_faces(nets: list, settings, verify: bool, key: str) -> list:
 
     from .face_instances import instance_record
 
-    return per_instance(nets, run, instance_record)
+    return per_instance(nets, run, instance_record, only=only)
 
 
 def child_gate(nets: list, settings, verify: bool, key: str) -> list:
@@ -239,22 +241,25 @@ def advise_faces(nets: list, options: dict, path, key: str, *, done=None, keep: 
                         done=done)
 
 
-def per_instance(nets: list, run, moved, *, done=None) -> list:
+def per_instance(nets: list, run, moved, *, done=None, only=None) -> list:
     """``run(faces, done)``'s outcomes for the first face of each shape, and for the faces that repeat one
     (:func:`cadartifact.face_instances.instances`) ``moved(outcome, face, net, motion)`` of it, in face order.
 
     A repeated face's error is its first face's (which comes earlier, so the run stops there first).
-    ``done(index)`` is called as each outcome is known, the repeats' after the others'.
+    ``done(index)`` is called as each outcome is known, the repeats' after the others'. ``only``: the
+    outcomes of these indices only (the first faces they repeat are analysed whichever they are).
     """
     from .face_instances import enabled, instances
 
     plan = instances(nets) if enabled() and len(nets) > 1 else [(i, None) for i in range(len(nets))]
-    firsts = [i for i, (rep, _) in enumerate(plan) if rep == i]
-    if len(firsts) == len(nets):
-        return run(nets, done)
+    wanted = list(range(len(nets))) if only is None else list(only)
+    firsts = sorted({plan[i][0] for i in wanted})
+    if firsts == wanted:
+        return run([nets[i] for i in wanted], done)
     outs = dict(zip(firsts, run([nets[i] for i in firsts], (lambda k: done(firsts[k])) if done else None)))
     out = []
-    for i, (rep, motion) in enumerate(plan):
+    for i in wanted:
+        rep, motion = plan[i]
         got = outs[rep]
         if rep != i:
             got = got if isinstance(got, BaseException) else moved(got, nets[rep], nets[i], motion)

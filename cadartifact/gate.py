@@ -180,10 +180,12 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     positions = list(range(len(todo)))
     if part is not None:
         positions = positions[part[0]::part[1]]
-        todo = [todo[i] for i in positions]
     faces, error = [], None
-    # records with peak_at for faces that warn or fail, in face order; the first error fails the file
-    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify, key)):
+    # records with peak_at for faces that warn or fail, in face order; the first error fails the file. A batch
+    # finds repeated faces over the whole file (its repeats' first faces may lie in another batch), so that its
+    # records are those of the whole file's run
+    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify, key,
+                                                     only=None if part is None else positions)):
         if isinstance(outcome, BaseException):
             if part is None:
                 raise outcome

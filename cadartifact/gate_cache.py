@@ -65,12 +65,12 @@ def file_digest(path) -> str:
 
 #: Revision of the analysis a cached record came from: raised when the numbers a file gets change while the
 #: version does not (development builds), so an older build's records are not served.
-ANALYSIS_REVISION = 2  # 2: homogeneous rational faces, junctions, canonical faces (issue 10)
+ANALYSIS_REVISION = 3  # 2: homogeneous rational faces, junctions, canonical faces (issue 10); 3: repeated faces
 
 
 def cache_key(digest: str, settings, verify: bool) -> str:
-    """The cache key of one file: SHA-256 over its digest, policy, ``verify``, version, schema and
-    :data:`ANALYSIS_REVISION`.
+    """The cache key of one file: SHA-256 over its digest, policy, ``verify``, version, schema,
+    :data:`ANALYSIS_REVISION` and whether repeated faces reuse their first face's analysis.
 
     Parameters
     ----------
@@ -81,10 +81,13 @@ def cache_key(digest: str, settings, verify: bool) -> str:
     verify : bool
     """
     from . import __version__
+    from .face_instances import enabled
     from .gate import GATE_SCHEMA
 
+    # repeats reuse their first face's record (a note, last bits) unless CADARTIFACT_REUSE_FACES=0
     text = _canonical({"content": digest, "policy": settings.to_dict(), "verify": bool(verify),
-                       "version": __version__, "schema": GATE_SCHEMA, "analysis": ANALYSIS_REVISION})
+                       "version": __version__, "schema": GATE_SCHEMA, "analysis": ANALYSIS_REVISION,
+                       "reuse": enabled()})
     return hashlib.sha256(text.encode()).hexdigest()
 
 

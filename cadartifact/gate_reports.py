@@ -30,7 +30,8 @@ from pathlib import Path
 from urllib.parse import quote
 
 from .errors import InputError
-from .report import unit_name
+from .face_instances import NOTE as REPEAT_NOTE
+from .report import plural, unit_name
 
 __all__ = ["FORMATS", "RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit", "to_sarif",
            "write_atomic", "face_label"]
@@ -178,10 +179,18 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
                 console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
                               + (f"; {where}" if where else ""), soft_wrap=True)
+        repeats = 0
         for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
             for note in f.get("notes") or []:
+                if note.startswith(REPEAT_NOTE):  # not a judgement: counted below
+                    repeats += 1
+                    continue
                 console.print(f"  note: {face_label(entry['path'], f)}: {note}", soft_wrap=True, markup=False,
                               highlight=False)
+        if repeats:
+            verb, whose = ("repeats", "its") if repeats == 1 else ("repeat", "their")
+            console.print(f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
+                          "is reused (the JSON report names the face)", soft_wrap=True)
         if entry.get("share_failure"):
             console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)
         for note in entry["notes"] + entry["warnings"]:

@@ -231,3 +231,52 @@ def test_real_repeated_faces_read_the_same_with_and_without_reuse(name, monkeypa
         else:
             assert x == y
     assert notes > 0
+
+
+def test_a_repeat_the_analysis_would_read_otherwise_is_not_matched():
+    """Within RTOL, but across one of the analysis's own finer decisions: analysed on its own."""
+    face = _face(9, nmin=10, nmax=14)
+    ones = ControlNet(points=face.points, weights=np.ones(face.shape), degrees=face.degrees, knots=face.knots)
+    w = np.ones(face.shape)
+    w[3, 3] += 1e-11  # weights_vary reads 1e-12: homogeneous coordinates for this one only
+    noisy = ControlNet(points=face.points, weights=w, degrees=face.degrees, knots=face.knots)
+    assert congruence(ones, noisy) is None
+    p, ku = face.degrees[0], np.asarray(face.knots[0], float)
+    k = p + 2  # an interior knot: two of them 5e-13 of the range apart count as one double knot (C1 less)
+    double = ku.copy()
+    double[k + 1] = double[k] + 5e-13 * (ku[-1] - ku[0])
+    single = ku.copy()
+    single[k + 1] = single[k] + 5e-10 * (ku[-1] - ku[0])
+    a = ControlNet(points=face.points, degrees=face.degrees, knots=(double, face.knots[1]))
+    b = ControlNet(points=face.points, degrees=face.degrees, knots=(single, face.knots[1]))
+    assert congruence(a, b) is None
+    assert congruence(a, ControlNet(points=face.points + 0.0, degrees=face.degrees, knots=a.knots)) is not None
+
+
+def test_face_batches_give_the_whole_files_records(tmp_path, monkeypatch):
+    """A cluster's face batches find repeats over the whole file: their merged entry is the whole file's."""
+    pytest.importorskip("OCP")
+    from cadartifact.exchange import write_step
+    from cadartifact.gate import gate_file, merge_parts
+    from cadartifact.gate_policy import FileSettings
+
+    rng = np.random.default_rng(4)
+    a, b = _face(6, nmin=8, nmax=12), _face(7, nmin=8, nmax=12)
+    nets = [a, b, _moved(a, _rotation(rng), [40.0, 0.0, 0.0], face=2), _moved(b, _rotation(rng), [0.0, 60.0, 0.0],
+                                                                             (1.0, 0.0), face=3),
+            _moved(a, np.eye(3), [0.0, 0.0, 90.0], face=4)]
+    path = str(tmp_path / "pattern.step")
+    write_step(nets, path)
+    settings = FileSettings(tolerance=0.001)
+    whole = gate_file(path, settings)
+    assert sum(NOTE in n for f in whole["faces"] for n in f["notes"]) == 3
+    for k in (2, 3):
+        merged = merge_parts([gate_file(path, settings, part=(r, k)) for r in range(k)], settings)
+        assert json.dumps(merged, sort_keys=True) == json.dumps(whole, sort_keys=True)
+
+
+def test_an_unexpected_failure_reads_the_same_from_the_child():
+    from cadartifact.face_sharing import pack, unpack
+
+    back = unpack(pack(ValueError("shapes (3,) and (4,) not aligned")))
+    assert type(back) is ValueError and str(back) == "shapes (3,) and (4,) not aligned"

@@ -172,8 +172,6 @@ def answered() -> bool:
         return False
     if child.proc.poll() is not None:
         return True
-    import select
-
     return bool(select.select([child.proc.stdout.fileno()], [], [], 0)[0])
 
 
@@ -297,22 +295,34 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
 
 
 def error_fields(exc: CadArtifactError) -> tuple:
-    """A cadartifact error as plain picklable data: ``(module, class name, path, problem, message, attributes)``;
-    ``attributes``: its own plain ones (an :class:`~cadartifact.errors.OptionError`'s ``parameter``, ``expected``,
-    ``received`` as text when not plain), which callers read (the CLI names the option from ``parameter``)."""
-    plain = (str, int, float, bool, type(None))
-    attrs = {k: (v if isinstance(v, plain) else repr(v)) for k, v in vars(exc).items() if not k.startswith("_")}
+    """An error as picklable data: ``(module, class name, path, problem, message, attributes)``; ``attributes``:
+    its own (an :class:`~cadartifact.errors.OptionError`'s ``parameter``, ``expected``, ``received``; the text of
+    one that does not pickle), which callers read (the CLI names the option from ``parameter``)."""
+    attrs = {k: _picklable(v) for k, v in getattr(exc, "__dict__", {}).items() if not k.startswith("_")}
     return (type(exc).__module__, type(exc).__qualname__, getattr(exc, "path", None), getattr(exc, "problem", None),
             str(exc), attrs)
 
 
+def _picklable(value):
+    try:
+        pickle.dumps(value)
+        return value
+    except Exception:  # noqa: BLE001 - any object: its text is what is left of it
+        return repr(value)
+
+
 def rebuilt_error(module: str, name: str, path, problem, message: str, attrs: dict | None = None) -> CadArtifactError:
-    """The error :func:`error_fields` described: same class, message and plain attributes (a
-    :class:`CadArtifactError` when the class cannot be found or is not one)."""
+    """The error :func:`error_fields` described: same class, message and attributes (a
+    :class:`CadArtifactError` when the class cannot be found or cannot be rebuilt)."""
     try:
         cls = getattr(importlib.import_module(module), name)
     except (ImportError, AttributeError):
         cls = CadArtifactError
+    if isinstance(cls, type) and issubclass(cls, Exception) and not issubclass(cls, CadArtifactError):
+        try:  # a plain exception (a face's unexpected failure): the same class, worded alike by the CLI
+            return cls(message)
+        except Exception:  # noqa: BLE001 - a class that wants other arguments
+            return CadArtifactError(message)
     if not (isinstance(cls, type) and issubclass(cls, CadArtifactError)):
         return CadArtifactError(message)
     if issubclass(cls, InputError) and problem is not None:
