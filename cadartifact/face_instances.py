@@ -114,7 +114,7 @@ def _size(net) -> float:
     return float(np.ptp(net.points.reshape(-1, 3), axis=0).max())
 
 
-def congruence(face, other, rtol: float = RTOL) -> Motion | None:
+def congruence(face, other, rtol: float = RTOL, *, decided: dict | None = None) -> Motion | None:
     """The motion that makes ``other`` an instance of ``face``, or None.
 
     Parameters
@@ -124,6 +124,8 @@ def congruence(face, other, rtol: float = RTOL) -> Motion | None:
     rtol : float
         Relative tolerance: points against the face's size, knots and uv bounds against each
         direction's parameter range, weights against the largest weight.
+    decided : dict, optional
+        A memo of :func:`_decisions` by ``id(net)``, for a caller comparing one face with many.
 
     Returns
     -------
@@ -153,7 +155,13 @@ def congruence(face, other, rtol: float = RTOL) -> Motion | None:
     if np.abs(_radii(face) - _radii(other)).max() > 2.0 * rtol * size:  # cheap: most non-matches stop here
         return None
     rotation, translation, residual = rigid_motion(face.points, other.points)
-    if residual > rtol * size or _decisions(face) != _decisions(other):
+    if residual > rtol * size:
+        return None
+    memo = {} if decided is None else decided
+    for net in (face, other):
+        if id(net) not in memo:
+            memo[id(net)] = _decisions(net)
+    if memo[id(face)] != memo[id(other)]:
         return None
     return Motion(rotation, translation, (shift[0], shift[1]), residual / size)
 
@@ -195,19 +203,20 @@ def instances(nets: list, rtol: float = RTOL) -> list[tuple[int, Motion | None]]
     shapes), with each shape seen so far, and the rigid motion is fitted only where those agree.
     """
     plan: list[tuple[int, Motion | None]] = []
-    buckets: dict = {}  # key -> (rep indices, their radii stacked)
+    buckets: dict = {}  # key -> (rep indices, their radii stacked, their sizes)
+    decided: dict = {}  # _decisions per net, for the reps compared with many
     for i, net in enumerate(nets):
         if net.knots is None:
             plan.append((i, None))
             continue
         key = _key(net)
-        reps, radii = buckets.get(key, ([], None))
+        reps, radii, sizes = buckets.get(key, ([], None, None))
+        mine = _radii(net)
         found = None
         if reps:
-            mine = _radii(net)
-            close = np.abs(radii - mine).max(axis=1) <= 2.0 * rtol * np.array([_size(nets[r]) for r in reps])
+            close = np.abs(radii - mine).max(axis=1) <= 2.0 * rtol * sizes
             for r in np.flatnonzero(close):
-                motion = congruence(nets[reps[r]], net, rtol)
+                motion = congruence(nets[reps[r]], net, rtol, decided=decided)
                 if motion is not None:
                     found = (reps[r], motion)
                     break
@@ -215,8 +224,9 @@ def instances(nets: list, rtol: float = RTOL) -> list[tuple[int, Motion | None]]
             plan.append(found)
             continue
         plan.append((i, None))
-        mine = _radii(net)[None, :]
-        buckets[key] = (reps + [i], mine if radii is None else np.vstack([radii, mine]))
+        size = np.array([_size(net)])
+        buckets[key] = (reps + [i], mine[None, :] if radii is None else np.vstack([radii, mine]),
+                        size if sizes is None else np.concatenate([sizes, size]))
     return plan
 
 
