@@ -184,11 +184,19 @@ def _documents(monkeypatch, args):
     return out
 
 
-def _pairs(own: dict, reused: dict):
-    """The face records of two documents of the same files, side by side."""
+def assert_same_documents(own: dict, reused: dict) -> int:
+    """Two documents of the same files, without and with reuse, face by face: a reused record as
+    :func:`assert_same_record` says, every other one equal. Returns how many were reused."""
+    notes = 0
     for fa, fb in zip(own["files"], reused["files"]):
         assert len(fa["faces"]) == len(fb["faces"])
-        yield from zip(fa["faces"], fb["faces"])
+        for x, y in zip(fa["faces"], fb["faces"]):
+            if y["notes"] and y["notes"][-1].startswith(NOTE):
+                notes += 1
+                assert_same_record(x, y)
+            else:
+                assert x == y
+    return notes
 
 
 def test_a_step_file_of_repeated_faces_reads_the_same_with_and_without_reuse(tmp_path, monkeypatch):
@@ -202,15 +210,7 @@ def test_a_step_file_of_repeated_faces_reads_the_same_with_and_without_reuse(tmp
     write_step(nets, tmp_path / "pattern.step")
     for args in (["advise", str(tmp_path / "pattern.step"), "--tol", "0.01", "--json"],
                  ["gate", str(tmp_path / "pattern.step"), "--tol", "0.001", "--format", "json"]):
-        own, reused = _documents(monkeypatch, args)
-        notes = 0
-        for x, y in _pairs(own, reused):
-            if y["notes"] and y["notes"][-1].startswith(NOTE):
-                notes += 1
-                assert_same_record(x, y)
-            else:
-                assert x == y
-        assert notes == 2, args[0]
+        assert assert_same_documents(*_documents(monkeypatch, args)) == 2, args[0]
 
 
 @pytest.mark.realdata
@@ -221,16 +221,8 @@ def test_real_repeated_faces_read_the_same_with_and_without_reuse(name, monkeypa
     """The real models' repeated faces (35 of boxed_sphere's 42, 9 of NIST FTC-07's 20, 12 of CTC-02's 22):
     the gate at a tight tolerance (every face advised, peaks located) with and without reuse."""
     pytest.importorskip("OCP")
-    own, reused = _documents(monkeypatch, ["gate", str(REALDATA / "step" / name), "--tol", "0.0002",
-                                           "--format", "json"])
-    notes = 0
-    for x, y in _pairs(own, reused):
-        if y["notes"] and y["notes"][-1].startswith(NOTE):
-            notes += 1
-            assert_same_record(x, y)
-        else:
-            assert x == y
-    assert notes > 0
+    docs = _documents(monkeypatch, ["gate", str(REALDATA / "step" / name), "--tol", "0.0002", "--format", "json"])
+    assert assert_same_documents(*docs) > 0
 
 
 def test_a_repeat_the_analysis_would_read_otherwise_is_not_matched():
