@@ -3,8 +3,9 @@
 ``gate --jobs 1`` and ``advise`` run one process, and after OCCT's read its reader child
 (:mod:`cadartifact.exchange.isolation`) sits idle on the second core. :func:`share` hands it part of
 the file's faces in rounds (half of what is left, longest first, whenever it has answered), works on
-the rest here at the same time and returns one outcome per face in face order, as the serial loop would: the same records (the child runs the same code, with the same one
-BLAS thread, so the numbers are the same to the bit) and the same first error.
+the rest here at the same time and returns one outcome per face in face order, as the serial loop
+would: the same records (the child runs the same code, with the same one BLAS thread, so the numbers
+are the same to the bit) and the same first error.
 :func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's; both
 analyse a face that repeats an earlier one moved rigidly only once (:func:`per_instance`).
 
