@@ -33,8 +33,9 @@ def _moved(net: ControlNet, rotation, translation, shift=(0.0, 0.0), face=1, poi
     pts = net.points @ np.asarray(rotation).T + translation if points is None else points
     knots = tuple(np.asarray(k) + s for k, s in zip(net.knots, shift))
     bounds = None if net.uv_bounds is None else tuple(b + shift[k // 2] for k, b in enumerate(net.uv_bounds))
+    origin = NetOrigin(face=face, name=f"copy{face}", kind=net.origin.kind)
     return ControlNet(points=pts, weights=net.weights, degrees=net.degrees, knots=knots, periodic=net.periodic,
-                      uv_bounds=bounds, unit=net.unit, origin=NetOrigin(face=face, name=f"copy{face}", kind=net.origin.kind))
+                      uv_bounds=bounds, unit=net.unit, origin=origin)
 
 
 def _face(seed=0, **kw) -> ControlNet:
