@@ -75,7 +75,7 @@ def main():
     med, worst = median_worst(ratios)
 
     import cadartifact as ca
-    from cadartifact.advice import clear_caches
+    from cadartifact.advice.advise import clear_caches
 
     print(f"\nper-face advice (no comparison, no verification), cold, best of {max(repeat, 2)}; "
           f"load average now {os.getloadavg()[0]:.2f}")

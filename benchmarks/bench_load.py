@@ -48,7 +48,7 @@ def main(argv=None) -> int:
     if not REALDATA.exists():
         print(f"{REALDATA} not present: nothing to measure")
         return 0
-    from cadartifact.exchange import evaluate_grid, read
+    from cadartifact.exchange.load import evaluate_grid, read
 
     warnings.simplefilter("ignore")
     files = sorted((REALDATA / "step").glob("*"))

@@ -24,7 +24,7 @@ import argparse  # noqa: E402
 import numpy as np  # noqa: E402
 from timing import best_of  # noqa: E402  (benchmarks/timing.py, beside this script)
 
-from cadartifact.catalogue import SCHEME_NAMES, Scheme, scheme  # noqa: E402
+from cadartifact.theory.catalogue import SCHEME_NAMES, Scheme, scheme  # noqa: E402
 
 SHIFTS = ((0, 0), (1, 0), (0, 1), (1, 1))
 

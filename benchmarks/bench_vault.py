@@ -11,7 +11,7 @@ cache hit must be earned, not shared). Then gates it
 2. with ``--scheduler local`` at 1 worker and at 2 workers (start-up of the cluster included),
 3. with ``--jobs 1`` again on the now warm cache,
 
-through :func:`cadartifact.gate.run_gate` (what the command line calls), and prints files per
+through :func:`cadartifact.gate.run.run_gate` (what the command line calls), and prints files per
 second, the scaling ratio of 2 workers over 1 (target >= 1.7) and the warm-cache speed-up over the
 cold run (target >= 20). All four runs must give the same JSON document byte for byte.
 """
@@ -91,11 +91,11 @@ def build_vault(folder: Path, n: int, large: int, seed: int = 0) -> list[Path]:
 
 
 def main():
-    from cadartifact.gate import build_document, gate_file, run_gate
-    from cadartifact.gate_cache import GateCache
-    from cadartifact.gate_cluster import ClusterOptions
-    from cadartifact.gate_policy import Policy, base_settings, check_cli
-    from cadartifact.gate_reports import to_json
+    from cadartifact.gate.run import build_document, gate_file, run_gate
+    from cadartifact.gate.cache import GateCache
+    from cadartifact.gate.cluster import ClusterOptions
+    from cadartifact.gate.policy import Policy, base_settings, check_cli
+    from cadartifact.gate.reports import to_json
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--files", type=int, default=1000, help="small files in the vault")

@@ -4,7 +4,7 @@
 
 Generates ``n`` inputs with ``tests/fuzzing.py`` (round-robin over its mutation kinds, sources at
 random: the samples and the real files under 150 KB, or every real file with ``--all``) and gates
-each in this process with :func:`cadartifact.gate.gate_file` (the STEP reader runs in its child
+each in this process with :func:`cadartifact.gate.run.gate_file` (the STEP reader runs in its child
 process). Prints the count per outcome class (pass / warn / fail / error:<why>) and per mutation
 kind, and every contract violation (:func:`fuzzing.check_entry`): an unexpected exception, a report
 with fewer or more faces than the file declares, a non-finite number, a message that is not one line.
@@ -38,8 +38,8 @@ def main(argv=None) -> int:
     parser.add_argument("--tol", type=float, default=0.05)
     args = parser.parse_args(argv)
 
-    from cadartifact.gate import gate_file
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.gate.run import gate_file
+    from cadartifact.gate.policy import FileSettings
 
     warnings.simplefilter("ignore")
     settings = FileSettings(tolerance=args.tol)

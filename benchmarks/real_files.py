@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import cadartifact as ca
-from cadartifact.exchange import read
+from cadartifact.exchange.load import read
 
 ROOT = Path(__file__).resolve().parents[1].parent / "shared" / "realdata" / "step"
 

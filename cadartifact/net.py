@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import InvalidNetError, check_option
+from .numerics.arrays import frozen_array
 
 __all__ = [
     "ControlNet",
@@ -24,7 +25,6 @@ __all__ = [
     "NET_KINDS",
     "EXACT_KINDS",
     "clamped_uniform_knots",
-    "frozen_array",
     "greville",
     "knots_are_uniform",
     "junctions",
@@ -215,13 +215,6 @@ def lifted(net: "ControlNet") -> np.ndarray:
         return P
     w = np.asarray(net.weights, float)[:, :, None]
     return np.concatenate([P * w, w], axis=-1)
-
-
-def frozen_array(a, dtype=float) -> np.ndarray:
-    """A read-only copy of ``a`` (frozen dataclasses of arrays stay immutable)."""
-    arr = np.array(a, dtype=dtype, copy=True)
-    arr.setflags(write=False)
-    return arr
 
 
 @dataclass(frozen=True, eq=False)

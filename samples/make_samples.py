@@ -107,7 +107,7 @@ def cage_obj() -> str:
 
 
 def write_step_deterministic(net: ControlNet, path: Path) -> None:
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     write_step([net], path)
     text = path.read_text()

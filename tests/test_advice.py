@@ -8,10 +8,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cadartifact as ca
-from cadartifact.advice import INTENT_MARGIN, advise, resample
-from cadartifact.density_search import frontier as _frontier, gallop as _gallop
+from cadartifact.advice.advise import INTENT_MARGIN, advise, resample
+from cadartifact.advice.density_search import frontier as _frontier, gallop as _gallop
 from cadartifact.net import ControlNet, clamped_uniform_knots
-from cadartifact.splines import basis_matrix
+from cadartifact.numerics.splines import basis_matrix
 from known_shapes import family
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
@@ -56,7 +56,7 @@ def _brute_force_fewest(net, truth, t, limit=60):
 def test_advised_net_holds_against_the_known_shape(seed, t):
     """Faces sampling a known shape (amplitude 1): the advised net, evaluated by OCCT, is within t of the
     shape itself on the whole face, and has at most 1.3x the points of the brute-force fewest net."""
-    from cadartifact.exchange import evaluate_grid
+    from cadartifact.exchange.load import evaluate_grid
 
     for net, truth, what in family(seed, 3, nmax=24):
         a = advise(net, t, intent="net", compare=False, verify=True)
@@ -140,7 +140,7 @@ def test_resample_fits_instead_of_sampling():
     net = ControlNet(points=pts, degrees=(3, 3), knots=(ku, kv))
     new = resample(net, (13, 9), intent="net")
     assert new.shape == (13, 9) and new.knots_uniform == (True, True) and new.degrees == (3, 3)
-    from cadartifact.splines import evaluate
+    from cadartifact.numerics.splines import evaluate
 
     u, v = np.linspace(0, 1, 41), np.linspace(0, 1, 37)
     S = evaluate(new, u, v)
@@ -219,9 +219,9 @@ def test_gallop_equals_linear_scan(lo, span, answer, hint):
 @pytest.mark.parametrize("periodic", [(False, False), (True, False), (True, True)])
 def test_total_ripple_is_the_budgets_number_to_the_bit(periodic):
     """The comparison's lean predicate (no lateral field, one band's statistics) against the full budget."""
-    from cadartifact.advice import NAMED_SCHEMES
-    from cadartifact.artifact_budget import budget, total_ripple
-    from cadartifact.catalogue import scheme
+    from cadartifact.advice.advise import NAMED_SCHEMES
+    from cadartifact.analysis.budget import budget, total_ripple
+    from cadartifact.theory.catalogue import scheme
 
     rng = np.random.default_rng(7)
     for name in NAMED_SCHEMES:
@@ -238,7 +238,7 @@ def test_total_ripple_is_the_budgets_number_to_the_bit(periodic):
 
 def test_total_ripple_of_faces_is_the_budgets_number_to_the_bit():
     """Faces take the measured road: B-spline faces of several degrees and the samples' real faces."""
-    from cadartifact.artifact_budget import budget, total_ripple
+    from cadartifact.analysis.budget import budget, total_ripple
 
     rng = np.random.default_rng(3)
     nets = []
@@ -259,7 +259,7 @@ def test_confirmation_does_not_climb_along_the_direction_that_does_not_bind(monk
     used to add u points up to the search's bound (260 candidates, 40 s). After a few greedy steps the
     confirmation now searches the fine grid's frontier: a handful of candidates, an answer that meets the
     tolerance and whose coarser neighbours do not."""
-    from cadartifact import advice as advice_module
+    from cadartifact.advice import advise as advice_module
 
     rng = np.random.default_rng(13)
     net, _, what = family(13, 1, nmin=8, nmax=20)[0]

@@ -9,7 +9,7 @@ mask (and the limit stencil), and the result is projected by inner products onto
 import numpy as np
 import pytest
 
-from cadartifact.catalogue import SCHEME_NAMES, Scheme, scheme
+from cadartifact.theory.catalogue import SCHEME_NAMES, Scheme, scheme
 
 SHIFTS = ((0, 0), (1, 0), (0, 1), (1, 1))
 

@@ -36,7 +36,7 @@ def net_face(fn, nu=16, nv=12):
     import numpy as np
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 
-    from cadartifact.exchange import occ_surface
+    from cadartifact.exchange.load import occ_surface
     from cadartifact.net import ControlNet, clamped_uniform_knots, greville
 
     ku, kv = clamped_uniform_knots(nu, 3), clamped_uniform_knots(nv, 3)

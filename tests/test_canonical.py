@@ -35,7 +35,7 @@ from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Vec  # noqa: E402
 from OCP.TColgp import TColgp_Array1OfPnt  # noqa: E402
 
 import cadartifact as ca  # noqa: E402
-from cadartifact.exchange import evaluate_grid, from_shape, occ_surface, read, write_step  # noqa: E402
+from cadartifact.exchange.load import evaluate_grid, from_shape, occ_surface, read, write_step  # noqa: E402
 from cadartifact.exchange.canonical import NOT_CANONICAL, RTOL, recognise  # noqa: E402
 from cadartifact.net import ControlNet  # noqa: E402
 
@@ -318,7 +318,7 @@ def test_boxed_sphere_spheres_exactly(boxed_sphere):
 def test_gate_and_advise_report_the_label(tmp_path):
     from typer.testing import CliRunner
 
-    from cadartifact.cli import app
+    from cadartifact.cli.app import app
 
     out = tmp_path / "gate.json"
     result = CliRunner().invoke(app, ["gate", str(BOXED_SPHERE), "--tol", "0.05", "--format", "json",
@@ -332,12 +332,13 @@ def test_gate_and_advise_report_the_label(tmp_path):
     assert all(f["canonical"] is None and f["exact"] == [None, None] for f in faces if f not in spheres)
     from rich.console import Console
 
-    from cadartifact.gate_reports import render_text
+    from cadartifact.gate.reports import render_text
 
     console = Console(record=True, width=120)
     render_text(doc, console)
     assert "canonical: sphere r=5: faces 190, 191" in console.export_text()
-    from cadartifact.report import advise_files, render
+    from cadartifact.runs.advising import advise_files
+    from cadartifact.runs.terminal import render
 
     adv = advise_files([BOXED_SPHERE], 0.05, compare=False, verify=False)
     labels = {f["face"]: f["canonical"] for f in adv["files"][0]["faces"]}

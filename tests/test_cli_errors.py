@@ -2,7 +2,7 @@
 
 The line names the option, what was expected (the valid choices for a choice option) and what was
 received. Choice options are validated by :func:`cadartifact.errors.check_option` (as ``maps`` does);
-type and usage errors that typer finds while parsing go through :func:`cadartifact.cli_usage.usage_message`.
+type and usage errors that typer finds while parsing go through :func:`cadartifact.cli.usage.usage_message`.
 """
 
 from enum import Enum
@@ -12,7 +12,7 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from cadartifact.cli import _OneLineUsageErrors, app
+from cadartifact.cli.app import _OneLineUsageErrors, app
 
 pytest.importorskip("OCP")
 

@@ -2,7 +2,7 @@
 
 import pytest
 
-from cadartifact.cli_prestart import will_read_here
+from cadartifact.cli.prestart import will_read_here
 
 
 @pytest.mark.parametrize("argv, expected", [
@@ -32,7 +32,8 @@ def test_prestarted_child_serves_the_first_read_and_isolation_off_starts_none(mo
     pytest.importorskip("OCP")
     from pathlib import Path
 
-    from cadartifact.exchange import isolation, read
+    from cadartifact.exchange import isolation
+    from cadartifact.exchange.load import read
 
     isolation.shutdown()
     isolation.prestart()
@@ -56,8 +57,8 @@ def _sample():
 def test_first_read_names_the_one_file(tmp_path, monkeypatch):
     from pathlib import Path
 
-    from cadartifact.cli_prestart import first_read
-    from cadartifact.reader_start import READ_FUNCTION
+    from cadartifact.cli.prestart import first_read
+    from cadartifact.exchange.reader_start import READ_FUNCTION
 
     monkeypatch.chdir(tmp_path)
     for name in ("a.step", "b.IGS", "c.brep", "d.step"):
@@ -92,8 +93,9 @@ def test_early_read_serves_the_same_request_only(monkeypatch):
     """A child started with an early read answers that read (no second request, same result as a read
     without it); a different first read stops that child and is answered by a new one."""
     pytest.importorskip("OCP")
-    from cadartifact import reader_start
-    from cadartifact.exchange import isolation, read
+    from cadartifact.exchange import reader_start
+    from cadartifact.exchange import isolation
+    from cadartifact.exchange.load import read
 
     sample = _sample()
     isolation.shutdown()
@@ -123,7 +125,7 @@ def test_early_read_serves_the_same_request_only(monkeypatch):
 
 
 def test_an_unused_early_child_is_stopped_at_exit():
-    from cadartifact import reader_start
+    from cadartifact.exchange import reader_start
 
     reader_start.start(reader_start.read_request(_sample(), "step", False))
     proc = reader_start._prestarted[0]
@@ -132,9 +134,9 @@ def test_an_unused_early_child_is_stopped_at_exit():
 
 
 def test_brep_formats_agree_with_the_exchange():
-    from cadartifact.cli_prestart import BREP_SUFFIXES
-    from cadartifact.exchange import SUPPORTED_EXTENSIONS
-    from cadartifact.reader_start import BREP_FORMATS
+    from cadartifact.cli.prestart import BREP_SUFFIXES
+    from cadartifact.exchange.load import SUPPORTED_EXTENSIONS
+    from cadartifact.exchange.reader_start import BREP_FORMATS
 
     assert BREP_FORMATS == {k: v for k, v in SUPPORTED_EXTENSIONS.items() if v != "obj"}
     assert set(BREP_SUFFIXES) == set(BREP_FORMATS)
@@ -142,8 +144,9 @@ def test_brep_formats_agree_with_the_exchange():
 
 def test_an_early_child_that_died_is_replaced():
     pytest.importorskip("OCP")
-    from cadartifact import reader_start
-    from cadartifact.exchange import isolation, read
+    from cadartifact.exchange import reader_start
+    from cadartifact.exchange import isolation
+    from cadartifact.exchange.load import read
 
     isolation.shutdown()
     reader_start.start(reader_start.read_request(_sample(), "step", False))

@@ -5,7 +5,7 @@ from math import comb, factorial
 import numpy as np
 import pytest
 
-from cadartifact.catalogue import scheme
+from cadartifact.theory.catalogue import scheme
 
 OMEGAS = [(0.125, 0.25), (0.375, -0.125), (0.25, 0.25), (0.0, 0.375), (-0.5, 0.125)]
 

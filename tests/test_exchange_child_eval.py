@@ -20,9 +20,9 @@ SAMPLES = Path(__file__).resolve().parents[1] / "cadartifact" / "samples"
 CODE = """
 import json, sys
 import numpy as np
-from cadartifact.gate import gate_file
-from cadartifact.gate_policy import FileSettings
-from cadartifact.exchange import evaluate_grid, load
+from cadartifact.gate.run import gate_file
+from cadartifact.gate.policy import FileSettings
+from cadartifact.exchange.load import evaluate_grid, load
 entry = gate_file(sys.argv[1], FileSettings(tolerance=0.05))
 net = load(sys.argv[1])[0]
 grid = evaluate_grid(net, np.linspace(0, 1, 7), np.linspace(0, 1, 5))
@@ -32,10 +32,10 @@ print(json.dumps({"ocp": "OCP" in sys.modules, "peak_at": entry["faces"][0]["pea
 
 
 def test_gate_locates_the_peak_without_importing_ocp_and_the_child_evaluates_the_same():
-    from cadartifact.exchange import load
+    from cadartifact.exchange.load import load
     from cadartifact.exchange.occ import evaluate_grid
-    from cadartifact.gate import gate_file
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.gate.run import gate_file
+    from cadartifact.gate.policy import FileSettings
 
     path = str(SAMPLES / "car_hood_coarse.step")
     out = subprocess.run([sys.executable, "-c", CODE, path], capture_output=True, text=True, timeout=300)

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from cadartifact.cli import app
+from cadartifact.cli.app import app
 from cadartifact.errors import FileFormatError, InputError, UnsupportedFormatError
-from cadartifact.exchange import LoadWarning, read
+from cadartifact.exchange.load import LoadWarning, read
 
 ROOT = Path(__file__).resolve().parents[1]
 REALDATA = ROOT.parent / "shared" / "realdata"
@@ -173,7 +173,7 @@ def test_iges_and_brep_read_the_same_nets(tmp_path):
     from OCP.BRepTools import BRepTools
     from OCP.IGESControl import IGESControl_Writer
 
-    from cadartifact.exchange import load
+    from cadartifact.exchange.load import load
     from cadartifact.exchange.step import read_step
 
     shape, _ = read_step(SAMPLE_STEP)

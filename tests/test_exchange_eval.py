@@ -19,7 +19,7 @@ from OCP.TColgp import TColgp_Array2OfPnt  # noqa: E402
 from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal  # noqa: E402
 
 from cadartifact.errors import OptionError  # noqa: E402
-from cadartifact.exchange import evaluate_grid, occ_surface, read  # noqa: E402
+from cadartifact.exchange.load import evaluate_grid, occ_surface, read  # noqa: E402
 from cadartifact.exchange.occ import iter_faces, net_from_surface, periodic_flat_knots  # noqa: E402
 from cadartifact.exchange.step import read_step  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402

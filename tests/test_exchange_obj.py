@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cadartifact.exchange import read
+from cadartifact.exchange.load import read
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
 OBJ_FILES = sorted((REALDATA / "obj").glob("*.obj")) if REALDATA.exists() else []

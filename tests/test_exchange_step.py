@@ -20,7 +20,7 @@ from OCP.TopAbs import TopAbs_FACE  # noqa: E402
 from OCP.TopExp import TopExp_Explorer  # noqa: E402
 from OCP.TopoDS import TopoDS  # noqa: E402
 
-from cadartifact.exchange import LoadWarning, from_shape, load, read, write_step  # noqa: E402
+from cadartifact.exchange.load import LoadWarning, from_shape, load, read, write_step  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
@@ -227,7 +227,7 @@ def test_from_shape_skips_analytic_and_converts_freeform():
     # the converted net describes the same surface: points of the original face lie on it
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 
-    from cadartifact.exchange import occ_surface
+    from cadartifact.exchange.load import occ_surface
 
     target = occ_surface(converted[0])
     (face,) = [f for f in revolved.faces().vals() if f.geomType() == "REVOLUTION"]

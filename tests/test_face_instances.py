@@ -1,4 +1,4 @@
-"""A face that repeats another face moved rigidly reuses its analysis (cadartifact.face_instances).
+"""A face that repeats another face moved rigidly reuses its analysis (cadartifact.runs.face_instances).
 
 Two roads: the repeated face analysed on its own against the first face's record moved onto it, on
 known shapes (several degrees, sizes, directions and frequencies, random motions and parameter shifts)
@@ -14,7 +14,7 @@ from hypothesis import given, settings, strategies as st
 from known_shapes import family
 from typer.testing import CliRunner
 
-from cadartifact.face_instances import congruence, instance_record, instances, rigid_motion
+from cadartifact.runs.face_instances import congruence, instance_record, instances, rigid_motion
 from cadartifact.net import ControlNet, NetOrigin
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
@@ -138,7 +138,7 @@ def test_reused_advice_equals_the_repeated_face_own(seed):
     motion with shifted parameters: the copy's own advice and budget against the first face's moved."""
     pytest.importorskip("OCP")
     import cadartifact as ca
-    from cadartifact.report import face_record
+    from cadartifact.runs.records import face_record
 
     rng = np.random.default_rng(seed)
     net, _, what = family(seed, 1, nmin=8, nmax=20)[0]
@@ -157,7 +157,7 @@ def test_reused_advice_equals_the_repeated_face_own(seed):
 
 def test_peak_location_moves_with_the_face():
     pytest.importorskip("OCP")
-    from cadartifact.report import _f, peak_location
+    from cadartifact.runs.records import json_number, peak_location
 
     rng = np.random.default_rng(8)
     face = _face(4, nmin=10, nmax=16)
@@ -170,11 +170,11 @@ def test_peak_location_moves_with_the_face():
     assert moved["index"] == own["index"]
     assert moved["uv"] == pytest.approx(own["uv"], abs=1e-8)
     assert moved["xyz"] == pytest.approx(own["xyz"], abs=1e-8 * size)
-    assert moved["value"] == pytest.approx(_f(own["value"]), rel=1e-6, abs=1e-9)
+    assert moved["value"] == pytest.approx(json_number(own["value"]), rel=1e-6, abs=1e-9)
 
 
 def _documents(monkeypatch, args):
-    from cadartifact.cli import app
+    from cadartifact.cli.app import app
 
     out = []
     for on in ("0", "1"):
@@ -202,7 +202,7 @@ def assert_same_documents(own: dict, reused: dict) -> int:
 
 def test_a_step_file_of_repeated_faces_reads_the_same_with_and_without_reuse(tmp_path, monkeypatch):
     pytest.importorskip("OCP")
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     rng = np.random.default_rng(2)
     a, b = _face(6, nmin=8, nmax=14), _face(7, nmin=8, nmax=14)
@@ -249,9 +249,9 @@ def test_a_repeat_the_analysis_would_read_otherwise_is_not_matched():
 def test_face_batches_give_the_whole_files_records(tmp_path, monkeypatch):
     """A cluster's face batches find repeats over the whole file: their merged entry is the whole file's."""
     pytest.importorskip("OCP")
-    from cadartifact.exchange import write_step
-    from cadartifact.gate import gate_file, merge_parts
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.exchange.load import write_step
+    from cadartifact.gate.run import gate_file, merge_parts
+    from cadartifact.gate.policy import FileSettings
 
     rng = np.random.default_rng(4)
     a, b = _face(6, nmin=8, nmax=12), _face(7, nmin=8, nmax=12)
@@ -269,7 +269,7 @@ def test_face_batches_give_the_whole_files_records(tmp_path, monkeypatch):
 
 
 def test_an_unexpected_failure_reads_the_same_from_the_child():
-    from cadartifact.face_sharing import pack, unpack
+    from cadartifact.runs.face_sharing import pack, unpack
 
     back = unpack(pack(ValueError("shapes (3,) and (4,) not aligned")))
     assert type(back) is ValueError and str(back) == "shapes (3,) and (4,) not aligned"

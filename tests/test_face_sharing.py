@@ -1,4 +1,4 @@
-"""``gate --jobs 1`` shares a file's faces with the idle reader child (cadartifact.face_sharing).
+"""``gate --jobs 1`` shares a file's faces with the idle reader child (cadartifact.runs.face_sharing).
 
 The shared run must give the serial run's document byte for byte (records, peak locations, the first
 error), must really hand faces to the child, and must survive a child that fails on the way.
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from cadartifact.cli import app
+from cadartifact.cli.app import app
 from cadartifact.errors import FileFormatError
 from cadartifact.net import ControlNet, NetOrigin
 
@@ -27,7 +27,7 @@ def _net(nu, nv, amp, name, phase=0.0):
 @pytest.fixture(scope="module")
 def many(tmp_path_factory):
     """A STEP file of eight faces of several sizes, some rippled enough to fail at 0.01."""
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     root = tmp_path_factory.mktemp("split")
     nets = [_net(nu, nv, amp, f"f{k}", phase=k) for k, (nu, nv, amp) in
@@ -102,13 +102,13 @@ def test_a_child_that_fails_its_share_costs_only_time(many, monkeypatch):
 def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
     """The child's side run in this process (so that one face can be made to fail on both sides): the
     outcomes are the serial loop's, errors included, in face order."""
-    import cadartifact.gate as gate
-    import cadartifact.face_sharing as split
+    import cadartifact.runs.verdicts as verdicts
+    import cadartifact.runs.face_sharing as split
     from cadartifact.errors import CadArtifactError
     from cadartifact.exchange import isolation
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.gate.policy import FileSettings
 
-    real_entry = gate._face_entry
+    real_entry = verdicts.face_entry
 
     def entry(net, settings, verify):
         if net.origin.name in ("bad", "worse"):
@@ -121,7 +121,7 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
         during()
         return split.child_gate(*args)
 
-    monkeypatch.setattr(gate, "_face_entry", entry)
+    monkeypatch.setattr(verdicts, "face_entry", entry)
     monkeypatch.setattr(isolation, "call", call)
     names = ["a", "bad", "b", "odd", "c", "worse", "d", "e"]
     nets = [_net(10 + k, 8 + k % 3, 1.0, n).replace(origin=NetOrigin(name=n, face=k, kind="bspline"))
@@ -252,7 +252,7 @@ def test_an_error_from_the_child_keeps_its_attributes():
     """The CLI names the option from an OptionError's ``parameter``: a face's error computed in the child must
     carry it (``demo --tol -1`` once failed with AttributeError when the first face's error came from there)."""
     from cadartifact.errors import OptionError
-    from cadartifact.face_sharing import pack, unpack
+    from cadartifact.runs.face_sharing import pack, unpack
 
     back = unpack(pack(OptionError("tolerance", "a positive number", -1.0)))
     assert isinstance(back, OptionError)

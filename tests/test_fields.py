@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cadartifact as ca
-from cadartifact.artifact_budget import budget
-from cadartifact.fields import design_intent, measured_fields, predicted_fields
+from cadartifact.analysis.budget import budget
+from cadartifact.analysis.fields import design_intent, measured_fields, predicted_fields
 from cadartifact.net import ControlNet, clamped_uniform_knots, greville
 
 NAMED = ["bilinear", "bicubic", "4-3", "4-8", "kobbelt"]

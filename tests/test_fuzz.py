@@ -3,7 +3,7 @@
 Every input ends in a documented outcome (:func:`fuzzing.check_entry`): a one-line ``error`` entry,
 or a complete report with as many faces as the file declares and finite numbers; never an
 exception, a crash of this process or a hang (the reader child is stopped after ``READ_TIMEOUT``).
-Most inputs go through :func:`cadartifact.gate.gate_file` in this process (fast); a few through the
+Most inputs go through :func:`cadartifact.gate.run.gate_file` in this process (fast); a few through the
 ``cadartifact`` command in a subprocess (exit code, stderr, JSON). ``benchmarks/fuzz_campaign.py``
 runs the same generator over 10 000 inputs and more.
 """
@@ -36,8 +36,8 @@ def sources():
 
 @pytest.mark.parametrize("chunk", range(CHUNKS))
 def test_mutated_inputs_meet_the_contract_in_process(sources, tmp_path, chunk):
-    from cadartifact.gate import gate_file
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.gate.run import gate_file
+    from cadartifact.gate.policy import FileSettings
 
     settings = FileSettings(tolerance=TOL)
     violations, classes = [], {}

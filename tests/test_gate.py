@@ -15,7 +15,7 @@ import pytest
 from typer.testing import CliRunner
 
 import cadartifact as ca
-from cadartifact.cli import app
+from cadartifact.cli.app import app
 from cadartifact.net import ControlNet, NetOrigin
 
 pytest.importorskip("OCP")
@@ -50,7 +50,7 @@ def named(points, name, knots=None):
 @pytest.fixture(scope="module")
 def models(tmp_path_factory):
     """STEP files and the ripple value (budget total peak) of the ridge face."""
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     root = tmp_path_factory.mktemp("models")
     ridge, clean = named(ridge_points(), "ridge"), named(clean_points(), "dome")
@@ -148,7 +148,7 @@ def test_no_analysable_face_passes_with_a_note(tmp_path):
 def test_measured_faces_fail_by_default_and_are_capped_at_warn_only_when_the_policy_says_so(tmp_path):
     """Non-uniform knots: measured on the real surface and gated like any face (issue 10); the policy's
     ``measured = "warn"`` keeps the older, lenient cap."""
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     pts = ridge_points(nu=10, nv=6)
     ku = np.array([0, 0, 0, 0, 0.05, 0.1, 0.3, 0.5, 0.6, 0.9, 1, 1, 1, 1.0])

@@ -12,9 +12,9 @@ import xml.etree.ElementTree as ET
 import pytest
 from typer.testing import CliRunner
 
-from cadartifact.cli import app
-from cadartifact.gate import build_document, gate_file
-from cadartifact.gate_policy import ADVISE, FileSettings, Policy, PolicyError, check_cli, parse_policy
+from cadartifact.cli.app import app
+from cadartifact.gate.run import build_document, gate_file
+from cadartifact.gate.policy import ADVISE, FileSettings, Policy, PolicyError, check_cli, parse_policy
 
 pytest.importorskip("OCP")
 
@@ -79,7 +79,7 @@ def test_include_signal_error_and_net_intent_agree_with_all(models):  # noqa: F8
 
 
 def test_every_report_format_takes_a_face_without_advice(pair, tmp_path):
-    from cadartifact.gate_reports import to_json, to_junit, to_sarif, to_text
+    from cadartifact.gate.reports import to_json, to_junit, to_sarif, to_text
     from cadartifact.viz.html import write_report
 
     policy = Policy(source=None)
@@ -128,7 +128,7 @@ def test_policy_key_is_validated_top_level_and_in_overrides(tmp_path):
 
 
 def test_the_cache_key_follows_the_mode(models):  # noqa: F811
-    from cadartifact.gate_cache import cache_key
+    from cadartifact.gate.cache import cache_key
 
     keys = {cache_key("0" * 64, FileSettings(tolerance=1.0, advise=m), False) for m in ADVISE}
     assert len(keys) == 3
@@ -136,7 +136,7 @@ def test_the_cache_key_follows_the_mode(models):  # noqa: F811
 
 def test_the_dask_task_gives_the_same_records(models, pair):  # noqa: F811
     """gate_cluster.gate_task (what a Dask worker runs), by path and by shipped bytes, in this process."""
-    from cadartifact.gate_cluster import gate_task
+    from cadartifact.gate.cluster import gate_task
 
     path = models["root"] / "pair.step"
     settings = FileSettings(tolerance=pair["failing"]["policy"]["tolerance"], advise="failing")
@@ -146,7 +146,7 @@ def test_the_dask_task_gives_the_same_records(models, pair):  # noqa: F811
 
 def test_peak_at_reuses_todays_budget_and_equals_a_fresh_peak_location(models, pair):  # noqa: F811
     import cadartifact as ca
-    from cadartifact.report import peak_location
+    from cadartifact.runs.records import peak_location
 
     nets = {n.origin.name: n for n in ca.load(models["root"] / "pair.step")}
     for mode in ADVISE:

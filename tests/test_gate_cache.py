@@ -2,7 +2,7 @@
 
 The second road for every cached number: the same files gated without a cache, whose documents
 (json, text, junit, sarif, html) must equal the warm run's byte for byte. Which files were
-analysed is counted by wrapping :func:`cadartifact.gate.gate_file`, not by the cache's own counters.
+analysed is counted by wrapping :func:`cadartifact.gate.run.gate_file`, not by the cache's own counters.
 """
 
 import json
@@ -12,9 +12,9 @@ import pytest
 from typer.testing import CliRunner
 
 import cadartifact
-import cadartifact.gate as gate
-from cadartifact.cli import app
-from cadartifact.gate_cache import GateCache, cache_key, file_digest
+import cadartifact.gate.run as gate
+from cadartifact.cli.app import app
+from cadartifact.gate.cache import GateCache, cache_key, file_digest
 
 from vault_support import SAMPLES, TOL, documents, settings_for, small_set
 
@@ -84,7 +84,7 @@ def test_changed_byte_policy_or_version_is_a_miss(tmp_path, counted, monkeypatch
 
 
 def test_key_covers_content_policy_verify_and_version(tmp_path, monkeypatch):
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.gate.policy import FileSettings
 
     f = tmp_path / "a.step"
     f.write_bytes(b"abc")
@@ -220,7 +220,7 @@ def test_progress_counts_done_cached_and_failed():
 
     from rich.console import Console
 
-    from cadartifact.gate_progress import GateProgress
+    from cadartifact.gate.progress import GateProgress
 
     entries = [({"path": "a.step", "verdict": "pass"}, True), ({"path": "b.step", "verdict": "fail"}, False),
                ({"path": "c.step", "verdict": "error"}, False)]

@@ -18,8 +18,8 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from cadartifact.cli import app
-from cadartifact.gate import run_gate
+from cadartifact.cli.app import app
+from cadartifact.gate.run import run_gate
 
 from vault_support import TOL, documents, settings_for, small_set
 
@@ -39,7 +39,7 @@ def test_the_gate_without_scheduler_does_not_import_dask(tmp_path):
     code = f"""
 import sys
 from typer.testing import CliRunner
-from cadartifact.cli import app
+from cadartifact.cli.app import app
 r = CliRunner().invoke(app, ["gate", {str(small_set(tmp_path, real=False)[2])!r}, "--tol", "1", "--jobs", "1",
                              "--cache", {str(tmp_path / "c")!r}])
 assert r.exit_code == 0, r.output
@@ -143,8 +143,8 @@ def _same_documents(entries, vault):
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_local_cluster_of_two_workers_equals_jobs_1_and_feeds_the_cache(vault, tmp_path):
-    from cadartifact.gate_cache import GateCache
-    from cadartifact.gate_cluster import ClusterOptions
+    from cadartifact.gate.cache import GateCache
+    from cadartifact.gate.cluster import ClusterOptions
 
     pytest.importorskip("distributed")
     seen = []
@@ -187,7 +187,7 @@ def test_a_file_that_kills_its_workers_is_an_error_the_others_survive(vault, tmp
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_scheduler_and_workers_by_path_and_by_shipped_bytes(vault, dask_pair, monkeypatch):
-    from cadartifact.gate_cluster import ClusterOptions
+    from cadartifact.gate.cluster import ClusterOptions
 
     entries = run_gate(vault["files"], vault["settings"], cluster=ClusterOptions(dask_pair))
     _same_documents(entries, vault)
@@ -207,7 +207,7 @@ def test_scheduler_and_workers_by_path_and_by_shipped_bytes(vault, dask_pair, mo
 @pytest.mark.xdist_group("dask")
 def test_workers_of_another_version_fail_closed(vault, dask_pair, monkeypatch):
     import cadartifact
-    from cadartifact.gate_cluster import ClusterOptions
+    from cadartifact.gate.cluster import ClusterOptions
 
     monkeypatch.setattr(cadartifact, "__version__", cadartifact.__version__ + ".other")
     entries = run_gate(vault["files"][:2], vault["settings"][:2], cluster=ClusterOptions(dask_pair))
@@ -258,7 +258,7 @@ def test_local_cluster_from_a_stdin_program_is_a_one_line_error(monkeypatch):
     import types
 
     from cadartifact.errors import CadArtifactError
-    from cadartifact.gate_cluster import ClusterOptions, run_on_cluster
+    from cadartifact.gate.cluster import ClusterOptions, run_on_cluster
 
     pytest.importorskip("distributed")
     fake = types.ModuleType("__main__")
@@ -272,14 +272,14 @@ def test_local_cluster_from_a_stdin_program_is_a_one_line_error(monkeypatch):
                                             ({"workers": 0}, "--jobs")])
 def test_cluster_options_are_checked(kwargs, option):
     from cadartifact.errors import OptionError
-    from cadartifact.gate_cluster import ClusterOptions
+    from cadartifact.gate.cluster import ClusterOptions
 
     with pytest.raises(OptionError, match=option):
         ClusterOptions(**{"address": "local", **kwargs})
 
 
 def test_batches_partition_the_files_biggest_first_small_ones_grouped(tmp_path):
-    from cadartifact.gate_cluster import BATCH_BYTES, BATCH_FILES, _batches
+    from cadartifact.gate.cluster import BATCH_BYTES, BATCH_FILES, _batches
 
     sizes = [BATCH_BYTES * 2, 10, 20, BATCH_BYTES // 2, 30] + [100] * 200
     tasks = []
@@ -301,7 +301,7 @@ def _batch_file(tmp_path):
     """A STEP file of nine faces, some rippled beyond the tolerance (advice, peak locations)."""
     import numpy as np
 
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
     from cadartifact.net import ControlNet, NetOrigin
 
     nets = []
@@ -317,10 +317,10 @@ def _batch_file(tmp_path):
 
 
 def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
-    import cadartifact.gate as gate
+    import cadartifact.runs.verdicts as verdicts
     from cadartifact.errors import CadArtifactError
-    from cadartifact.gate import gate_file, merge_parts
-    from cadartifact.gate_policy import FileSettings
+    from cadartifact.gate.run import gate_file, merge_parts
+    from cadartifact.gate.policy import FileSettings
 
     path = str(_batch_file(tmp_path))
     settings = FileSettings(tolerance=0.05)
@@ -330,14 +330,14 @@ def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
         parts = [gate_file(path, settings, part=(r, k)) for r in range(k)]
         assert json.dumps(merge_parts(parts, settings)) == json.dumps(whole), k
     # the first error of all batches, in face order, is the whole file's error
-    real = gate._face_entry
+    real = verdicts.face_entry
 
     def entry(net, s, verify):
         if net.origin.face in (4, 7):
             raise CadArtifactError(f"face {net.origin.face} refuses")
         return real(net, s, verify)
 
-    monkeypatch.setattr(gate, "_face_entry", entry)
+    monkeypatch.setattr(verdicts, "face_entry", entry)
     whole = gate_file(path, settings)
     assert whole["verdict"] == "error" and "face 4" in whole["error"]
     for k in (2, 3, 5):
@@ -352,10 +352,10 @@ def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_a_big_file_alone_on_a_cluster_goes_as_face_batches(tmp_path, monkeypatch):
-    import cadartifact.gate as gate
-    import cadartifact.gate_cluster as gc
-    from cadartifact.gate_cluster import ClusterOptions
-    from cadartifact.gate_policy import FileSettings
+    import cadartifact.gate.run as gate
+    import cadartifact.gate.cluster as gc
+    from cadartifact.gate.cluster import ClusterOptions
+    from cadartifact.gate.policy import FileSettings
 
     pytest.importorskip("distributed")
     path = _batch_file(tmp_path)
@@ -373,7 +373,7 @@ def test_a_big_file_alone_on_a_cluster_goes_as_face_batches(tmp_path, monkeypatc
 
 def test_face_batches_env_must_be_a_whole_number(monkeypatch):
     from cadartifact.errors import OptionError
-    from cadartifact.gate_cluster import _parts
+    from cadartifact.gate.cluster import _parts
 
     monkeypatch.setenv("CADARTIFACT_FACE_BATCHES", "two")
     with pytest.raises(OptionError, match="CADARTIFACT_FACE_BATCHES.*whole number"):

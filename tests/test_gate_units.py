@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from cadartifact.errors import CadArtifactError, InputError
-from cadartifact.gate import VERDICTS, build_document, face_verdict, file_verdict
-from cadartifact.gate_policy import (FileSettings, Policy, PolicyError, expand_paths, find_policy, load_policy,
-                                     parse_policy)
-from cadartifact.gate_reports import to_junit, to_sarif, write_atomic
+from cadartifact.runs.verdicts import VERDICTS, face_verdict
+from cadartifact.gate.run import build_document, file_verdict
+from cadartifact.gate.policy import FileSettings, Policy, PolicyError, expand_paths, find_policy, load_policy, parse_policy
+from cadartifact.gate.reports import to_junit, to_sarif, write_atomic
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -224,7 +224,7 @@ def crash_on_bad(task):
 
 
 def test_a_crashing_worker_blames_only_its_file():
-    from cadartifact.gate import _run_isolated
+    from cadartifact.gate.run import _run_isolated
 
     tasks = [(p, FileSettings(tolerance=1.0), False) for p in ("a.step", "bad.step", "c.step", "d.step")]
     seen = []
@@ -246,7 +246,7 @@ def test_programs_from_stdin_are_served_in_process(monkeypatch):
     import sys
     import types
 
-    from cadartifact.gate import _workers_can_start
+    from cadartifact.gate.run import _workers_can_start
 
     assert _workers_can_start()
     fake = types.ModuleType("__main__")

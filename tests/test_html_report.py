@@ -15,10 +15,10 @@ pytest.importorskip("OCP")
 pytest.importorskip("pyvista")
 
 import cadartifact as ca  # noqa: E402
-from cadartifact.cli import app  # noqa: E402
+from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.errors import OptionError  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
-from cadartifact.report import advise_files  # noqa: E402
+from cadartifact.runs.advising import advise_files  # noqa: E402
 from cadartifact.viz import html as H  # noqa: E402
 
 TOL = 0.006  # between the mild ridge (0.0034 mm) and the sharp one (0.0127 mm)
@@ -34,7 +34,7 @@ def ridge_points(nu=14, nv=10, amp=2.0, width=9.0, dy=0.0):
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     root = tmp_path_factory.mktemp("html")
     mild = ControlNet.from_points(ridge_points(amp=0.3, width=14.0, dy=100.0), origin=NetOrigin(kind="bspline"))

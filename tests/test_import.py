@@ -25,6 +25,6 @@ def test_public_names_resolve_lazily():
 def test_the_reader_child_starts_before_numpy():
     """The CLI's first step (cli_prestart, reader_start) needs the standard library only, so that OCCT's
     reader child is spawned before this process spends its first 0.1 s importing numpy."""
-    code = "import sys, cadartifact.cli_prestart, cadartifact.reader_start; print('numpy' in sys.modules)"
+    code = "import sys, cadartifact.cli.prestart, cadartifact.exchange.reader_start; print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cadartifact as ca
-from cadartifact.intent import UNDERSAMPLED_SHARE, design_intent
+from cadartifact.analysis.intent import UNDERSAMPLED_SHARE, design_intent
 from cadartifact.net import ControlNet
 from known_shapes import DIRECTIONS, family, known_face, shape_function
 

@@ -123,7 +123,7 @@ def test_pure_sampling_one_step_energy_is_one():
 @given(g=st.integers(2, 3), d=st.integers(0, 3),
        wx=st.floats(-0.5, 0.5), wy=st.floats(-0.5, 0.5))
 def test_closed_form_box_energy_equals_catalogue_one_step(g, d, wx, wy):
-    from cadartifact.catalogue import box
+    from cadartifact.theory.catalogue import box
 
     expected = box(g, g, d, d).response(wx, wy, stage="one_step").energy
     assert M.box_one_step_energy((g, g, d, d), wx, wy) == pytest.approx(float(expected), rel=1e-9, abs=1e-13)
@@ -151,7 +151,7 @@ def test_plot_maps_writes_a_png_of_the_layout_size(tmp_path, names):
 
 
 def test_plot_maps_accepts_scheme_objects_and_other_stages(tmp_path):
-    from cadartifact.catalogue import scheme
+    from cadartifact.theory.catalogue import scheme
 
     for stage in ("one_step", "continuous"):
         out = M.plot_maps([scheme("4-3"), "bilinear"], tmp_path / f"{stage}.png", stage=stage, resolution=16)
@@ -210,7 +210,7 @@ def test_importing_maps_does_not_load_matplotlib():
 def run_cli(*args):
     from typer.testing import CliRunner
 
-    from cadartifact.cli import app
+    from cadartifact.cli.app import app
 
     return CliRunner().invoke(app, ["maps", *args])
 

@@ -23,9 +23,9 @@ from OCP.BRepGProp import BRepGProp  # noqa: E402
 from OCP.GProp import GProp_GProps  # noqa: E402
 from typer.testing import CliRunner  # noqa: E402
 
-from cadartifact.cli import app  # noqa: E402
+from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.errors import OptionError  # noqa: E402
-from cadartifact.exchange import evaluate_grid, occ_surface, read  # noqa: E402
+from cadartifact.exchange.load import evaluate_grid, occ_surface, read  # noqa: E402
 from cadartifact.exchange.model_writer import write_model  # noqa: E402
 from cadartifact.exchange.occ import iter_faces, net_from_surface  # noqa: E402
 from cadartifact.exchange.step import read_brep, read_step  # noqa: E402

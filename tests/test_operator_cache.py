@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import cadartifact as ca
-from cadartifact.advice import clear_caches
-from cadartifact.operator_cache import OperatorCache
+from cadartifact.advice.advise import clear_caches
+from cadartifact.numerics.operator_cache import OperatorCache
 
 
 def test_lru_order_and_bound():
@@ -46,9 +46,9 @@ def test_cold_and_warm_caches_give_the_same_bits(scheme):
 
 
 def test_cached_synthesis_is_read_only():
-    from cadartifact.fields import _axis_synthesis
-    from cadartifact.catalogue import scheme
-    from cadartifact.intent import design_intent
+    from cadartifact.analysis.fields import _axis_synthesis
+    from cadartifact.theory.catalogue import scheme
+    from cadartifact.analysis.intent import design_intent
 
     net = ca.ControlNet(points=np.random.default_rng(0).standard_normal((6, 5, 3)))
     it = design_intent(net, scheme("bicubic"), 2)
@@ -60,9 +60,9 @@ def test_cached_synthesis_is_read_only():
 
 def test_scorer_fit_with_kept_halves_equals_fit_points():
     """The search keeps the fit's u half per candidate count: the same bits as fitting from scratch."""
-    from cadartifact.advice import _make_scorer
-    from cadartifact.artifact_budget import analysis_net, default_scheme
-    from cadartifact.fitting import fit_points
+    from cadartifact.advice.advise import _make_scorer
+    from cadartifact.analysis.budget import analysis_net, default_scheme
+    from cadartifact.analysis.fitting import fit_points
 
     i, j = np.meshgrid(np.arange(14.0), np.arange(11.0), indexing="ij")
     net = ca.ControlNet.from_points(np.stack([i, j, np.sin(0.7 * i) * np.cos(0.4 * j)], -1), degrees=(3, 3))
@@ -90,7 +90,7 @@ def test_kept_advice_reuses_todays_budget_to_the_bit():
 def test_baseband_rows_memo_gives_the_same_bits(cage):
     """The base band keeps its per-direction rows (and u halves): a call served from them equals one on a
     fresh budget's fields, for the separable (cage, bicubic) and the spectral (B-spline face) forms."""
-    from cadartifact.baseband import baseband_at
+    from cadartifact.analysis.baseband import baseband_at
 
     i, j = np.meshgrid(np.arange(12.0), np.arange(9.0), indexing="ij")
     pts = np.stack([i, j, np.sin(0.6 * i) * np.cos(0.5 * j)], -1)
@@ -130,7 +130,7 @@ def test_cache_under_threads():
 
 
 def test_advise_releases_what_the_base_band_kept():
-    from cadartifact.baseband import MEMO_BYTES
+    from cadartifact.analysis.baseband import MEMO_BYTES
 
     i, j = np.meshgrid(np.arange(12.0), np.arange(9.0), indexing="ij")
     net = ca.ControlNet.from_points(np.stack([i, j, np.sin(0.6 * i) * np.cos(0.5 * j)], -1), degrees=(3, 3))
@@ -140,7 +140,7 @@ def test_advise_releases_what_the_base_band_kept():
 
 
 def test_base_band_memo_is_bounded_in_bytes(monkeypatch):
-    from cadartifact import baseband
+    from cadartifact.analysis import baseband
 
     monkeypatch.setattr(baseband, "MEMO_BYTES", 200_000)
     i, j = np.meshgrid(np.arange(12.0), np.arange(9.0), indexing="ij")

@@ -13,11 +13,11 @@ from hypothesis import strategies as st
 
 import cadartifact as ca
 from cadartifact.net import ControlNet, clamped_uniform_knots
-from cadartifact.pieces import junctions, split_net
+from cadartifact.analysis.pieces import junctions, split_net
 
 pytest.importorskip("OCP")
 
-from cadartifact.exchange import evaluate_grid, occ_surface  # noqa: E402
+from cadartifact.exchange.load import evaluate_grid, occ_surface  # noqa: E402
 from cadartifact.exchange.occ import net_from_surface  # noqa: E402
 
 
@@ -122,8 +122,8 @@ def test_a_crease_is_not_ripple_the_halves_are_analysed_as_nets_of_their_own(p, 
         halves.append(ca.budget(net_from_surface(seg, origin=face.origin)))
     expect = max(h.stats["total"].peak for h in halves)
     assert b.stats["total"].peak == pytest.approx(expect, rel=1e-6, abs=1e-12)
-    from cadartifact.pieces import MAX_PIECES  # noqa: F401  (the whole-face reading, for scale)
-    from cadartifact.artifact_budget import _budget_of, default_scheme
+    from cadartifact.analysis.pieces import MAX_PIECES  # noqa: F401  (the whole-face reading, for scale)
+    from cadartifact.analysis.budget import _budget_of, default_scheme
 
     whole = _budget_of(face, face, default_scheme(face), None, "peak", "auto", 3, "normal", "auto", "surface", False)
     assert whole.stats["total"].peak > 3 * b.stats["total"].peak

@@ -15,7 +15,7 @@ import cadartifact as ca
 
 pytest.importorskip("OCP")
 
-from cadartifact.exchange import read  # noqa: E402
+from cadartifact.exchange.load import read  # noqa: E402
 from cadartifact.exchange.occ import net_from_surface, occ_surface  # noqa: E402
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"

@@ -24,7 +24,7 @@ import pytest
 from typer.testing import CliRunner
 
 import cadartifact as ca
-from cadartifact.cli import app
+from cadartifact.cli.app import app
 from cadartifact.errors import CadArtifactError
 from cadartifact.net import ControlNet, NetOrigin
 
@@ -52,7 +52,7 @@ def obj_grid(n=6, m=5) -> str:
 
 
 def step_bytes(tmp) -> bytes:
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     i, j = np.meshgrid(np.arange(8), np.arange(6), indexing="ij")
     x, y = 10.0 * i, 10.0 * j

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from cadartifact.cli import app
+from cadartifact.cli.app import app
 from cadartifact.errors import FileFormatError, OptionError
-from cadartifact.exchange import read
+from cadartifact.exchange.load import read
 
 pytest.importorskip("OCP")
 pytestmark = pytest.mark.filterwarnings("ignore::UserWarning")
@@ -62,7 +62,7 @@ def test_a_face_the_transfer_drops_is_named_and_fails_the_gate(tmp_path):
 
 
 def test_one_dropped_face_among_good_ones_fails_the_folder(tmp_path):
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     good = read(HOOD).nets[0]
     write_step([good, good.replace(origin=good.origin.__class__(name="second", kind="bspline"))],
@@ -138,7 +138,7 @@ def test_impossible_numbers_are_an_error_before_occt(tmp_path, monkeypatch, kind
 
 
 def _rational_step(tmp_path) -> str:
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
     from cadartifact.net import ControlNet
 
     i, j = np.meshgrid(np.arange(5), np.arange(4), indexing="ij")
@@ -370,7 +370,7 @@ def test_an_iges_face_the_transfer_skips_fails_the_gate(tmp_path):
 
 
 def test_an_unexpected_exception_is_one_line_and_exit_2(monkeypatch):
-    import cadartifact.report as report
+    import cadartifact.runs.advising as report
 
     def boom(*args, **kwargs):
         raise RuntimeError("something\nbroke " + "x" * 2000)

@@ -11,7 +11,7 @@ import pytest
 pytest.importorskip("OCP")
 
 import cadartifact as ca  # noqa: E402
-from cadartifact.exchange import evaluate_grid, load, read  # noqa: E402
+from cadartifact.exchange.load import evaluate_grid, load, read  # noqa: E402
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 

@@ -5,9 +5,9 @@ from math import comb, factorial
 import numpy as np
 import pytest
 
-from cadartifact import symbols as sy
+from cadartifact.theory import symbols as sy
 from cadartifact.errors import CadArtifactError, OptionError, SchemeError
-from cadartifact.catalogue import SCHEME_NAMES, Scheme, box, bspline, scheme, schemes
+from cadartifact.theory.catalogue import SCHEME_NAMES, Scheme, box, bspline, scheme, schemes
 
 NAMED = list(SCHEME_NAMES)
 

@@ -5,10 +5,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cadartifact import symbols as sy
+from cadartifact.theory import symbols as sy
 from cadartifact.errors import OptionError
-from cadartifact.catalogue import SCHEME_NAMES, Scheme, scheme
-from cadartifact.spectral import STAGES, Response, alias_class_sums, response
+from cadartifact.theory.catalogue import SCHEME_NAMES, Scheme, scheme
+from cadartifact.theory.spectral import STAGES, Response, alias_class_sums, response
 
 NAMED = list(SCHEME_NAMES)
 EXTRA = ["bspline(2,3)", "bspline(2,2)", "box(2,2,1,0)", "box(3,2,0,1)"]
@@ -131,7 +131,7 @@ def test_stage_names_and_errors():
     with pytest.raises(OptionError) as exc:
         scheme("4-3").response(0.1, 0.1, "final")
     assert all(s in str(exc.value) for s in STAGES)
-    assert response("bicubic", 0.1, 0.2).stage == "limit"
+    assert response(scheme("bicubic"), 0.1, 0.2).stage == "limit"
 
 
 def test_grid_layouts_and_shapes():

@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 
 import cadartifact
 from cadartifact import errors
-from cadartifact.cli import app, demo_hint
+from cadartifact.cli.app import app, demo_hint
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
@@ -104,7 +104,7 @@ def test_demo_finds_the_samples_in_an_installed_copy_not_in_the_users_folder(tmp
     work = tmp_path / "work"
     (work / "samples").mkdir(parents=True)
     (work / "samples" / "mine.step").write_text("not the bundled samples")
-    code = "import cadartifact.cli as c; print(c._samples_dir())"
+    code = "import cadartifact.cli.app as c; print(c._samples_dir())"
     env = {**os.environ, "PYTHONPATH": str(site)}
     out = subprocess.run([sys.executable, "-c", code], cwd=work, env=env, capture_output=True, text=True, check=True)
     assert Path(out.stdout.strip()) == site / "cadartifact" / "samples"
@@ -153,7 +153,7 @@ def test_counts_are_worded_for_one_and_many(tmp_path):
     assert "kept area" in out and "trimmed" not in out
     cage = invoke(["inspect", SAMPLES / "cage.obj"]).stdout
     assert "3 irregular quads" in cage and "1 extraordinary vertex," in cage
-    from cadartifact.report import kind_count, plural
+    from cadartifact.runs.records import kind_count, plural
 
     assert [kind_count("irregular quad", 3), kind_count("triangle", 1), kind_count("n-gon", 4)] == \
         ["3 irregular quads", "1 triangle", "4 n-gons"]

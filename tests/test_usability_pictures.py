@@ -10,9 +10,10 @@ pytest.importorskip("OCP")
 pytest.importorskip("pyvista")
 trimesh = pytest.importorskip("trimesh")
 
-from cadartifact.cli import app  # noqa: E402
-from cadartifact.exchange import read  # noqa: E402
+from cadartifact.cli.app import app  # noqa: E402
+from cadartifact.exchange.load import read  # noqa: E402
 from cadartifact.viz import view as V  # noqa: E402
+from cadartifact.viz import facemaps as FM  # noqa: E402
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 
@@ -22,7 +23,7 @@ def test_glb_is_in_metres_with_extras(tmp_path):
     glb = tmp_path / "hull.glb"
     res = V.view(path, tol=0.05, out=False, glb=glb)
     scene = trimesh.load(glb)
-    maps = V.face_maps(read(path).nets, "total")
+    maps = FM.face_maps(read(path).nets, "total")
     size_mm = np.ptp(maps[0].points.reshape(-1, 3), axis=0)
     mesh = next(iter(scene.geometry.values()))
     np.testing.assert_allclose(np.ptp(mesh.vertices, axis=0), size_mm * 1e-3, rtol=1e-6)
@@ -48,7 +49,7 @@ def test_noise_floor_and_mean_normal():
     X, Y = 100.0 * gu[:, None] + 0 * gv[None, :], 80.0 * gv[None, :] + 0 * gu[:, None]
     net = ControlNet(points=np.stack([X, Y, 0.001 * (X - 50) * (Y - 40) + 0.05 * X], axis=-1), degrees=(3, 3),
                      knots=(ku, kv))
-    m = V.face_maps([net], "total")[0]
+    m = FM.face_maps([net], "total")[0]
     assert m.peak < V.noise_floor([m])  # 1e-13 mm of rounding is noise: drawn as 0
     n = V.mean_normal(m)
     assert n is not None and abs(np.linalg.norm(n) - 1) < 1e-12
@@ -60,12 +61,12 @@ def test_noise_floor_and_mean_normal():
 
 def test_over_tolerance_keeps_structure():
     values = np.array([0.0, 0.5, 1.0, 2.0, 5.0, 10.0])
-    flat = V.vertex_colours(values, (0.0, 1.0))
+    flat = FM.vertex_colours(values, (0.0, 1.0))
     assert len({tuple(c) for c in flat[values > 1]}) == 1  # the old scale: solid red
-    graded = V.vertex_colours(values, (0.0, 1.0), top=10.0)
+    graded = FM.vertex_colours(values, (0.0, 1.0), top=10.0)
     over = graded[values > 1, :3].astype(int)
     assert len({tuple(c) for c in over}) == 3 and np.all(np.diff(over[:, 0]) < 0)  # darker towards the peak
-    assert tuple(graded[-1, :3]) == tuple(np.round(np.array(V.PEAK_COLOUR) * 255).astype(int))
+    assert tuple(graded[-1, :3]) == tuple(np.round(np.array(FM.PEAK_COLOUR) * 255).astype(int))
     np.testing.assert_array_equal(graded[values <= 1], flat[values <= 1])
 
 
@@ -78,14 +79,14 @@ def test_a_tile_says_why_it_shows_little_surface():
     t = np.linspace(0, 2 * np.pi, 12)
     tube = ControlNet.from_points(np.stack([np.cos(t)[:, None] * np.ones(6), np.sin(t)[:, None] * np.ones(6),
                                             np.ones(12)[:, None] * np.linspace(0, 5, 6)], axis=-1), degrees=(3, 3))
-    assert "curved all round" in V.little_surface_reason(V.face_maps([tube], "total")[0])
+    assert "curved all round" in V.little_surface_reason(FM.face_maps([tube], "total")[0])
     half = np.linspace(0, 1.6 * np.pi, 12)  # mean normal exists, but little of the arch faces it
     arch = ControlNet.from_points(np.stack([np.cos(half)[:, None] * np.ones(6), np.sin(half)[:, None] * np.ones(6),
                                             np.ones(12)[:, None] * np.linspace(0, 5, 6)], axis=-1), degrees=(3, 3))
-    assert "faces the viewer" in V.little_surface_reason(V.face_maps([arch], "total")[0])
+    assert "faces the viewer" in V.little_surface_reason(FM.face_maps([arch], "total")[0])
     gx, gy = np.meshgrid(np.arange(8.0), np.arange(8.0), indexing="ij")
     flat = ControlNet.from_points(np.stack([gx, gy, np.zeros((8, 8))], axis=-1), degrees=(3, 3))
-    m = V.face_maps([flat], "total")[0]
+    m = FM.face_maps([flat], "total")[0]
     assert V.little_surface_reason(m) == ""
     values = np.array(m.values, float)
     values[values.shape[0] // 3:, :] = np.nan

@@ -14,13 +14,15 @@ from typer.testing import CliRunner
 
 pytest.importorskip("OCP")
 
-from cadartifact.cli import app  # noqa: E402
-from cadartifact.exchange import read  # noqa: E402
+from cadartifact.cli.app import app  # noqa: E402
+from cadartifact.exchange.load import read  # noqa: E402
 from cadartifact.exchange.step_text import entity_line, entity_lines  # noqa: E402
-from cadartifact.gate import build_document, run_gate  # noqa: E402
-from cadartifact.gate_policy import base_settings, find_policy, load_policy, parse_policy  # noqa: E402
-from cadartifact.gate_reports import render_text, to_junit, to_sarif, to_text  # noqa: E402
-from cadartifact.report import advise_files, analysed_share, peak_location, render  # noqa: E402
+from cadartifact.gate.run import build_document, run_gate  # noqa: E402
+from cadartifact.gate.policy import base_settings, find_policy, load_policy, parse_policy  # noqa: E402
+from cadartifact.gate.reports import render_text, to_junit, to_sarif, to_text  # noqa: E402
+from cadartifact.runs.advising import advise_files
+from cadartifact.runs.records import analysed_share, peak_location
+from cadartifact.runs.terminal import render  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
@@ -170,7 +172,7 @@ def test_peak_location_is_the_budget_peak_on_the_surface():
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
     from OCP.gp import gp_Pnt
 
-    from cadartifact.exchange import occ_surface
+    from cadartifact.exchange.load import occ_surface
 
     proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*at["xyz"]), occ_surface(net))
     size = float(np.ptp(net.points.reshape(-1, 3), axis=0).max())
@@ -282,7 +284,7 @@ def test_line_progress_heartbeat_inside_a_file_of_many_faces():
 
     from rich.console import Console
 
-    from cadartifact.report import LineProgress
+    from cadartifact.runs.terminal import LineProgress
 
     out = io.StringIO()
     con = Console(file=out, force_terminal=False, width=200)

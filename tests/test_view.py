@@ -19,10 +19,11 @@ pytest.importorskip("pyvista")
 trimesh = pytest.importorskip("trimesh")
 
 import cadartifact as ca  # noqa: E402
-from cadartifact.cli import app  # noqa: E402
+from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.errors import CadArtifactError, OptionError  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
 from cadartifact.viz import view as V  # noqa: E402
+from cadartifact.viz import facemaps as FM  # noqa: E402
 
 SIZE = (360, 260)
 
@@ -37,7 +38,7 @@ def ridge_points(nu=14, nv=10, amp=2.0, width=9.0, dy=0.0):
 
 @pytest.fixture(scope="module")
 def model(tmp_path_factory):
-    from cadartifact.exchange import write_step
+    from cadartifact.exchange.load import write_step
 
     root = tmp_path_factory.mktemp("view")
     ridge = ControlNet.from_points(ridge_points(), origin=NetOrigin(name="ridge", kind="bspline"))
@@ -59,7 +60,7 @@ def read_png(path_or_bytes):
 
 def test_face_maps_peak_is_the_budget_peak(model):
     for direction in ("total", "x1", "x2", "diagonal", "signal_error"):
-        maps = V.face_maps(model["nets"], direction)
+        maps = FM.face_maps(model["nets"], direction)
         for m in maps:
             want = model["budgets"][m.net.origin.face].stats[direction].peak
             assert m.peak == pytest.approx(want, rel=1e-12, abs=1e-15)
@@ -81,7 +82,7 @@ def test_view_writes_a_nonblank_png_of_the_right_size(model, tmp_path):
 def test_tolerance_shows_red_where_the_ripple_exceeds_it(model, tmp_path):
     """Red (ABOVE_COLOUR) pixels appear only when the tolerance is below the peak."""
     ridge = [n for n in model["nets"] if n.origin.name == "ridge"]
-    maps = V.face_maps(ridge, "total")
+    maps = FM.face_maps(ridge, "total")
     peak = maps[0].peak
 
     def red_share(tol):
@@ -100,10 +101,10 @@ def test_glb_round_trip_colours_decode_to_the_field(model, tmp_path):
     assert res.png is None and res.glb == glb
     scene = trimesh.load(glb)
     assert sorted(scene.geometry) == ["face_0", "face_1"]
-    maps = {m.net.origin.face: m for m in V.face_maps(model["nets"], "total")}
+    maps = {m.net.origin.face: m for m in FM.face_maps(model["nets"], "total")}
     import matplotlib
 
-    lut = np.round(matplotlib.colormaps[V.CMAP](np.linspace(0, 1, 513)) * 255)[:, :3]
+    lut = np.round(matplotlib.colormaps[FM.CMAP](np.linspace(0, 1, 513)) * 255)[:, :3]
     for name, mesh in scene.geometry.items():
         m = maps[int(name.split("_")[1])]
         a, b = m.values.shape
@@ -116,7 +117,7 @@ def test_glb_round_trip_colours_decode_to_the_field(model, tmp_path):
         red = values > tol
         top = max(mm.peak for mm in maps.values())
         s = np.clip((values[red] - tol) / (top - tol), 0, 1)[:, None]
-        want = np.round(((1 - s) * np.array(V.ABOVE_COLOUR) + s * np.array(V.PEAK_COLOUR)) * 255)
+        want = np.round(((1 - s) * np.array(FM.ABOVE_COLOUR) + s * np.array(FM.PEAK_COLOUR)) * 255)
         np.testing.assert_allclose(rgb[red], want, atol=1)
         # the other vertices: nearest colormap entry gives the value back to within the 8-bit steps
         idx = np.argmin(((rgb[~red, None, :] - lut[None, :, :]) ** 2).sum(-1), axis=1)
@@ -131,21 +132,21 @@ def test_property_vertex_colours(values, hi):
     import matplotlib
 
     v = np.array(values)
-    rgba = V.vertex_colours(v, (0.0, hi))
+    rgba = FM.vertex_colours(v, (0.0, hi))
     assert rgba.shape == (len(v), 4) and rgba.dtype == np.uint8 and np.all(rgba[:, 3] == 255)
     nan = np.isnan(v)
     over = ~nan & (v > hi)
     inside = ~nan & ~over
-    assert np.all(rgba[nan, :3] == np.round(np.array(V.OUTSIDE_COLOUR) * 255))
-    assert np.all(rgba[over, :3] == np.round(np.array(V.ABOVE_COLOUR) * 255))
-    want = np.round(np.asarray(matplotlib.colormaps[V.CMAP](v[inside] / hi))[:, :3] * 255)
+    assert np.all(rgba[nan, :3] == np.round(np.array(FM.OUTSIDE_COLOUR) * 255))
+    assert np.all(rgba[over, :3] == np.round(np.array(FM.ABOVE_COLOUR) * 255))
+    want = np.round(np.asarray(matplotlib.colormaps[FM.CMAP](v[inside] / hi))[:, :3] * 255)
     np.testing.assert_array_equal(rgba[inside, :3], want)
 
 
 @settings(max_examples=30, deadline=None)
 @given(a=st.integers(2, 12), b=st.integers(2, 12))
 def test_property_grid_cells_cover_the_grid(a, b):
-    quads = V._quads(a, b)
+    quads = FM._quads(a, b)
     assert quads.shape == ((a - 1) * (b - 1), 4)
     assert quads.min() == 0 and quads.max() == a * b - 1
     i, j = np.divmod(quads, b)
@@ -155,10 +156,10 @@ def test_property_grid_cells_cover_the_grid(a, b):
 
 
 def test_layout_choice(model):
-    maps = V.face_maps(model["nets"], "total")
+    maps = FM.face_maps(model["nets"], "total")
     assert V.choose_layout(maps[:1]) == "model"
     assert V.choose_layout(maps) == "model"  # two panels of similar size side by side
-    tiny = V.FaceMap(net=maps[0].net, points=maps[0].points * 1e-3, values=maps[0].values, peak=0.0, budget=None)
+    tiny = FM.FaceMap(net=maps[0].net, points=maps[0].points * 1e-3, values=maps[0].values, peak=0.0, budget=None)
     assert V.choose_layout([maps[0], maps[1], tiny, tiny, tiny]) == "tiles"
     img = V.render_image(maps, layout="tiles", window_size=SIZE, title="tiles")
     assert img.shape == (SIZE[1], SIZE[0], 3) and img.std() > 10

@@ -29,7 +29,7 @@ def small_set(folder: Path, real: bool = True) -> list[Path]:
 
 
 def settings_for(files, tol=TOL):
-    from cadartifact.gate_policy import Policy, check_cli
+    from cadartifact.gate.policy import Policy, check_cli
 
     policy = Policy(source=None)
     cli = check_cli({"tolerance": tol})
@@ -38,9 +38,9 @@ def settings_for(files, tol=TOL):
 
 def documents(entries, policy, cli, cwd) -> dict:
     """Every report of a run as text: json, text, junit, sarif and the HTML page (its clock blanked)."""
-    from cadartifact.gate import build_document
-    from cadartifact.gate_policy import base_settings
-    from cadartifact.gate_reports import to_json, to_junit, to_sarif, to_text
+    from cadartifact.gate.run import build_document
+    from cadartifact.gate.policy import base_settings
+    from cadartifact.gate.reports import to_json, to_junit, to_sarif, to_text
     from cadartifact.viz.html import render_html
 
     doc = build_document(entries, base_settings(policy, cli), policy)

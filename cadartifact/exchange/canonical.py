@@ -3,7 +3,7 @@ straight or circular along one direction (extrusions, revolutions), recognised w
 
 A face recognised here carries no artifact along its exact directions (SPEC §4): the reader sets
 ``ControlNet.canonical`` (a short label) and ``ControlNet.exact`` from :func:`recognise`, and the
-analysis (:mod:`cadartifact.frames`) drops the ripple band of those directions.
+analysis (:mod:`cadartifact.analysis.frames`) drops the ripple band of those directions.
 
 How a face is recognised
 ------------------------

@@ -1,13 +1,76 @@
-"""File checks shared by every reader (no OCP)."""
+"""What every reader shares (no OCP): the file check, the formats by extension, and what a read returns."""
 
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ..errors import FileFormatError, InputError
+from ..errors import FileFormatError, InputError, UnsupportedFormatError
 
-__all__ = ["check_file"]
+if TYPE_CHECKING:
+    from .quadmesh import QuadMesh
+
+__all__ = ["SUPPORTED_EXTENSIONS", "LoadResult", "check_file", "format_of"]
+
+#: lower-case extension -> format
+SUPPORTED_EXTENSIONS = {
+    ".step": "step", ".stp": "step",
+    ".iges": "iges", ".igs": "iges",
+    ".brep": "brep", ".brp": "brep",
+    ".obj": "obj",
+}
+
+
+@dataclass(frozen=True, eq=False)
+class LoadResult:
+    """Everything read from one file.
+
+    Attributes
+    ----------
+    path : Path
+    nets : list of ControlNet
+        The analysable faces (STEP/IGES/BREP) or grid charts (OBJ), in file order.
+    faces_total : int
+        Every face in the file (B-rep faces; OBJ polygons).
+    skipped : dict str -> int
+        Faces not analysed, by kind: ``"plane"``, ``"cylinder"``, ``"cone"``, ``"sphere"``,
+        ``"torus"``, ``"revolution"``, ``"extrusion"``, ``"offset"``, ..., ``"degenerate"``,
+        ``"dropped"`` (STEP faces OCCT's transfer lost: broken entities);
+        for OBJ ``"triangle"``, ``"n-gon"``, ``"irregular quad"``.
+    warnings : list of str
+        Also issued through :func:`warnings.warn` (category ``LoadWarning``).
+    mesh : QuadMesh or None
+        OBJ only: the polygon mesh with its regularity analysis.
+    charts : list of Chart
+        OBJ only: ``charts[i]`` is the grid behind ``nets[i]`` (``nets[i].origin.face == i``).
+    """
+
+    path: Path
+    nets: list = field(default_factory=list)
+    faces_total: int = 0
+    skipped: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+    mesh: QuadMesh | None = None
+    charts: list = field(default_factory=list)
+
+    @property
+    def analysable(self) -> int:
+        """Number of nets."""
+        return len(self.nets)
+
+
+def format_of(path: Path) -> str:
+    """The format of a file by its extension (any case); raises :class:`UnsupportedFormatError` listing the
+    supported ones."""
+    fmt = SUPPORTED_EXTENSIONS.get(path.suffix.lower())
+    if fmt is None:
+        listed = ", ".join(sorted(SUPPORTED_EXTENSIONS))
+        raise UnsupportedFormatError(path, f"unsupported file extension {path.suffix or '(none)'!r}; "
+                                     f"supported: {listed}")
+    return fmt
+
 
 
 def check_file(path: str | os.PathLike) -> Path:

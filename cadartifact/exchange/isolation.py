@@ -28,7 +28,7 @@ import sys
 import threading
 import time
 
-from .. import reader_start
+from . import reader_start
 from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
 
 __all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout", "warm",
@@ -106,7 +106,7 @@ def _read_frame(fd: int, deadline: float | None) -> bytes | None:
 class _Child:
     """One child process serving requests.
 
-    ``early``: the key (:func:`cadartifact.reader_start.request_key`) of a request the child was sent when
+    ``early``: the key (:func:`cadartifact.exchange.reader_start.request_key`) of a request the child was sent when
     the CLI started it, whose answer is still to be read.
     """
 
@@ -117,7 +117,7 @@ class _Child:
 
     @classmethod
     def new(cls) -> "_Child":
-        """The child the CLI started (:func:`cadartifact.reader_start.start`), else a new one."""
+        """The child the CLI started (:func:`cadartifact.exchange.reader_start.start`), else a new one."""
         got = reader_start.take()
         return cls(*got) if got is not None else cls()
 
@@ -137,7 +137,7 @@ class _DuringFailed(Exception):
 
 def set_idle_imports(modules=()) -> tuple:
     """Modules the child imports when it is idle after an answer (the work this process may send it
-    next, e.g. :mod:`cadartifact.face_sharing`); returns the previous setting."""
+    next, e.g. :mod:`cadartifact.runs.face_sharing`); returns the previous setting."""
     global _idle_imports
     saved, _idle_imports = _idle_imports, tuple(modules)
     return saved

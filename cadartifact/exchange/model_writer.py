@@ -76,10 +76,10 @@ def check_step_output(out, parameter: str = "out") -> Path:
 
 def _read_source(path: Path):
     """(shape, face_name, length unit for write.step.unit, product names) of a STEP/IGES/BREP model."""
-    from . import _format_of
+    from .files import format_of
     from . import step
 
-    fmt = _format_of(path)
+    fmt = format_of(path)
     if fmt == "obj":
         raise OptionError("source", "a STEP, IGES or BREP model (an OBJ cage has no B-rep to keep: "
                           "write the faces only)", str(path))

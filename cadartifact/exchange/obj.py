@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import FileFormatError
 from .messages import quote
+from .quadmesh import Tag
 
 #: ASCII numbers only: Python's int()/float() also take other scripts' digits and "1_0".
 _INT = re.compile(r"[-+]?[0-9]+\Z")
@@ -44,16 +45,6 @@ def _float(token: str) -> float:
     return float(token)
 
 __all__ = ["ObjData", "Tag", "parse_obj"]
-
-
-@dataclass(frozen=True)
-class Tag:
-    """An OpenSubdiv ``t`` statement: name and its integer, float and string arguments."""
-
-    name: str
-    ints: tuple[int, ...] = ()
-    floats: tuple[float, ...] = ()
-    strings: tuple[str, ...] = ()
 
 
 @dataclass
@@ -186,7 +177,7 @@ def read_obj(path):
     """
     from ..errors import InputError, InvalidNetError
     from ..net import ControlNet, NetOrigin
-    from . import LoadResult
+    from .files import LoadResult
     from .messages import warn
     from .quadmesh import Chart, build_quadmesh, find_charts
     from .files import check_file

@@ -38,11 +38,20 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import FileFormatError
-from ..net import frozen_array
+from ..numerics.arrays import frozen_array
 from .messages import quote
-from .obj import Tag
 
-__all__ = ["QuadMesh", "Chart", "build_quadmesh", "find_charts"]
+__all__ = ["Tag", "QuadMesh", "Chart", "build_quadmesh", "find_charts"]
+
+
+@dataclass(frozen=True)
+class Tag:
+    """An OpenSubdiv ``t`` statement: name and its integer, float and string arguments."""
+
+    name: str
+    ints: tuple[int, ...] = ()
+    floats: tuple[float, ...] = ()
+    strings: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)

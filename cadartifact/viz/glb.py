@@ -8,7 +8,7 @@ import numpy as np
 
 from ..dependencies import require
 from ..errors import CadArtifactError
-from .view import CMAP, _cells, colour_limits, unit_text, upper_limit, vertex_colours, write_atomic
+from .facemaps import CMAP, cells, colour_limits, unit_text, upper_limit, vertex_colours, write_atomic
 
 __all__ = ["GLB_SCALE", "export_glb"]
 
@@ -47,7 +47,7 @@ def export_glb(maps, out, *, tol: float | None = None, cmap: str = CMAP, directi
     scale = GLB_SCALE.get(unit, 1.0)
     scene = trimesh.Scene()
     for m in maps:
-        pts, vals, quads = _cells(m)
+        pts, vals, quads = cells(m)
         if len(quads) == 0:
             continue
         tris = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])

@@ -11,7 +11,7 @@ file can be attached to a CI run or mailed as it is. It shows
 * per file one heatmap picture of its worst faces (:mod:`cadartifact.viz.view`);
 * the response maps of the schemes used (:func:`cadartifact.viz.maps.maps_figure`).
 
->>> from cadartifact.report import advise_files
+>>> from cadartifact.runs.records import advise_files
 >>> from cadartifact.viz.html import write_report
 >>> write_report(advise_files(["part.step"], 0.05), "report.html")     # doctest: +SKIP
 """
@@ -25,7 +25,7 @@ import math
 from pathlib import Path
 
 from ..errors import CadArtifactError, OptionError
-from .view import unit_text
+from .facemaps import unit_text
 
 __all__ = ["write_report", "render_html", "HEATMAP_FACES", "HEATMAP_FILES", "MAP_SCHEMES"]
 
@@ -169,7 +169,7 @@ def _img(png: bytes, alt: str, cls: str) -> str:
 
 def _heatmap(entry: dict, doc: dict, tol: float, unit: str) -> str:
     """One picture of the file's worst faces, or a note saying why there is none."""
-    from ..exchange import read
+    from ..exchange.load import read
     from .view import face_maps, png_bytes, render_image
 
     faces = sorted(entry["faces"], key=lambda f: -_face_value(f, doc))[:HEATMAP_FACES]
@@ -226,7 +226,7 @@ def map_schemes(doc: dict) -> tuple[list, list]:
     ``bspline(3,3)`` are one mask): ``(drawn, not drawn)``, at most :data:`MAP_SCHEMES` drawn."""
     import numpy as np
 
-    from ..catalogue import scheme as get_scheme
+    from ..theory.catalogue import scheme as get_scheme
 
     counts: dict = {}
     for entry in doc["files"]:
@@ -315,7 +315,7 @@ def _advice_details(faces: list, doc: dict, unit: str) -> str:
 def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     """The report page as a string (see :func:`write_report`)."""
     if not isinstance(doc, dict) or not isinstance(doc.get("files"), list):
-        raise OptionError("doc", "an advise or gate document (cadartifact.report schema)", type(doc).__name__)
+        raise OptionError("doc", "an advise or gate document (cadartifact.runs.records schema)", type(doc).__name__)
     from .. import __version__
 
     tol = doc.get("tolerance")
@@ -367,7 +367,7 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
         sub = []
         if entry.get("faces_total") is not None:
             sub.append(f"{len(entry.get('faces', []))} analysed of {entry['faces_total']} faces")
-        from ..report import kind_count
+        from ..runs.records import kind_count
 
         skipped = ", ".join(kind_count(kind, n) for kind, n in sorted((entry.get("skipped") or {}).items()))
         if skipped:
@@ -416,7 +416,7 @@ def write_report(doc: dict, path, *, heatmaps: bool = True, maps: bool = True) -
     Parameters
     ----------
     doc : dict
-        An advise document (:mod:`cadartifact.report`) or a gate document (:mod:`cadartifact.gate`,
+        An advise document (:mod:`cadartifact.runs.records`) or a gate document (:mod:`cadartifact.gate.run`,
         which adds verdicts).
     path : path-like
         The ``.html`` file, written atomically (temporary file + rename), in an existing folder.
@@ -433,6 +433,6 @@ def write_report(doc: dict, path, *, heatmaps: bool = True, maps: bool = True) -
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise OptionError("report", "a file in an existing folder", str(path))
-    from .view import write_atomic
+    from .facemaps import write_atomic
 
     return write_atomic(path, render_html(doc, heatmaps=heatmaps, maps=maps).encode("utf-8"))

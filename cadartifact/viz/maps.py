@@ -131,7 +131,7 @@ def _frequencies(resolution: int, domain: str) -> np.ndarray:
 def _resolve(scheme_or_name):
     """A :class:`Scheme` from a catalogue name, or the object itself if it already is one."""
     if isinstance(scheme_or_name, str):
-        from ..catalogue import scheme
+        from ..theory.catalogue import scheme
 
         return scheme(scheme_or_name)
     if not hasattr(scheme_or_name, "response"):
@@ -228,7 +228,7 @@ def grid_energies(stage: str = "one_step", resolution: int = 201, domain: str = 
     check_option("stage", stage, STAGES)
     check_option("domain", domain, DOMAINS)
     resolution = _check_resolution(resolution)
-    from ..catalogue import box
+    from ..theory.catalogue import box
 
     w = _frequencies(resolution, domain)
     shape = (resolution, resolution)

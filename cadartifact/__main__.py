@@ -1,0 +1,5 @@
+"""``python -m cadartifact``: the console script."""
+
+from .cli import main
+
+main()

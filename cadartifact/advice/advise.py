@@ -1,0 +1,591 @@
+"""Density advice: the fewest control points whose best net stays within the tolerance (SPEC §5).
+
+For a candidate density the candidate is the best net of that density for the design intent
+(:mod:`cadartifact.analysis.fitting`); its error is its surface minus the intent on a check grid fine for
+both nets, measured along the intent's normal (peak by default). Today's net is scored by the same
+code against the same intent. The advice is the density with the fewest points whose error (and
+whose boundary curves' distance from today's) stays within the tolerance; a face within the
+tolerance today is never advised more points. The answer is verified on the real surface of the
+advised net (OCCT).
+
+>>> import cadartifact as ca
+>>> a = ca.advise(net, tolerance=0.05)                 # doctest: +SKIP
+>>> a.shape, a.meets_tolerance, a.reasons["u"]          # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..analysis.budget import METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme, total_ripple
+from ..analysis.baseband import baseband_at, release
+from .density_search import frontier, gallop
+from ..errors import OptionError, check_option
+from ..analysis.fields import intent_normals, project
+from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
+from ..analysis.intent import READINGS
+from ..net import ControlNet
+from ..numerics.operator_cache import OperatorCache
+from ..analysis.pieces import face_kind
+from .scheme_comparison import NAMED_SCHEMES, compare_schemes
+from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
+
+__all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
+
+
+#: What the tolerance bounds: the candidate's whole error against the intent, or its ripple only.
+OBJECTIVES = ("deviation", "ripple")
+
+#: Largest advised density per direction, as a multiple of today's (and an absolute cap).
+GROWTH, MAX_POINTS = 8, 2000
+
+#: Check grid of the search (K = 4 per span); the answer is confirmed and walked at the requested levels.
+SEARCH_LEVELS = 2
+
+#: Nets above this many control points skip the scheme comparison unless asked for.
+COMPARE_MAX_POINTS = 2000
+
+#: Greedy steps of the confirmation before it searches the fine grid's frontier from where it stands.
+GREEDY_STEPS = 4
+
+#: A face within the tolerance today keeps its net unless the advice saves at least this share of points.
+MIN_REDUCTION = 0.1
+
+#: Share of the tolerance a candidate keeps in reserve for the intent's own uncertainty (at most
+#: 1 % of a known shape's amplitude on the interior, 3 % on the face: tests/test_intent.py), so that
+#: the advised net meets the tolerance against the shape itself, not only against the intent.
+INTENT_MARGIN = 0.1
+
+
+class _Scorer:
+    """Scores candidate densities (and today's net) against one intent on check grids (memoised)."""
+
+    def __init__(self, net: ControlNet, work: ControlNet, scheme, fields, intent, reading: str, levels: int,
+                 metric: str, component: str):
+        from ..analysis.budget import trim_mask
+
+        self.net, self.work, self.scheme = net, work, scheme
+        self.fields, self.intent, self.reading = fields, intent, reading
+        self.K, self.metric, self.component = 2 ** levels, metric, component
+        self.frames = intent.frames
+        self.degrees = work.degrees if work.degrees is not None else tuple(
+            min(d, n - 1) for d, n in zip(scheme.degrees or (3, 3), work.shape))
+        self._targets: dict = {}
+        self._scores: dict = {}
+        self._trim = trim_mask
+        self._borders: dict = {}
+        self._halves = OperatorCache(8, shared=False)  # (a, grid) -> the fit's u half
+
+    def target(self, x: np.ndarray, y: np.ndarray):
+        """The intent, its normals and the trim mask on the grid ``x x y`` (cached by grid size)."""
+        key = (len(x), len(y))
+        if key not in self._targets:
+            if self.reading == "surface":
+                I = baseband_at(self.fields, x, y)
+            else:
+                I = self.intent.evaluate(x, y)
+            sx = (x[-1] - x[0]) / max(len(x) - 1, 1)
+            sy = (y[-1] - y[0]) / max(len(y) - 1, 1)
+            normal = None if self.component == "vector" else intent_normals(I, spacing=(sx, sy))
+            keep = self._trim(self.work, self.frames, x, y)
+            if len(self._targets) > 16:
+                self._targets.clear()
+            self._targets[key] = (I, normal, keep)
+        return self._targets[key]
+
+    def axes(self, a: int, b: int):
+        return (candidate_axis(self.frames[0], a, self.degrees[0], self.K),
+                candidate_axis(self.frames[1], b, self.degrees[1], self.K))
+
+    def fit(self, a: int, b: int):
+        """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b`` (:func:`fit_points`; the
+        fit's ``u`` half is kept per ``a`` and grid, since the search pairs each ``a`` with many ``b``)."""
+        cu, cv = self.axes(a, b)
+        I, normal, keep = self.target(cu.x, cv.x)
+        half = self._halves.get((a, len(cu.x), len(cv.x)), lambda: sandwich_left(cu.pinv, I))
+        Q = sandwich_right(half, cv.pinv)
+        return Q, sandwich(cu.B, Q, cv.B), I, normal, keep, (cu, cv)
+
+    def score(self, a: int, b: int) -> dict:
+        """``{"peak", "rms", "boundary"}`` of the candidate's error (model units)."""
+        if (a, b) not in self._scores:
+            Q, S, I, normal, keep, (cu, cv) = self.fit(a, b)
+            self._scores[(a, b)] = self._measure(S - I, normal, keep)
+            self._scores[(a, b)]["boundary"] = self.boundary(S, cu.x, cv.x)
+        return self._scores[(a, b)]
+
+    def _measure(self, err, normal, keep) -> dict:
+        f = np.abs(project(err, normal, self.component))
+        v = f[keep] if not keep.all() else f
+        return {"peak": float(v.max()) if v.size else 0.0, "rms": float(np.sqrt(np.mean(v ** 2))) if v.size else 0.0}
+
+    def value(self, a: int, b: int) -> float:
+        return self.score(a, b)[self.metric]
+
+    def boundary(self, S: np.ndarray, x: np.ndarray, y: np.ndarray) -> float:
+        """Largest distance of the candidate's open border curves from today's real ones (untrimmed faces):
+        each candidate border sample's distance to today's border curve (a polyline through its samples on
+        the check grid), so a different parametrisation of the same curve costs nothing."""
+        if self.work.knots is None or _trimmed(self.work, self.frames):
+            return 0.0
+        from ..numerics.splines import evaluate
+
+        fu, fv = self.frames
+        out = 0.0
+        key = (len(x), len(y))
+        if key not in self._borders:
+            lines = {}
+            if not fu.periodic:
+                lines["u"] = evaluate(self.work, fu.param(x[[0, -1]]), fv.param(y))
+            if not fv.periodic:
+                lines["v"] = evaluate(self.work, fu.param(x), fv.param(y[[0, -1]]))
+            self._borders[key] = lines
+        lines = self._borders[key]
+        if "u" in lines:
+            for k in (0, 1):
+                out = max(out, curve_distance(S[[0, -1][k]], lines["u"][k]))
+        if "v" in lines:
+            for k in (0, 1):
+                out = max(out, curve_distance(S[:, [0, -1][k]], lines["v"][:, k]))
+        return out
+
+    def today(self) -> dict:
+        """Today's net scored by the same code: its real surface minus the intent on its own check grid."""
+        cu, cv = self.axes(*self.work.shape)
+        I, normal, keep = self.target(cu.x, cv.x)
+        real = _real_on(self.work, self.scheme, self.intent, cu.x, cv.x, self.fields)
+        out = self._measure(real - I, normal, keep)
+        out["boundary"] = 0.0
+        return out
+
+
+def _trimmed(net: ControlNet, frames) -> bool:
+    """Whether a face is trimmed inside its surface's parameter range (its borders are then trim curves)."""
+    if net.uv_bounds is None:
+        return False
+    (u0, u1, v0, v1), (fu, fv) = net.uv_bounds, frames
+    full = (fu.u0, fu.u0 + fu.h * fu.spans, fv.u0, fv.u0 + fv.h * fv.spans)
+    scale = max(1.0, *(abs(a) for a in full))
+    return any(abs(a - b) > 1e-9 * scale for a, b in zip((u0, u1, v0, v1), full))
+
+
+def _real_on(work, scheme, intent, x, y, fields) -> np.ndarray:
+    """Today's real surface on a grid of analysis coordinates."""
+    if work.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(work.degrees):
+        from ..numerics.splines import evaluate
+
+        fu, fv = intent.frames
+        return evaluate(work, fu.param(x), fv.param(y))
+    # cages: the fine grid of the fields (the check grid at today's density is that grid)
+    return fields.surface
+
+
+@dataclass(frozen=True, eq=False)
+class Advice:
+    """Density advice for one net.
+
+    Attributes
+    ----------
+    net : ControlNet
+        Today's net.
+    scheme : str
+    tolerance : float
+    metric : str
+    intent : str
+        ``"surface"`` or ``"net"``: the reading of the design intent both today's net and the
+        candidates are scored against.
+    objective : str
+        ``"deviation"`` (the candidate's whole error against the intent) or ``"ripple"``.
+    current : Budget
+        Today's budget.
+    today : dict
+        Today's net scored like a candidate: ``{"peak", "rms", "boundary"}``.
+    shape : (int, int)
+        Advised ``(n'u, n'v)``.
+    stats : dict str -> Stat
+        The advised net: ``deviation`` (its error against the intent), ``boundary`` (its border
+        curves against today's) and its own ripple budget (``x1`` ... ``total``).
+    meets_tolerance : bool
+    binding : str or None
+        ``"u"`` or ``"v"``: the direction in which one step coarser breaks the tolerance.
+    reasons : dict
+        Per direction ``"u"``, ``"v"``: ``{"today", "advised", "change", "coarser_value", "binding",
+        "reason"}``.
+    kept_today : bool
+        Today's net meets the tolerance and no net of fewer points was found: it is the advice as is.
+    advised_net : ControlNet
+        The advised net (the fitted candidate, or today's net when kept).
+    verification, comparison, comparison_note, notes
+    """
+
+    net: ControlNet
+    scheme: str
+    tolerance: float
+    metric: str
+    intent: str
+    objective: str
+    current: Budget
+    today: dict
+    shape: tuple
+    stats: dict
+    meets_tolerance: bool
+    binding: str | None
+    reasons: dict
+    kept_today: bool
+    advised_net: ControlNet
+    verification: dict | None = None
+    comparison: dict = field(default_factory=dict)
+    comparison_note: str | None = None
+    notes: list = field(default_factory=list)
+    #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
+    pending: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def include_signal_error(self) -> bool:
+        """Whether today's verdict counts the whole deviation (``net`` reading, deviation objective)."""
+        return self.intent == "net" and self.objective == "deviation"
+
+    @property
+    def value(self) -> float:
+        return self.stats["deviation" if self.objective == "deviation" else "total"].get(self.metric)
+
+    @property
+    def points(self) -> int:
+        return int(self.shape[0] * self.shape[1])
+
+    def resampled(self) -> ControlNet:
+        """The advised net (best net of the advised density for the intent)."""
+        return self.advised_net
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (the ``advice`` object of the advise schema)."""
+        t = self.tolerance
+        d = {
+            "net": list(self.shape),
+            "points": self.points,
+            "intent": self.intent,
+            "objective": self.objective,
+            "budget": {k: {"peak": _f(s.peak), "rms": _f(s.rms)} for k, s in self.stats.items()},
+            "share": {k: _f(s.get(self.metric) / t) for k, s in self.stats.items()},
+            "today": {k: _f(v) for k, v in self.today.items()},
+            "meets_tolerance": bool(self.meets_tolerance),
+            "binding": self.binding,
+            "reasons": self.reasons,
+            "kept_today": bool(self.kept_today),
+            "verification": self.verification,
+            "comparison": self.comparison,
+            "notes": list(self.notes),
+        }
+        if self.comparison_note:
+            d["comparison_note"] = self.comparison_note
+        return d
+
+
+def _f(x):
+    return None if x is None or not math.isfinite(x) else float(x)
+
+
+def _limits(work: ControlNet, degrees) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Search bounds per direction; a straight degree-1 direction is never advised more points than today's
+    (it carries no ripple and more points cannot make it straighter)."""
+    low = tuple(d + 1 for d in degrees)
+    high = [max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape)]
+    for k in (0, 1):
+        if work.degrees is not None and work.degrees[k] == 1 and _straight(work.points, k):
+            high[k] = max(low[k], work.shape[k])
+    return low, tuple(high)
+
+
+def _straight(points: np.ndarray, axis: int, rtol: float = 1e-9) -> bool:
+    """Whether every row of control points along ``axis`` lies on one line (relative to the net's size)."""
+    P = np.moveaxis(np.asarray(points, float), axis, 0)  # (n, m, 3)
+    d = P[-1] - P[0]  # (m, 3)
+    rel = P - P[0]
+    norm = np.linalg.norm(d, axis=-1)
+    size = float(np.ptp(P.reshape(-1, 3), axis=0).max())
+    unit = np.where(norm[:, None] > 0, d / np.where(norm > 0, norm, 1.0)[:, None], 0.0)
+    off = rel - (rel * unit).sum(-1, keepdims=True) * unit
+    return bool(np.linalg.norm(off, axis=-1).max() <= rtol * size)
+
+
+def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak", intent: str = "surface",
+           objective: str = "deviation", include_signal_error: bool | None = None, levels: int = 3,
+           component: str = "normal", compare: bool | str = "auto", verify: bool = True,
+           current: Budget | None = None) -> Advice:
+    """Advise the control-point density that keeps the error within ``tolerance``.
+
+    Parameters
+    ----------
+    net : ControlNet
+    tolerance : float
+        Model units.
+    scheme : str or Scheme, optional
+        Default: the net's own B-spline degrees; Catmull-Clark (bicubic) for cages.
+    metric : {"peak", "rms"}
+    intent : {"surface", "net"}
+        The reading of the design intent (SPEC §4): the surface less its ripple (default), or the
+        shape the control points sample.
+    objective : {"deviation", "ripple"}
+        Bound the candidate's whole error against the intent (default, SPEC §5), or its ripple.
+    include_signal_error : bool, optional
+        Former option: ``True`` is ``intent="net"`` (the tolerance then covers attenuation too).
+    levels : int
+        Check grid ``K = 2**levels`` samples per span of the finer net.
+    component : {"normal", "vector"}
+    compare : bool or "auto"
+        Also advise the other named schemes (ripple of the intent sampled at their points);
+        ``"auto"``: for nets of up to :data:`COMPARE_MAX_POINTS` points.
+    verify : bool or "later"
+        Build the advised net as a real B-spline surface (OCCT), evaluate it and measure it against
+        the intent on the whole face, and the same one step coarser in the binding direction.
+        ``"later"``: leave that to :func:`cadartifact.advice.verification.complete` (while OCCT is busy).
+    current : Budget, optional
+        Today's budget of this net when the caller has it (same scheme, metric, levels, component and
+        intent, default method and region, fields kept): it is not computed again.
+
+    Returns
+    -------
+    Advice
+
+    Notes
+    -----
+    Candidate ``n'u x n'v``: ``Q = pinv(Bu) I pinv(Bv)^T`` (least squares on the check grid), error
+    ``E = Bu Q Bv^T - I``, value ``max |E . n|`` (or RMS) over the trimmed face, feasible when it is
+    ``<= (1 - INTENT_MARGIN) t`` (the reserve covers the intent's own uncertainty) and the candidate's
+    own ripple, as its budget (and so the gate) reads it, is ``<= t``; the boundary curves' distance
+    from today's is reported. The search walks the frontier
+    ``n'v(n'u)`` (galloping from today's density) at ``K = 4``, then confirms at ``K = 2**levels``,
+    growing until feasible and shrinking each direction while it stays so.
+    """
+    from ..theory.catalogue import Scheme, scheme as get_scheme
+
+    check_option("metric", metric, METRICS)
+    check_option("intent", intent, READINGS)
+    check_option("objective", objective, OBJECTIVES)
+    if include_signal_error:
+        intent = "net"
+    tolerance = check_tolerance(tolerance)
+    if not isinstance(net, ControlNet):
+        raise OptionError("net", "a ControlNet", type(net).__name__)
+    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    reuse = (current is not None and current.net is net and current.fields is not None and current.scheme == sch.name
+             and (current.metric, current.levels, current.component, current.intent) == (metric, levels, component,
+                                                                                         intent)
+             and current.options == ("auto", "auto"))  # the road and region advise() itself would use
+    if not reuse:
+        current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component, intent=intent,
+                         keep_fields=True)
+    work = analysis_net(net, sch)
+    # one intent for both check grids (only the grid's density differs): the fields of today's budget
+    scorers = {lv: _make_scorer(net, work, sch, intent, lv, metric, component, current)
+               for lv in sorted({min(SEARCH_LEVELS, levels), levels})}
+    fine = scorers[levels]
+    coarse = scorers[min(SEARCH_LEVELS, levels)]
+    low, high = _limits(work, fine.degrees)
+    t = tolerance
+    reserve = 1.0 / (1.0 - INTENT_MARGIN)
+
+    def value(sc, a, b, own_ripple=True):
+        """The candidate's value against the tolerance: its error against the intent (with the intent's
+        reserve) and, for the surface reading, its own ripple as the gate will read it (so the advice
+        passes the gate; a budget per candidate, so only where the fine grid confirms)."""
+        if objective == "ripple":
+            return _ripple_of(sc, a, b, sch, metric, component)
+        dev = sc.value(a, b) * reserve
+        if dev > t or intent == "net" or not own_ripple:  # the net reading bounds the deviation from the shape
+            return dev
+        return max(dev, _ripple_of(sc, a, b, sch, metric, component))
+
+    shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
+    a, b = shape
+    # confirm on the fine grid: grow until it agrees (a few greedy steps, then the frontier of the fine grid's
+    # own test from there: the own ripple need not fall at every step, and a greedy walk along the direction
+    # that does not bind can climb to the search's bound), then shrink each direction while it holds
+    steps = 0
+    while value(fine, a, b) > t and (a < high[0] or b < high[1]):
+        if steps == GREEDY_STEPS:
+            (a, b), _ = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b))
+            break
+        grow_u = a < high[0] and (b >= high[1] or value(fine, a + 1, b) <= value(fine, a, min(b + 1, high[1])))
+        a, b = (a + 1, b) if grow_u else (a, b + 1)
+        steps += 1
+    changed = value(fine, a, b) <= t
+    while changed:
+        changed = False
+        if a > low[0] and value(fine, a - 1, b) <= t:
+            a, changed = gallop(lambda x, y=b: value(fine, x, y) <= t, low[0], a - 1, a - 1), True
+        if b > low[1] and value(fine, a, b - 1) <= t:
+            b, changed = gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
+    meets = value(fine, a, b) <= t
+
+    today = fine.today()
+    notes = list(current.notes)
+    today_ok = today[metric] <= tolerance
+    kept = False
+    if today_ok and (not meets or a * b > (1.0 - MIN_REDUCTION) * work.shape[0] * work.shape[1]):
+        # a face within the tolerance today is never advised more points, nor a net barely smaller
+        # (SPEC §5: the advice is a fixed point; a flat frontier would otherwise wander)
+        if (a, b) != tuple(work.shape):
+            notes.append(f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and the fewest-"
+                         f"points net found ({a}x{b}, {a * b} points) saves less than {MIN_REDUCTION:.0%}: "
+                         f"today's {work.shape[0]}x{work.shape[1]} is kept")
+        a, b = work.shape
+        kept, meets = True, True
+    shape = (int(a), int(b))
+    binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value)
+    if kept:
+        advised = net
+        sc = dict(today)
+    else:
+        Q, S, I, normal, keep, (cu, cv) = fine.fit(*shape)
+        advised = candidate_net(net, Q, cu, cv)
+        sc = fine.score(*shape)
+    # kept: the advised net is today's, whose budget under the same options is `current` already
+    known = current if kept else None
+    stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc, known)
+    if stats["boundary"].peak > t:
+        notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
+                     "the tolerance): neighbouring faces must follow")
+    what = face_kind(work)
+    if what and not kept and meets:
+        notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} uniform "
+                     f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
+
+    verification = pending = None
+    if verify:
+        from .verification import verify_advice
+
+        def check():
+            try:
+                return verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)
+            finally:
+                release(fine.fields)
+
+        if verify == "later":
+            pending = check
+        else:
+            verification = check()
+    comparison, comparison_note = {}, None
+    if compare == "auto":
+        compare = net.size <= COMPARE_MAX_POINTS
+        if not compare:
+            comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
+    if compare:
+        comparison = compare_schemes(net, work, sch, shape, meets, tolerance, metric, component, fine,
+                                     growth=GROWTH, max_points=MAX_POINTS)
+    for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
+        release(sc.fields)
+    return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
+                  current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
+                  binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
+                  verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,
+                  pending=pending)
+
+
+def _make_scorer(net, work, sch, reading, levels, metric, component, current=None) -> _Scorer:
+    """A scorer of candidates against the intent: the surface reading's fields (today's budget's when it kept
+    them), and the intent object (a split face's :class:`cadartifact.analysis.pieces.PiecewiseIntent`)."""
+    from ..analysis.intent import design_intent
+
+    fields = current.fields if current is not None else None
+    if fields is None or fields.baseband is None:  # a net-reading budget keeps no base band: the surface reading
+        lv = current.levels if current is not None else levels
+        fields = budget(work, sch, levels=lv, component=component, intent="surface", keep_fields=True).fields
+    it = fields.baseband.get("intent") or design_intent(work, sch, fields.levels)
+    return _Scorer(net, work, sch, fields, it, reading, levels, metric, component)
+
+
+def _ripple_of(sc: _Scorer, a, b, sch, metric, component) -> float:
+    """The ripple-only objective: the fitted candidate's own ripple budget."""
+    key = ("ripple", a, b)
+    if key not in sc._scores:
+        Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
+        cand = candidate_net(sc.net, Q, cu, cv)
+        sc._scores[key] = total_ripple(cand, None, metric=metric, component=component, levels=int(np.log2(sc.K)))
+    return sc._scores[key]
+
+
+def _advice_stats(advised, scheme, tolerance, metric, levels, component, intent, score, known=None) -> dict:
+    """The advised net's stats: its own budget (``known``: that budget, already computed) with the candidate's
+    deviation and border distance."""
+    b = known if known is not None else budget(advised, scheme, tolerance, metric=metric, levels=levels,
+                                               component=component, intent=intent)
+    stats = {k: v for k, v in b.stats.items() if k != "deviation"}
+    stats["deviation"] = Stat(peak=score["peak"], rms=score["rms"])
+    stats["boundary"] = Stat(peak=score.get("boundary", 0.0), rms=score.get("boundary", 0.0))
+    return stats
+
+
+def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str | None, dict]:
+    """The binding direction and, per direction, why the advised count is what it is."""
+    a, b = shape
+    out, worse = {}, {}
+    for d, (n_today, n_new, lo) in zip("uv", zip(work.shape, shape, low)):
+        coarser = (a - 1, b) if d == "u" else (a, b - 1)
+        val = value(sc, *coarser) if n_new - 1 >= lo else None
+        if val is not None and val > t:
+            worse[d] = val
+        change = n_new - n_today
+        if kept:
+            why = "today's net meets the tolerance: kept as is"
+        elif val is None:
+            why = f"at the fewest points the degree allows ({lo})"
+        elif val > t:
+            why = (f"{n_new - 1} points would give {val:.4g} > {t:g} (binding)" if change >= 0 else
+                   f"today's {n_today} points spend {-change} on nothing the tolerance needs; "
+                   f"{n_new - 1} would give {val:.4g} > {t:g}")
+        else:
+            why = f"{n_new - 1} points would also meet ({val:.4g}); the other direction binds"
+        out[d] = {"today": int(n_today), "advised": int(n_new), "change": int(change),
+                  "coarser_value": _f(val), "binding": bool(val is not None and val > t), "reason": why}
+    binding = max(worse, key=worse.get) if worse and not kept else None
+    return binding, out
+
+
+def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: str = "surface",
+             levels: int = 3) -> ControlNet:
+    """The best net of a density for a net's design intent (least squares, SPEC §5).
+
+    Parameters
+    ----------
+    net : ControlNet
+    shape : (int, int)
+        New ``(n'u, n'v)``.
+    scheme : str or Scheme, optional
+        Default as :func:`cadartifact.budget`.
+    intent : {"surface", "net"}
+    levels : int
+        Check grid ``2**levels`` samples per span of the finer net.
+
+    Returns
+    -------
+    ControlNet
+        A B-spline net of the face's degrees (clipped to ``n' - 1``; a cage: the scheme's) over the
+        same parameter range, uniform knots, no weights; its points fit the intent by least squares.
+    """
+    from ..theory.catalogue import Scheme, scheme as get_scheme
+
+    check_option("intent", intent, READINGS)
+    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    try:
+        a, b = (int(s) for s in shape)
+    except (TypeError, ValueError):
+        raise OptionError("shape", "two integers (n'u, n'v)", shape) from None
+    work = analysis_net(net, sch)
+    sc = _make_scorer(net, work, sch, intent, levels, "peak", "normal")
+    low = tuple(d + 1 for d in sc.degrees)
+    if a < low[0] or b < low[1]:
+        raise OptionError("shape", f"at least {low[0]}x{low[1]} control points", (a, b))
+    Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
+    return candidate_net(net, Q, cu, cv)
+
+
+def clear_caches() -> None:
+    """Forget the cached per-axis operators (intent, candidate bases, scheme syntheses): benchmarks measure cold
+    runs."""
+    from ..numerics.operator_cache import clear_all
+
+    clear_all()

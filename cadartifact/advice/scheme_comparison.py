@@ -1,0 +1,84 @@
+"""The scheme comparison of an advice: how many points each named scheme needs for the same intent.
+
+For each of :data:`NAMED_SCHEMES` other than the face's own, the intent is sampled at a cage of
+``a x b`` points and the cage's total ripple under that scheme is read (its predicted road); the
+fewest-points density within the tolerance is searched on the frontier ``b(a)``. The face's own
+scheme keeps the advice's answer. The cages are shared by the schemes (their frontiers start alike).
+"""
+
+from __future__ import annotations
+
+from ..analysis.budget import total_ripple
+from ..analysis.baseband import baseband_at
+from ..theory.catalogue import scheme as get_scheme
+from .density_search import frontier
+from ..analysis.frames import fine_positions
+from ..net import ControlNet
+
+__all__ = ["NAMED_SCHEMES", "compare_schemes"]
+
+NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
+
+
+def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, tolerance: float, metric: str,
+                    component: str, fine, *, growth: int, max_points: int) -> dict:
+    """Fewest points per named scheme for the intent's ripple (the intent sampled at each scheme's net).
+
+    Parameters
+    ----------
+    net, work : ControlNet
+        Today's net and the net its scheme analyses.
+    sch : Scheme
+        The face's own scheme: its entry is the advice itself (``shape``, ``meets``, objective ``deviation``).
+    shape : (int, int)
+    meets : bool
+    tolerance : float
+    metric, component : str
+    fine : cadartifact.advice.advise._Scorer
+        The advice's scorer at the confirmation grid: its intent, fields and frames.
+    growth, max_points : int
+        The search's bounds (:data:`cadartifact.advice.advise.GROWTH`, :data:`~cadartifact.advice.advise.MAX_POINTS`).
+
+    Returns
+    -------
+    dict
+        ``{scheme name: {"net", "points", "meets_tolerance", "objective"}}``; for the other schemes the
+        fewest-points cage ``(a, b)`` whose total ripple (predicted road, ``K = 2``) is within the tolerance,
+        searched on the frontier from ``shape`` (:func:`cadartifact.advice.density_search.frontier`).
+    """
+    out = {}
+    fu, fv = fine.frames
+    cages: dict = {}  # the intent sampled at a density, for every scheme (their frontiers start alike)
+    room = [32 * 2 ** 20]  # bytes of cage points kept; the first ones asked (the shared start) stay
+
+    def cage_of(a, b):
+        got = cages.get((a, b))
+        if got is None:
+            xa, yb = fine_positions(fu, a), fine_positions(fv, b)  # no repeated seam row when periodic
+            pts = fine.intent.evaluate(xa, yb) if fine.reading == "net" else baseband_at(fine.fields, xa, yb)
+            got = ControlNet(points=pts, periodic=net.periodic, unit=net.unit)
+            if pts.nbytes <= room[0]:
+                cages[(a, b)], room[0] = got, room[0] - pts.nbytes
+        return got
+
+    for name in NAMED_SCHEMES:
+        other = get_scheme(name)
+        if other.name == sch.name:
+            out[other.name] = {"net": list(shape), "points": int(shape[0] * shape[1]),
+                               "meets_tolerance": bool(meets), "objective": "deviation"}
+            continue
+
+        seen = {}  # a memo per scheme: the frontier asks about some densities twice
+
+        def ok(a, b, other=other, seen=seen):
+            if (a, b) not in seen:
+                seen[(a, b)] = total_ripple(cage_of(a, b), other, metric=metric, component=component,
+                                            levels=1) <= tolerance
+            return seen[(a, b)]
+
+        low = (3, 3)
+        high = tuple(max(l + 1, min(max_points // 4, growth * n)) for l, n in zip(low, work.shape))
+        s2, ok2 = frontier(ok, low, high, tuple(shape))  # the schemes' answers lie near this scheme's
+        out[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2),
+                           "objective": "ripple"}
+    return out

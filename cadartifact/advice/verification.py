@@ -1,0 +1,89 @@
+"""Verification of advice on the real surface of the advised net (SPEC §5).
+
+The advised net is built as a real B-spline surface with OCP (``Geom_BSplineSurface``) and
+evaluated by OCCT on the check grid, independently of the numpy basis the search used; its
+distance from the intent along the normal is measured on the whole (trimmed) face. It must meet
+the tolerance, and the net one step coarser in the binding direction, fitted and evaluated the
+same way, must not.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["complete", "verify_advice", "measure_on_occt"]
+
+
+def measure_on_occt(scorer, net, x: np.ndarray, y: np.ndarray) -> dict:
+    """``{"peak", "rms"}`` of OCCT's evaluation of ``net`` minus the scorer's intent on the grid ``x x y``."""
+    from ..exchange.load import evaluate_grid
+
+    fu, fv = scorer.frames
+    I, normal, keep = scorer.target(x, y)
+    S = evaluate_grid(net, fu.param(x), fv.param(y))
+    return scorer._measure(S - I, normal, keep)
+
+
+def complete(advice):
+    """``advice`` with its verification run, when it was advised with ``verify="later"`` (else as is)."""
+    from dataclasses import replace
+
+    if advice.pending is None:
+        return advice
+    return replace(advice, verification=advice.pending(), pending=None)
+
+
+def verify_advice(scorer, shape, binding, tolerance: float, advised, target: float | None = None) -> dict:
+    """Measure the advised net (and one step coarser in the binding direction) on OCCT's surface.
+
+    ``meets`` compares with the tolerance; the coarser net is compared with the search's ``target``
+    (the tolerance less the intent's reserve), which it must exceed.
+
+    Returns
+    -------
+    dict
+        ``{"method": "occt", "levels", "value", "meets", "region": "face"}`` and, with a binding
+        direction, ``"coarser": {"shape", "value", "meets"}``; for the ``net`` reading also
+        ``"samples"``: the largest distance of OCCT's surface from today's control points at their
+        Greville abscissae (the points are samples of the shape: a check that needs no intent).
+    """
+    target = tolerance if target is None else target
+    metric = scorer.metric
+    if advised.knots is None or (advised is scorer.net and scorer.work is not scorer.net):
+        # today's net kept as the advice where the scheme reads it as a cage (a cage, or a face under another
+        # scheme): its own surface under the scheme was scored already
+        today = scorer.today()
+        return {"method": "today", "levels": int(round(np.log2(scorer.K))), "region": "face",
+                "value": today[metric], "rms": today["rms"], "meets": bool(today[metric] <= tolerance)}
+    from ..analysis.fitting import candidate_net
+
+    levels = int(round(np.log2(scorer.K)))
+    cu, cv = scorer.axes(*shape)
+    got = measure_on_occt(scorer, advised, cu.x, cv.x)
+    out = {"method": "occt", "levels": levels, "region": "face", "value": got[metric],
+           "rms": got["rms"], "meets": bool(got[metric] <= tolerance)}
+    if binding is not None:
+        coarser = (shape[0] - 1, shape[1]) if binding == "u" else (shape[0], shape[1] - 1)
+        Q, S, I, normal, keep, (au, av) = scorer.fit(*coarser)
+        c = measure_on_occt(scorer, candidate_net(scorer.net, Q, au, av), au.x, av.x)
+        out["coarser"] = {"shape": list(coarser), "value": c[metric], "meets": bool(c[metric] <= target)}
+    if scorer.reading == "net" and scorer.work.knots is not None and scorer.work is scorer.net:
+        out["samples"] = _sample_distance(scorer.net, advised)
+    return out
+
+
+def _sample_distance(net, advised) -> float:
+    """Largest distance of OCCT's evaluation of ``advised`` from ``net``'s points at their Greville parameters."""
+    from ..exchange.load import evaluate_grid
+    from ..numerics.splines import periodic_greville
+
+    pars = []
+    for k in range(2):
+        t, p, n = net.knots[k], net.degrees[k], net.shape[k]
+        if net.periodic[k]:
+            lo, hi = t[p], t[len(t) - p - 1]
+            pars.append(lo + np.mod(periodic_greville(t, p, n) - lo, hi - lo))
+        else:
+            pars.append(net.greville()[k])
+    S = evaluate_grid(advised, pars[0], pars[1])
+    return float(np.linalg.norm(S - net.points, axis=-1).max())

@@ -1,0 +1,569 @@
+"""Artifact fields of a control net: its surface minus its intent, split by frequency (SPEC §4).
+
+On a grid ``K = 2**levels`` times finer than the net, the deviation of the surface from the
+intent of the ``net`` reading (:mod:`cadartifact.analysis.intent`) is split by frequency in cycles per
+control point into
+
+* base band ``|fx|, |fy| < 1/2`` -> signal error (attenuation),
+* ``|fx| >= 1/2`` only -> X1 ripple, ``|fy| >= 1/2`` only -> X2 ripple, both -> diagonal ripple,
+* lateral: each ripple component weighted by the lateral factor of the frequency it aliases
+  (SPEC §3).
+
+The ``surface`` reading (the default for CAD work) takes the surface less its ripple as the
+intent: the same ripple fields, no signal error.
+
+Two independent roads produce the surface:
+
+* *predicted*: the residual's lattice spectrum (one period ``T`` of the smoothly extended
+  intent) times the scheme's transfer function to the fine grid, ``Scheme.transfer``: exact, no
+  alias truncation; the trend goes through the limit stencil (a polynomial of the same degree);
+* *measured*: the real surface (:mod:`cadartifact.analysis.measure`: exact NURBS evaluation of the face,
+  a uniform B-spline, or numerical subdivision). Outside the net's domain the predicted deviation
+  continues it, plus the measured-minus-predicted difference mirrored evenly at each border (so
+  the split sees no jump): equal to the predicted road where the real surface is the uniform one.
+
+References
+----------
+P. J. Augsdörfer, N. A. Dodgson, M. A. Sabin, *Artifact analysis on B-splines, box-splines and
+other surfaces defined by quadrilateral polyhedra*, CAGD 2011.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import check_option
+from .frames import AxisFrame
+from .baseband import baseband_at
+from .intent import READINGS, Intent, _legendre, design_intent, from_homogeneous
+from ..numerics.operator_cache import OperatorCache
+from ..numerics.tensor import sandwich
+
+__all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "predicted_fields", "measured_fields",
+           "artifact_fields", "band_split", "lateral_factors", "project", "intent_normals", "trend_image_coef",
+           "baseband_at"]
+
+#: The fields a budget reports, in report order.
+FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
+
+COMPONENTS = ("normal", "vector")
+
+
+@dataclass(frozen=True, eq=False)
+class ArtifactFields:
+    """Surface, intent and band-split deviation fields on the fine grid.
+
+    Attributes
+    ----------
+    x : (a,) float, y : (b,) float
+        Analysis coordinates of the fine grid (span units).
+    surface, intent : (a, b, 3) float
+        The surface and the intent of the fields' reading.
+    bands : dict str -> (a, b, 3) float
+        ``signal_error``, ``x1``, ``x2``, ``diagonal``, ``lateral``, ``total`` (= x1 + x2 + diagonal).
+    method : str
+        ``"predicted"`` or ``"measured"``.
+    reading : str
+        ``"surface"`` or ``"net"``.
+    baseband : dict or None
+        ``surface`` reading: the signal error's base-band bins and polynomial part, so that the
+        intent can be evaluated anywhere (:func:`baseband_at`).
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    surface: np.ndarray
+    intent: np.ndarray
+    bands: dict = field(default_factory=dict)
+    method: str = "predicted"
+    levels: int = 3
+    reading: str = "surface"
+    baseband: object = None
+
+
+# ---------------------------------------------------------------- band split on the periodic fine grid
+def _fine_freqs(frame: AxisFrame) -> np.ndarray:
+    return np.fft.fftfreq(frame.K * frame.period, d=1.0 / frame.K)
+
+
+def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """SPEC §3 lateral factors ``(sin phi1, sin phi2, sin phid1 sin phid2)``, each ``(a, b)``, of the
+    frequency each bin aliases (folded into the base band: ``w = f - round(f)``)."""
+    wu = (fu - np.round(fu))[:, None]
+    wv = (fv - np.round(fv))[None, :]
+    r2 = wu ** 2 + wv ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s1 = np.where(r2 > 0, np.abs(wv) / np.sqrt(r2), 0.0)
+        s2 = np.where(r2 > 0, np.abs(wu) / np.sqrt(r2), 0.0)
+        sd = np.where(r2 > 0, np.abs(wu ** 2 - wv ** 2) / (2 * r2), 0.0)
+    return s1, s2, sd
+
+
+def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False)) -> dict:
+    """Band masks and lateral weights; a direction in ``smooth`` has no ripple band (one polynomial piece)."""
+    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None] & (not smooth[0])
+    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :] & (not smooth[1])
+    x1, x2, dg = hu & ~hv, ~hu & hv, hu & hv
+    s1, s2, sd = lateral_factors(fu, fv)
+    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": x1 * s1 + x2 * s2 + dg * sd}
+
+
+def _one_piece(*frames) -> tuple:
+    """Per frame, whether its direction has no ripple band (:attr:`AxisFrame.ripple_free`: one polynomial
+    piece, or exactly a line or circle)."""
+    return tuple(bool(f.ripple_free) for f in frames)
+
+
+def _crop(a: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
+    """The domain part of a periodic fine-grid array (``x = 0`` first)."""
+    iu = (fu.shift + np.arange(fu.fine_count)) % a.shape[0]
+    iv = (fv.shift + np.arange(fv.fine_count)) % a.shape[1]
+    return a[np.ix_(iu, iv)]
+
+
+def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool = True) -> dict:
+    """Split a periodic fine-grid deviation, given by its half spectrum, into bands over the domain.
+
+    Parameters
+    ----------
+    spectrum : (K Tu, K Tv // 2 + 1, 3) complex
+        ``rfft2`` of the deviation on the lattice-aligned periodic fine grid.
+    fu, fv : AxisFrame
+
+    Returns
+    -------
+    dict str -> (fu.fine_count, fv.fine_count, 3) float
+        ``signal_error, x1, x2, diagonal, lateral, total``.
+    """
+    A, B = fu.K * fu.period, fv.K * fv.period
+    fa, fb = _fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1])
+    smooth = _one_piece(fu, fv)
+    # the four bands are tensor products of a u mask and a v mask: invert along u per u mask, keep the
+    # domain's rows, then along v per v mask, keep its columns (no full-size inverse per band)
+    hu = (np.abs(fa) >= 0.5 - 1e-12) & (not smooth[0])
+    hv = (fb >= 0.5 - 1e-12) & (not smooth[1])
+    iu = (fu.shift + np.arange(fu.fine_count)) % A
+    iv = (fv.shift + np.arange(fv.fine_count)) % B
+    rows = {}
+    for name_u, mu in (("lo", ~hu), ("hi", hu)):
+        rows[name_u] = np.fft.ifft(spectrum * mu[:, None, None], axis=0)[iu] if mu.any() else None
+    pick = {"signal_error": ("lo", ~hv), "x1": ("hi", ~hv), "x2": ("lo", hv), "diagonal": ("hi", hv)}
+    out = {}
+    for name, (name_u, mv) in pick.items():
+        r = rows[name_u]
+        if r is None or not mv.any():
+            out[name] = np.zeros((fu.fine_count, fv.fine_count) + spectrum.shape[2:])
+        else:
+            out[name] = np.fft.irfft(r * mv[None, :, None], n=B, axis=1)[:, iv]
+    if lateral:
+        m = _band_masks(fa, fb, smooth)["lateral"]
+        out["lateral"] = _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
+    out["total"] = out["x1"] + out["x2"] + out["diagonal"]
+    return out
+
+
+def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:
+    """The base-band bins of a half fine-grid spectrum, with a polynomial, for :func:`baseband_at`.
+
+    The full spectrum's bins are read off the half spectrum (``X[k, l] = conj(X[-k, -l])`` for the
+    columns ``rfft2`` leaves out): no transform of the whole grid.
+    """
+    A, B = fu.K * fu.period, fv.K * fv.period
+    idx, freqs = [], []
+    for frame in (fu, fv):
+        f = _fine_freqs(frame)
+        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        idx.append(k)
+        freqs.append(f[k])
+    ku, kv = idx
+    direct = kv <= B // 2
+    out = np.empty((len(ku), len(kv)) + half_spec.shape[2:], complex)
+    out[:, direct] = half_spec[np.ix_(ku, kv[direct])]
+    mirrored = ~direct
+    if mirrored.any():
+        out[:, mirrored] = np.conj(half_spec[np.ix_((-ku) % A, (B - kv[mirrored]) % B)])
+    return {"spec": out, "freqs": freqs, "frames": (fu, fv), "poly": poly}
+
+
+def _coef_matrix(intent: Intent, coef: np.ndarray) -> np.ndarray:
+    """Trend-term coefficients ``(terms, 3)`` as a tensor Legendre array ``(du+1, dv+1, 3)``."""
+    du = max(t[0] for t in intent.terms)
+    dv = max(t[1] for t in intent.terms)
+    M = np.zeros((du + 1, dv + 1, coef.shape[-1]))
+    for k, (a, b) in enumerate(intent.terms):
+        M[a, b] = coef[k]
+    return M
+
+
+# ---------------------------------------------------------------- the trend through the scheme
+def trend_image_coef(intent: Intent, scheme) -> np.ndarray:
+    """Coefficients (same Legendre terms) of the scheme's limit surface of the intent's trend.
+
+    The limit of a net sampling a polynomial of degree <= the scheme's reproduction degree is a
+    polynomial of the same degree; at the lattice points it is the limit stencil applied to the
+    polynomial's lattice samples, which determine it.
+    """
+    L = np.asarray(scheme.limit_stencil, float)
+    if not intent.terms or intent.terms == [(0, 0)] or L.shape[0] % 2 == 0 or L.shape[1] % 2 == 0:
+        return intent.coef.copy()
+    fu, fv = intent.frames
+    ru, rv = L.shape[0] // 2, L.shape[1] // 2
+    mu = max(fu.spans + 1, max(t[0] for t in intent.terms) + 2)
+    mv = max(fv.spans + 1, max(t[1] for t in intent.terms) + 2)
+    xs = np.arange(-ru, mu + ru) + fu.offset
+    ys = np.arange(-rv, mv + rv) + fv.offset
+    padded = intent.trend(xs, ys)
+    lim = np.zeros((mu, mv, padded.shape[-1]))
+    for a in range(L.shape[0]):
+        for b in range(L.shape[1]):
+            if L[a, b] != 0.0:
+                lim += L[a, b] * padded[2 * ru - a: 2 * ru - a + mu, 2 * rv - b: 2 * rv - b + mv]
+    from numpy.polynomial import legendre as Lg
+
+    Vx = Lg.legvander(2 * (np.arange(mu) + fu.offset) / fu.spans - 1, max(t[0] for t in intent.terms))
+    Vy = Lg.legvander(2 * (np.arange(mv) + fv.offset) / fv.spans - 1, max(t[1] for t in intent.terms))
+    A = np.stack([Vx[:, a][:, None] * Vy[:, b][None, :] for a, b in intent.terms], axis=-1).reshape(mu * mv, -1)
+    coef, *_ = np.linalg.lstsq(A, lim.reshape(mu * mv, -1), rcond=None)
+    return coef
+
+
+# ---------------------------------------------------------------- the two roads
+def _fine_spectrum(intent: Intent) -> np.ndarray:
+    """The lattice spectrum repeated to the fine grid's half spectrum, scaled by ``K^2``."""
+    fu, fv = intent.frames
+    pu, pv = intent.spectrum.shape[:2]
+    B = fv.K * pv
+    rows = np.arange(fu.K * pu) % pu
+    cols = np.arange(B // 2 + 1) % pv
+    return intent.spectrum[np.ix_(rows, cols)] * (fu.K * fv.K)
+
+
+def predicted_fields(intent: Intent, scheme, reading: str = "net", lateral: bool = True) -> ArtifactFields:
+    """Artifact fields from the scheme's spectral response (the *predicted* road).
+
+    Fine spectrum of the residual's limit surface: ``S(xi) = K^2 T_L(xi) R(xi mod 1)``, ``T_L`` the
+    scheme's transfer to the ``K = 2^L`` grid (SPEC §4), ``R`` the lattice spectrum of the residual's
+    intent; the trend's limit is a polynomial (:func:`trend_image_coef`). Ripple: the limit's bins
+    above 1/2; the surface less its ripple: the base band plus the trend's limit.
+
+    Parameters
+    ----------
+    intent : Intent
+    scheme : Scheme
+    reading : {"net", "surface"}
+    lateral : bool
+        Also the lateral field (one more pair of FFTs); False leaves ``bands["lateral"]`` out, for
+        callers that need the other bands only (the scheme comparison's predicate).
+
+    Returns
+    -------
+    ArtifactFields
+    """
+    if getattr(scheme, "tensor", False) and not any(getattr(scheme, "dual", (False, False))):
+        return _predicted_separable(intent, scheme, reading, lateral)
+    fu, fv = intent.frames
+    B = fv.K * fv.period
+    h = B // 2 + 1
+    T = np.asarray(scheme.transfer(_fine_freqs(fu)[:, None], np.abs(_fine_freqs(fv)[:h])[None, :], fu.levels))
+    limit_spec = _fine_spectrum(intent) * T[:, :, None]
+    poly = _coef_matrix(intent, trend_image_coef(intent, scheme))
+    return _finish(intent, limit_spec, poly, None, "predicted", reading, lateral)
+
+
+#: One direction's synthesis operators per (direction intent, levels, period, scheme, axis): the scheme
+#: comparison builds hundreds of cages of a few sizes per face.
+_SYNTHESES = OperatorCache(256)
+
+
+def _axis_synthesis(intent: Intent, scheme, axis: int):
+    """One direction of a tensor scheme's limit surface: ``(low, high, low_at)`` (cached; read-only).
+
+    ``low``, ``high`` : ``(fine, n)`` samples -> the base band / the ripple band of the limit along this
+    direction on the fine grid; ``low_at(x)`` the base band anywhere. The direction's polynomial goes
+    through the 1-D limit stencil (a polynomial of the same degree, base band); the rest through the
+    lattice spectrum of its Fourier extension times the scheme's 1-D transfer function. They depend on
+    the direction's geometry and the scheme only, never on the points.
+    """
+    frame, ax = intent.frames[axis], intent.axes[axis]
+    key = (ax, frame.levels, frame.period, frame.shift, frame.fine_count, scheme, axis)
+    return _SYNTHESES.get(key, lambda: _build_axis_synthesis(frame, ax, scheme, axis))
+
+
+def _build_axis_synthesis(frame: AxisFrame, ax, scheme, axis: int):
+    K, T, n = frame.K, frame.period, frame.n
+    d = ax.degree
+    st = np.asarray(scheme.limit_stencil, float).sum(axis=1 - axis)
+    if d == 0 or len(st) % 2 == 0:
+        lam = np.eye(d + 1)
+    else:
+        r = len(st) // 2
+        M = max(n, d + 2)
+        J = np.arange(M) + frame.offset
+        pad = _legendre(np.arange(-r, M + r) + frame.offset, frame.spans, d)
+        lim = np.stack([np.convolve(pad[:, k], st, mode="valid") for k in range(d + 1)], axis=1)
+        lam = np.linalg.pinv(_legendre(J, frame.spans, d)) @ lim
+    poly = lambda x: _legendre(x, frame.spans, d) @ lam @ ax.Vp  # noqa: E731
+    X = np.fft.fft(ax.lattice() @ ax.rest, axis=0)  # (T, n)
+    xi = _fine_freqs(frame)
+    zeros = np.zeros_like(xi)
+    T1 = np.asarray(scheme.transfer(xi, zeros, frame.levels) if axis == 0 else scheme.transfer(zeros, xi, frame.levels),
+                    float)
+    spec = np.tile(X, (K, 1)) * (K * T1)[:, None]
+    low_bins = np.abs(xi) < 0.5 - 1e-12
+    idx = (frame.shift + np.arange(frame.fine_count)) % (K * T)
+    low = np.fft.ifft(spec * low_bins[:, None], axis=0).real[idx]
+    high = np.fft.ifft(spec * ~low_bins[:, None], axis=0).real[idx]
+    Xl, fl = spec[low_bins], xi[low_bins]
+
+    def low_at(x):
+        z = np.asarray(x, float) + frame.shift / K
+        ph = 2 * np.pi * np.outer(z, fl)
+        return poly(x) + (np.cos(ph) @ Xl.real - np.sin(ph) @ Xl.imag) / (K * T)
+
+    low = poly(frame.x) + low
+    low.flags.writeable = high.flags.writeable = False  # shared by every net of this size
+    return low, high, low_at
+
+
+def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True) -> ArtifactFields:
+    """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials)."""
+    fu, fv = intent.frames
+    (Lu, Hu, lu), (Lv, Hv, lv) = (_axis_synthesis(intent, scheme, k) for k in (0, 1))
+    P = intent.lifted_points
+    smooth = sandwich(Lu, P, Lv)
+    bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
+    bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
+    if lateral:
+        bands["lateral"] = _lateral_of(bands["total"], fu, fv)
+    return _assemble(intent, bands, smooth, smooth + bands["total"], "predicted", reading,
+                     {"separable": (lu, lv), "points": P})
+
+
+#: The measured road's period, in multiples of the net's points: a longer bridge is a smoother one.
+MEASURED_EXTENSION = 3
+
+
+def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool = True) -> ArtifactFields:
+    """Artifact fields of the real surface (the *measured* road).
+
+    The real surface (:func:`cadartifact.analysis.measure.real_surface`: exact NURBS evaluation of a face,
+    numerical subdivision or the uniform B-spline of a cage) less a polynomial fit is continued past
+    each open border by a degree-7 Hermite bridge (:func:`_bridge`: value and three derivatives
+    continuous, exact for a B-spline's end span) and band-split by FFT (:func:`_bridged_bands`).
+    The net's points never enter the split, so how they sit near a clamped border cannot leak into
+    the ripple; periodic directions wrap, and there the road equals the predicted one to rounding.
+    """
+    from .measure import measurement_road, real_surface
+
+    fu, fv = intent.frames
+    real = real_surface(intent, scheme)
+    if fu.ripple_free and fv.ripple_free and measurement_road(intent.net, scheme)[0] == "face":
+        # nothing along either direction can alias (canonical, Bezier or degree-1 both ways): no ripple at all,
+        # the surface is its own intent (no split needed)
+        return _assemble(intent, {k: np.zeros_like(real) for k in ("x1", "x2", "diagonal", "lateral", "total")},
+                         real, real, "measured", reading, {"evaluate": _surface_of(intent)})
+    wide = tuple(f.with_extension(MEASURED_EXTENSION) for f in (fu, fv))
+    bands, smooth, baseband = _bridged_bands(real, wide, scheme, lateral)
+    return _assemble(intent, bands, smooth, real, "measured", reading, baseband)
+
+
+def _surface_of(intent: Intent):
+    """The face's own surface at analysis coordinates (the intent of a face with no ripple band)."""
+    from ..numerics.splines import evaluate
+
+    fu, fv = intent.frames
+
+    def at(x, y):
+        return from_homogeneous(evaluate(intent.net, fu.param(x), fv.param(y), points=intent.lifted_points,
+                                         homogeneous=intent.homogeneous))
+
+    return at
+
+
+def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> tuple[dict, np.ndarray, dict]:
+    """Bands of a field on the domain, split after a polynomial fit and a smooth periodic bridge.
+
+    A tensor Legendre polynomial (:func:`_poly_fit`) is fitted and kept out of the split; the rest is
+    continued past each open border by :func:`_bridge` and band-split by FFT.
+
+    Returns
+    -------
+    (bands, smooth, baseband) : (dict, (a, b, 3) float, dict)
+        The ripple bands (``signal_error`` zero), the smooth part (base band plus polynomial), and
+        the smooth part in the form :func:`baseband_at` evaluates anywhere.
+    """
+    fu, fv = frames
+    own = scheme.degrees or (int(scheme.reproduction_degree),) * 2
+    V, poly = _poly_fit(field, frames, own)
+    rest = field - sandwich(V[0], poly, V[1])
+    ext = _bridge(_bridge(rest, fu, 0, own[0]), fv, 1, own[1])
+    ext = np.roll(ext, (fu.shift, fv.shift), axis=(0, 1))  # x = 0 at fine index `shift`
+    spec = np.fft.rfft2(ext, axes=(0, 1))
+    bands = band_split(spec, fu, fv, lateral=False)
+    # the lateral weights are not a band: they would weigh what the continuation leaves far outside the
+    # face; weigh the face's own ripple instead, extended by even reflection (it has no smooth part)
+    if lateral:
+        bands["lateral"] = _lateral_of(bands["total"], fu, fv)
+    smooth = bands["signal_error"] + sandwich(V[0], poly, V[1])
+    bands["signal_error"] = np.zeros_like(smooth)
+    return bands, smooth, _baseband(spec, fu, fv, poly)
+
+
+def _lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
+    """The lateral part of a domain ripple field (SPEC §3 weights per alias band), by one 2-D FFT of its
+    even-reflection (open) or periodic extension."""
+    ext = ripple
+    for axis, frame in enumerate((fu, fv)):
+        if not frame.periodic and ext.shape[axis] > 2:
+            inner = np.take(ext, np.arange(ext.shape[axis] - 2, 0, -1), axis=axis)
+            ext = np.concatenate([ext, inner], axis=axis)
+    A, B = ext.shape[:2]
+    w = _band_masks(np.fft.fftfreq(A, d=1.0 / fu.K), np.fft.rfftfreq(B, d=1.0 / fv.K), _one_piece(fu, fv))["lateral"]
+    out = np.fft.irfft2(np.fft.rfft2(ext, axes=(0, 1)) * w[:, :, None], s=(A, B), axes=(0, 1))
+    return out[: ripple.shape[0], : ripple.shape[1]]
+
+
+def _poly_fit(field: np.ndarray, frames, degrees) -> tuple[list, np.ndarray]:
+    """Least-squares tensor Legendre fit of a fine-grid field: ``(V, coefficients)``.
+
+    Degree per open direction: the scheme's (polynomials it reproduces are intent by definition),
+    or up to half the spans (at most 6: well below 1/2 cycle per span); 0 when periodic.
+    """
+    degrees = degrees or (3, 3)
+    degs = [0 if f.periodic else int(min(f.n - 1, max(d, min(f.spans // 2, 6)))) for f, d in zip(frames, degrees)]
+    V = [_legendre(f.x, f.spans, d) for f, d in zip(frames, degs)]
+    return V, sandwich(np.linalg.pinv(V[0]), field, np.linalg.pinv(V[1]))
+
+
+def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.ndarray:
+    """A domain field extended to one period: wrapped (periodic), or bridged across the gap from its
+    end back to its start by a degree-7 Hermite polynomial matching value and first three derivatives
+    at both borders.
+
+    The derivatives come from a least-squares polynomial of degree ``min(degree, K, 5)`` over the
+    first (last) span's ``K + 1`` samples: exact for a B-spline face of that degree, whose end span
+    is one polynomial piece. The extension is then as smooth at the border as the surface is
+    inside, so the split sees no border beyond the surface's own knots.
+    """
+    if frame.periodic:
+        return a
+    m, N, K = a.shape[axis], frame.K * frame.period, frame.K
+    G = N - m
+    a0 = np.moveaxis(a, axis, 0)
+    flat = a0.reshape(m, -1)
+    w = min(m, K + 1)
+    d = int(min(max(degree, 3), w - 1, 5))
+    s_ = np.arange(w, dtype=float)
+    fact = np.array([1.0, 1.0, 2.0, 6.0, 24.0, 120.0])[: d + 1]
+    Vq = s_[:, None] ** np.arange(d + 1)[None, :] / fact[None, :]  # Taylor basis at s = 0
+    Pq = np.linalg.pinv(Vq)[:4]  # value and derivatives 1..3 (per fine step)
+    if Pq.shape[0] < 4:
+        Pq = np.vstack([Pq, np.zeros((4 - Pq.shape[0], w))])
+    start = Pq @ flat[:w]
+    end = Pq @ flat[::-1][:w]
+    end[1] *= -1.0  # odd derivatives along +index at the end
+    end[3] *= -1.0
+    Lg = float(G + 1)
+    t = np.arange(1, G + 1, dtype=float) / Lg
+    H = _septic_hermite(t)  # (8, G)
+    scale = Lg ** np.arange(4)
+    coeffs = np.concatenate([end * scale[:, None], start * scale[:, None]], axis=0)  # (8, cols)
+    gap = H.T @ coeffs
+    out = np.concatenate([flat, gap], axis=0).reshape((N,) + a0.shape[1:])
+    return np.moveaxis(out, 0, axis)
+
+
+_SEPTIC = None
+
+
+def _septic_hermite(t: np.ndarray) -> np.ndarray:
+    """``(8, len(t))``: degree-7 Hermite basis on [0, 1]: value and derivatives 1-3 at 0, then at 1."""
+    global _SEPTIC
+    if _SEPTIC is None:
+        from math import factorial
+
+        rows = []
+        for at in (0.0, 1.0):
+            for k in range(4):
+                rows.append([0.0 if j < k else factorial(j) / factorial(j - k) * at ** (j - k) for j in range(8)])
+        _SEPTIC = np.linalg.inv(np.array(rows))  # monomial coefficients: column c is basis function c
+    T = t[None, :] ** np.arange(8)[:, None]  # (8, G)
+    return _SEPTIC.T @ T
+
+
+def _from_lifted(bands: dict, smooth: np.ndarray, surface: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
+    """Homogeneous fields -> the surface (SPEC §4): the smooth part and the surface projected, each band
+    by the first-order projection about the smooth part, ``dS = (dH_xyz - S dH_w) / H_w``."""
+    w = smooth[..., 3:4]
+    S = smooth[..., :3] / w
+    return ({k: (v[..., :3] - S * v[..., 3:4]) / w for k, v in bands.items()}, S, from_homogeneous(surface))
+
+
+def _assemble(intent: Intent, bands: dict, smooth: np.ndarray, surface, method, reading, baseband) -> ArtifactFields:
+    check_option("intent", reading, READINGS)
+    fu, fv = intent.frames
+    if smooth.shape[-1] == 4:
+        bands, smooth, surface = _from_lifted(bands, smooth, surface)
+        if baseband is not None:
+            baseband["homogeneous"] = True
+    if reading == "surface":
+        bands["signal_error"] = np.zeros_like(smooth)
+        intent_out = smooth
+    else:
+        intent_out = intent.evaluate()
+        bands["signal_error"] = smooth - intent_out
+        baseband = None
+    return ArtifactFields(x=fu.x, y=fv.x, surface=surface, intent=intent_out, bands=bands, method=method,
+                          levels=fu.levels, reading=reading, baseband=baseband)
+
+
+def _finish(intent: Intent, spec, poly, surface, method: str, reading: str, lateral: bool = True) -> ArtifactFields:
+    """Fields from the half spectrum of a surface's non-polynomial part and its polynomial part."""
+    fu, fv = intent.frames
+    bands = band_split(spec, fu, fv, lateral=lateral)
+    smooth = bands["signal_error"] + sandwich(_legendre(fu.x, fu.spans, poly.shape[0] - 1), poly,
+                                              _legendre(fv.x, fv.spans, poly.shape[1] - 1))
+    if surface is None:
+        surface = smooth + bands["total"]
+    return _assemble(intent, bands, smooth, surface, method, reading, _baseband(spec, fu, fv, poly))
+
+
+def artifact_fields(intent: Intent, scheme, method: str = "predicted", reading: str = "surface",
+                    lateral: bool = True) -> ArtifactFields:
+    """:func:`predicted_fields` or :func:`measured_fields` by name (``lateral``: see there)."""
+    check_option("method", method, ("predicted", "measured"))
+    return (predicted_fields if method == "predicted" else measured_fields)(intent, scheme, reading, lateral)
+
+
+# ---------------------------------------------------------------- scalars
+def project(vec: np.ndarray, normal: np.ndarray | None, component: str) -> np.ndarray:
+    """Reduce a vector field ``(a, b, 3)`` to the reported scalar: signed normal part or Euclidean norm."""
+    check_option("component", component, COMPONENTS)
+    x, y, z = vec[..., 0], vec[..., 1], vec[..., 2]
+    if component == "vector" or normal is None:
+        return np.sqrt(x * x + y * y + z * z)
+    dot = x * normal[..., 0] + y * normal[..., 1] + z * normal[..., 2]
+    has = (normal[..., 0] != 0.0) | (normal[..., 1] != 0.0) | (normal[..., 2] != 0.0)
+    if has.all():
+        return dot
+    # where the intent has no normal (collapsed edge, pole) the whole displacement counts
+    return np.where(has, dot, np.sqrt(x * x + y * y + z * z))
+
+
+def intent_normals(intent_fine: np.ndarray, K: float = 1.0, spacing: tuple[float, float] | None = None) -> np.ndarray:
+    """Unit normals ``(a, b, 3)`` of a surface sampled on a grid (zeros where degenerate).
+
+    ``n = du x dv / |du x dv|`` with central differences (``numpy.gradient``; grid spacing
+    ``1/K`` or ``spacing``); points where ``|du x dv| <= 1e-9 |du| |dv|`` (a collapsed edge or
+    pole) get ``0``.
+    """
+    su, sv = spacing if spacing is not None else (1.0 / K, 1.0 / K)
+    du = np.gradient(intent_fine, su, axis=0) if intent_fine.shape[0] > 1 else np.zeros_like(intent_fine)
+    dv = np.gradient(intent_fine, sv, axis=1) if intent_fine.shape[1] > 1 else np.zeros_like(intent_fine)
+    n = np.cross(du, dv)
+    norm = np.linalg.norm(n, axis=-1)
+    scale = np.linalg.norm(du, axis=-1) * np.linalg.norm(dv, axis=-1)
+    ok = norm > 1e-9 * np.maximum(scale, 1e-300)
+    return np.where(ok[..., None], n / np.where(ok, norm, 1.0)[..., None], 0.0)

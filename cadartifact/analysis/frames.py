@@ -1,0 +1,191 @@
+"""Analysis coordinates of one direction of a control net (SPEC §1, §4).
+
+Each direction of a net is analysed in *span units*: the coordinate ``x`` is affine in the
+face's parameter, ``x = (u - u0) / h`` with ``h`` the mean knot span, so one control spacing of
+a uniform net is one unit and frequencies are in cycles per control point. On the interior of a
+uniform net this is the Greville index space shifted by a constant; unlike the piecewise-linear
+Greville map it has no kinks near clamped ends, so a smooth shape stays smooth (and a polynomial
+a polynomial) in analysis coordinates.
+
+The uniform theory works on the *lattice* ``x = j + offset`` (``j`` integer): the Greville
+abscissae of the interior control points of a uniform B-spline. The spectral road extends every
+direction to a period of ``T`` lattice points: ``T = n`` for a periodic direction, ``T = 2 L``
+for an open one (the intent is continued smoothly past the net, see :mod:`cadartifact.analysis.intent`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import OptionError
+from ..net import ControlNet, bezier_direction, greville, lifted
+
+__all__ = ["AxisFrame", "axis_frames", "fine_positions"]
+
+
+@dataclass(frozen=True, eq=False)
+class AxisFrame:
+    """One direction of the analysis grid.
+
+    Attributes
+    ----------
+    n : int
+        Control points.
+    periodic : bool
+    spans : int
+        Domain length ``L`` in span units: ``x`` runs over ``[0, L]`` (open) or ``[0, L)`` (periodic,
+        ``L = n``).
+    offset : float
+        Lattice offset: the uniform theory's control points sit at ``x = j + offset``.
+    xs : (n,) float
+        Where each control point sits in ``x`` (its Greville abscissa).
+    levels : int
+        ``K = 2**levels`` fine samples per span.
+    u0, h : float
+        Parameter of ``x = 0`` and of one span: ``u = u0 + h x`` (cages: ``u0 = 0, h = 1``).
+    extension : int
+        Open directions: period of the extended data in multiples of the spans.
+    exact : bool
+        The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
+    polynomial : bool
+        Nothing along this direction can alias: the surface is one polynomial along it (each row's
+        ``(w P, w)``: every interior knot removable, as after knot insertion into a Bezier direction),
+        or every span is a piece of its own (every knot a junction: degree 1, piecewise Bezier).
+    """
+
+    n: int
+    periodic: bool
+    spans: int
+    offset: float
+    xs: np.ndarray
+    levels: int
+    u0: float = 0.0
+    h: float = 1.0
+    extension: int = 2
+    exact: bool = False
+    polynomial: bool = False
+
+    @property
+    def ripple_free(self) -> bool:
+        """Whether nothing along this direction can alias: exact (line, circle) or one polynomial piece
+        (an open direction of a single span, or whose knots are all removable: a Bezier direction has no
+        knot structure, however it is written)."""
+        return self.exact or self.polynomial or (not self.periodic and self.spans <= 1)
+
+    @property
+    def K(self) -> int:
+        return 2 ** self.levels
+
+    @property
+    def period(self) -> int:
+        """Lattice points in one period of the extended data: ``n`` periodic, ``extension * L`` open
+        (at least ``n + 4``: room for every point and a gap)."""
+        return self.spans if self.periodic else max(self.extension * self.spans, self.n + 4)
+
+    @property
+    def fine_count(self) -> int:
+        """Fine samples over the domain (``K L`` periodic, ``K L + 1`` open)."""
+        return self.K * self.spans + (0 if self.periodic else 1)
+
+    @property
+    def x(self) -> np.ndarray:
+        """Analysis coordinates of the fine samples, ``(fine_count,)``."""
+        return np.arange(self.fine_count) / self.K
+
+    @property
+    def shift(self) -> int:
+        """Fine index of ``x = 0`` on the lattice-aligned periodic fine grid (``z = x - offset = k / K``)."""
+        return int(round(-self.offset * self.K)) % (self.K * self.period)
+
+    def param(self, x: np.ndarray) -> np.ndarray:
+        """Face parameters of analysis coordinates."""
+        return self.u0 + self.h * np.asarray(x, float)
+
+    def with_extension(self, extension: int) -> "AxisFrame":
+        """The same frame with a longer period of extended data (``extension * n`` lattice points)."""
+        return dataclasses.replace(self, extension=extension)
+
+
+def fine_positions(frame: AxisFrame, count: int) -> np.ndarray:
+    """``count`` evenly spaced analysis coordinates covering the domain (periodic: without the end)."""
+    if frame.periodic:
+        return np.arange(count) * (frame.spans / count)
+    return np.linspace(0.0, float(frame.spans), count)
+
+
+def _axis(net: ControlNet, axis: int, levels: int) -> AxisFrame:
+    n, per = net.shape[axis], net.periodic[axis]
+    if net.knots is None:  # a cage: control point i at x = i
+        spans = n if per else n - 1
+        return AxisFrame(n, per, max(spans, 1), 0.0, np.arange(n, dtype=float), levels)
+    p, t = net.degrees[axis], np.asarray(net.knots[axis], float)
+    lo, hi = float(t[p]), float(t[len(t) - p - 1])
+    if per:
+        from ..numerics.splines import periodic_greville
+
+        h = (hi - lo) / n
+        g = periodic_greville(t, p, n)
+        xs = (g - lo) / h
+        # the lattice through the poles (uniform periodic knots: exactly j + offset)
+        offset = float(np.mod(np.median(xs - np.arange(n)), 1.0))
+        return AxisFrame(n, True, n, offset, xs, levels, lo, h)
+    spans = n - p
+    h = (hi - lo) / spans
+    xs = (greville(t, p, n) - lo) / h
+    return AxisFrame(n, False, spans, float(((p - 1) / 2) % 1.0), xs, levels, lo, h)
+
+
+def axis_frames(net: ControlNet, levels: int = 3) -> tuple[AxisFrame, AxisFrame]:
+    """The two :class:`AxisFrame` of a net.
+
+    Parameters
+    ----------
+    net : ControlNet
+    levels : int
+        ``K = 2**levels`` fine samples per span (1 to 6).
+    """
+    if not isinstance(levels, (int, np.integer)) or levels < 1 or levels > 6:
+        raise OptionError("levels", "an integer from 1 to 6 (K = 2..64)", levels)
+    frames = [_axis(net, 0, int(levels)), _axis(net, 1, int(levels))]
+    for k in (0, 1):
+        if net.exact[k] is not None:
+            frames[k] = dataclasses.replace(frames[k], exact=True)
+        elif net.knots is not None and bezier_direction(net.knots[k], net.degrees[k], net.shape[k], net.periodic[k]):
+            frames[k] = dataclasses.replace(frames[k], polynomial=True)
+        elif not frames[k].periodic and frames[k].spans > 1 and one_polynomial(net, k):
+            frames[k] = dataclasses.replace(frames[k], polynomial=True)
+    return tuple(frames)
+
+
+#: Relative residual (of the net's size) below which a direction is one polynomial.
+POLYNOMIAL_RTOL = 1e-9
+
+
+def one_polynomial(net: ControlNet, axis: int) -> bool:
+    """Whether an open B-spline direction is one polynomial of its degree (all interior knots removable).
+
+    The homogeneous surface ``(w S, w)`` on ``4 (p + 1)`` parameters along the direction and on the
+    other direction's Greville abscissae is fitted by one Legendre polynomial of degree ``p``; the
+    direction is one polynomial when the residual is below :data:`POLYNOMIAL_RTOL` of the net's size.
+    """
+    if net.knots is None or net.periodic[axis]:
+        return False
+    from numpy.polynomial import legendre as L
+
+    from ..numerics.splines import basis_matrix
+
+    p, t, n = net.degrees[axis], np.asarray(net.knots[axis], float), net.shape[axis]
+    lo, hi = float(t[p]), float(t[n])
+    if hi <= lo:
+        return False
+    s = np.linspace(lo, hi, 4 * (p + 1))
+    B = basis_matrix(t, p, s, n, False)  # (m, n)
+    P = np.moveaxis(lifted(net), axis, 0).reshape(n, -1)
+    rows = B @ P  # the surface along the direction, at every pole of the other one (it is linear in them)
+    V = L.legvander(2 * (s - lo) / (hi - lo) - 1, p)
+    resid = rows - V @ np.linalg.lstsq(V, rows, rcond=None)[0]
+    size = float(np.ptp(net.points.reshape(-1, 3), axis=0).max())
+    return bool(np.abs(resid).max() <= POLYNOMIAL_RTOL * max(size, 1e-300) * max(1.0, float(np.abs(P).max()) / size))

@@ -1,0 +1,5 @@
+"""``python -m cadartifact.cli``: the console script."""
+
+from . import main
+
+main()

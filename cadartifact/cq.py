@@ -1,0 +1,221 @@
+"""The CadQuery hook: check a model's B-spline faces for control-net ripple while it is built.
+
+Reachable as ``cadartifact.cq`` (loaded on first use; ``import cadartifact`` does not import
+cadquery)::
+
+    import cadquery as cq
+    import cadartifact
+
+    part = (cq.Workplane().parametricSurface(wavy)
+              .invoke(cadartifact.cq.check(tol=0.05))       # raises ArtifactToleranceError
+              .faces(">Z"))                                  # ... or chain on
+    rows = cadartifact.cq.report(part, tol=0.05)            # per-face budgets and advice
+
+``check`` returns a one-argument function, which is what ``Workplane.invoke`` (cadquery 2.x)
+calls with the workplane; it returns the workplane itself so the chain goes on unchanged.
+Faces are read from the shapes in memory (:func:`cadartifact.exchange.from_shape`), no file
+round trip. Only B-spline and Bezier faces are analysed; analytic faces (planes, cylinders...)
+carry no control net and pass.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+from .errors import ArtifactToleranceError, OptionError, check_option
+
+__all__ = ["ArtifactToleranceWarning", "MODES", "check", "report", "register"]
+
+#: What :func:`check` does when a face exceeds the tolerance.
+MODES = ("raise", "warn")
+
+_METRICS = ("peak", "rms")
+_DIRECTIONS = ("x1", "x2", "diagonal", "lateral")
+
+
+class ArtifactToleranceWarning(UserWarning):
+    """Issued by ``check(mode="warn")`` when a face's artifact exceeds the tolerance."""
+
+
+def _tolerance(tol) -> float:
+    from .analysis.budget import check_tolerance
+
+    return check_tolerance(tol, "tol")
+
+
+def _nets(obj, convert: bool, name):
+    """Control nets of a workplane/shape; a shape with no analysable face gives [] quietly."""
+    from .exchange.load import LoadWarning, from_shape
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", LoadWarning)
+        nets = from_shape(obj, convert=convert, name=name)
+    for w in caught:  # keep the readers' warnings about degenerate faces; a box simply has none
+        if not (issubclass(w.category, LoadWarning) and "no analysable" in str(w.message)):
+            warnings.warn(w.message, w.category, stacklevel=3)
+    return nets
+
+
+def _record(net, b, include_signal_error: bool) -> dict:
+    """A face entry shaped as :func:`cadartifact.runs.records.face_record`, from a budget (no advice yet)."""
+    from .runs.records import budget_record
+
+    return budget_record(net, b, include_signal_error)
+
+
+def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak", scheme=None,
+           include_signal_error: bool = False, compare: bool = False, verify: bool = False,
+           convert: bool = False, name: str | None = None, intent: str = "surface") -> list[dict]:
+    """Per-face artifact budgets (and density advice when a tolerance is given) of a CadQuery model.
+
+    Parameters
+    ----------
+    shape_or_workplane : cadquery.Workplane, cadquery.Shape or OCP TopoDS_Shape
+    tol : float, optional
+        Tolerance in model units (mm). With it each face gets shares, a verdict and advice.
+    metric : {"peak", "rms"}
+    scheme : str or Scheme, optional
+        Default: each face's own B-spline degrees.
+    include_signal_error : bool
+        Let the tolerance cover the whole deviation from intent, not only the ripple.
+    intent : {"surface", "net"}
+        The reading of the design intent (SPEC §4): the surface less its ripple, or the shape the
+        control points sample.
+    compare, verify : bool
+        As :func:`cadartifact.advise` (off by default: the hook runs inside a modelling script).
+    convert : bool
+        Also analyse revolution/extrusion/offset faces converted to B-splines.
+    name : str, optional
+        Label used as the file name in each face's origin.
+
+    Returns
+    -------
+    list of dict
+        One entry per analysable face, in face order, with the keys of a face of the advise
+        document (:mod:`cadartifact.runs.records`): ``face, name, kind, net, degrees, rational, scheme,
+        method, reason, budget {direction: {peak, rms}}, share, meets_tolerance, advice``.
+        Without ``tol``: ``share``, ``meets_tolerance`` and ``advice`` are None.
+    """
+    from .advice.advise import advise
+    from .analysis.budget import budget
+    from .runs.records import face_record
+
+    check_option("metric", metric, _METRICS)
+    check_option("intent", intent, ("surface", "net"))
+    t = None if tol is None else _tolerance(tol)
+    rows = []
+    for net in _nets(shape_or_workplane, convert, name):
+        if t is None:
+            rows.append(_record(net, budget(net, scheme, metric=metric, intent=intent), include_signal_error))
+        else:
+            adv = advise(net, t, scheme, metric=metric, intent=intent, include_signal_error=include_signal_error,
+                         compare=compare, verify=verify)
+            rows.append(face_record(net, adv))
+    return rows
+
+
+def _describe(row: dict, metric: str, t: float, include_signal_error: bool, units: str = "mm") -> str:
+    key = "deviation" if include_signal_error else "total"
+    what = "deviation" if include_signal_error else "ripple"
+    label = f"face {row['face']}" + (f" ({row['name']})" if row["name"] else "")
+    parts = ", ".join(f"{d} {row['budget'][d][metric]:.4g}" for d in _DIRECTIONS)
+    text = (f"{label}: {what} {metric} {row['budget'][key][metric]:.4g} {units} exceeds tolerance {t:g} {units} "
+            f"({parts}; net {row['net'][0]}x{row['net'][1]}, {row['scheme']}, {row['method']})")
+    adv = row.get("advice")
+    if adv:
+        text += f"; advised net {adv['net'][0]}x{adv['net'][1]}"
+        if list(adv["net"]) == list(row["net"]) and adv["meets_tolerance"]:
+            text += " (same density: resample the intent with uniform knots)"
+        if not adv["meets_tolerance"]:
+            text += " (tolerance out of reach up to the search limit)"
+    return text
+
+
+def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", scheme=None,
+          include_signal_error: bool = False, convert: bool = False, intent: str = "surface"):
+    """A function for ``Workplane.invoke`` that checks every B-spline face against a tolerance.
+
+    Parameters
+    ----------
+    tol : float
+        Tolerance in model units (mm), compared with each face's ripple (SPEC §4 budget) under
+        ``metric``.
+    mode : {"raise", "warn"}
+        ``raise``: :class:`~cadartifact.errors.ArtifactToleranceError` naming the worst face;
+        ``warn``: :class:`ArtifactToleranceWarning` with the same message, and the chain goes on.
+    metric : {"peak", "rms"}
+    scheme : str or Scheme, optional
+        Default: each face's own B-spline degrees.
+    include_signal_error : bool
+        Compare the whole deviation from intent instead of the ripple.
+    intent : {"surface", "net"}
+        As :func:`report`.
+    convert : bool
+        Also analyse revolution/extrusion/offset faces converted to B-splines.
+
+    Returns
+    -------
+    callable(workplane) -> workplane
+        Returns the same workplane object. The error carries ``.faces`` (the rows of
+        :func:`report` for the faces that exceed, worst first, the worst one with ``advice``).
+
+    Examples
+    --------
+    >>> wp.invoke(cadartifact.cq.check(tol=0.05, mode="warn"))      # doctest: +SKIP
+    """
+    t = _tolerance(tol)
+    check_option("mode", mode, MODES)
+    check_option("metric", metric, _METRICS)
+    check_option("intent", intent, ("surface", "net"))
+    if scheme is not None:
+        from .theory.catalogue import scheme as get_scheme
+
+        scheme = get_scheme(scheme)  # a bad name fails when the check is built, not mid-model
+
+    # Workplane.invoke reads the arity from __code__, so this must be a plain one-argument function.
+    def artifact_check(workplane):
+        from .advice.advise import advise
+        from .analysis.budget import budget
+
+        key = "deviation" if include_signal_error else "total"
+        rows = []
+        for net in _nets(workplane, convert, None):
+            b = budget(net, scheme, t, metric=metric, intent=intent)
+            if not b.meets(include_signal_error):
+                rows.append((b.stats[key].get(metric), net, _record(net, b, include_signal_error)))
+        if not rows:
+            return workplane
+        rows.sort(key=lambda r: -r[0])
+        _, worst_net, worst = rows[0]
+        adv = advise(worst_net, t, scheme, metric=metric, intent=intent, include_signal_error=include_signal_error,
+                     compare=False, verify=False)
+        worst["advice"] = adv.to_dict()
+        message = _describe(worst, metric, t, include_signal_error, worst_net.unit)
+        if len(rows) > 1:
+            message = f"{len(rows)} faces exceed the tolerance; worst {message}"
+        if mode == "raise":
+            exc = ArtifactToleranceError(message)
+            exc.faces = [r[2] for r in rows]
+            raise exc
+        warnings.warn(message, ArtifactToleranceWarning, stacklevel=3)
+        return workplane
+
+    artifact_check.__doc__ = f"cadartifact check: tolerance {t:g}, {metric}, mode {mode}"
+    return artifact_check
+
+
+def _artifact_check(self, tol: float = 0.05, **options):
+    """Check this workplane's B-spline faces for control-net ripple (see ``cadartifact.cq.check``)."""
+    return self.invoke(check(tol, **options))
+
+
+def register() -> None:
+    """Add ``cq.Workplane.artifactCheck(tol=0.05, **options)`` (idempotent).
+
+    ``wp.artifactCheck(0.05, mode="warn")`` is ``wp.invoke(check(0.05, mode="warn"))``.
+    """
+    from .dependencies import require
+
+    cq = require("cadquery", "the CadQuery hook")
+    if getattr(cq.Workplane, "artifactCheck", None) is not _artifact_check:
+        cq.Workplane.artifactCheck = _artifact_check

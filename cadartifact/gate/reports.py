@@ -1,0 +1,410 @@
+"""Report writers of the quality gate: text (rich), JSON, JUnit XML and SARIF 2.1.0.
+
+Every writer takes the gate document (:func:`cadartifact.gate.run.build_document`) and returns text;
+:func:`write_atomic` puts it in a file so that no partial report is ever left behind (temporary
+file in the same folder, then ``os.replace``).
+
+What goes where:
+
+- JUnit: one ``<testsuite>`` per file, one ``<testcase>`` per face named ``"<file>#<face> <name>"``;
+  ``fail`` is a ``<failure>`` carrying the numbers, ``warn`` passes with a ``verdict`` property and
+  a ``<system-out>`` line, a file that could not be read is a testcase with an ``<error>``, a file
+  without analysable face a ``<skipped>`` testcase.
+- SARIF: one result per finding (``fail`` CA001 error, ``warn`` CA002 warning, unreadable file
+  CA003 error, no analysable face CA004 note, OBJ cage analysed below ``min_analysed_share`` CA005
+  error); passing faces are not findings. Locations are the file (URI relative to the working
+  directory) at the line where the face's STEP entity (``#id = ADVANCED_FACE``) is defined (line 1
+  for OBJ and files without one), and the face (with its ``#id``) as a logical location; the
+  properties carry the entity, its line and the peak's ``uv`` and ``xyz`` (``peak_at``);
+  ``partialFingerprints`` keep alerts stable across runs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import tempfile
+from pathlib import Path
+from urllib.parse import quote
+
+from ..errors import InputError
+from ..runs.face_instances import NOTE as REPEAT_NOTE
+from ..runs.records import plural, unit_name
+
+__all__ = ["FORMATS", "RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit", "to_sarif",
+           "write_atomic", "face_label"]
+
+FORMATS = ("text", "json", "junit", "sarif")
+
+SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
+
+#: SARIF rules: id, name, default level, short description.
+RULES = (
+    ("CA001", "ripple-exceeds-tolerance", "error",
+     "A face's control-net ripple (artifact) exceeds the tolerance"),
+    ("CA002", "ripple-near-tolerance", "warning",
+     "A face's ripple is within the tolerance but above the warn fraction of it, or has non-uniform "
+     "knots and is capped at warn by policy (measured = 'warn')"),
+    ("CA003", "unreadable-file", "error",
+     "A file could not be read or analysed; the gate fails closed"),
+    ("CA004", "no-analysable-face", "note",
+     "A file has no B-spline face or quad chart to analyse"),
+    ("CA005", "analysed-share-too-small", "error",
+     "An OBJ cage's analysed charts cover less of its area than the policy's min_analysed_share"),
+)
+
+_COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red"}
+_DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total")
+
+
+def face_label(path: str, face: dict) -> str:
+    """``"<file>#<face> <name>"`` (no trailing name when the face has none)."""
+    return f"{path}#{face['face']}" + (f" {face['name']}" if face.get("name") else "")
+
+
+def _net(shape) -> str:
+    return "x".join(str(n) for n in shape)
+
+
+def _advice_text(face: dict) -> str:
+    adv = face["advice"]
+    if adv is None:  # gate --advise: the verdict needs today's budget only
+        return f"advice {face.get('advice_skipped') or 'not computed'}"
+    if not adv["meets_tolerance"]:
+        return f"no density up to {_net(adv['net'])} meets the tolerance"
+    ver = adv.get("verification")
+    how = "" if ver is None else " (verified on the real surface)" if ver.get("meets") else " (verification failed)"
+    return f"advised net {_net(adv['net'])} ({adv['points']} points){how}"
+
+
+def _num(x) -> str:
+    return "n/a" if x is None else f"{x:.4g}"
+
+
+def where_text(face: dict, units: str) -> str:
+    """``"STEP #17 (line 28); peak at uv (1, 0.9333), xyz (1000, 11.63, 19.87) mm"``, or ``""``."""
+    parts = []
+    if face.get("entity") is not None:
+        parts.append(f"STEP #{face['entity']}" + (f" (line {face['entity_line']})" if face.get("entity_line") else ""))
+    peak = face.get("peak_at")
+    if peak:
+        at = f"uv ({', '.join(_num(t) for t in peak['uv'])}), " if peak.get("uv") else ""
+        parts.append(f"peak at {at}xyz ({', '.join(_num(c) for c in peak['xyz'])}) {units}")
+    return "; ".join(parts)
+
+
+def face_numbers(doc: dict, entry: dict, face: dict) -> str:
+    """One line with the numbers of a face: value against tolerance, per-direction peaks, advice."""
+    pol = entry["policy"]
+    units = file_units(doc, entry)
+    peaks = ", ".join(f"{k} {_num(face['budget'][k]['peak'])}" for k in _DIRECTIONS[:4])
+    where = where_text(face, units)
+    what = f"canonical {face['canonical']}; " if face.get("canonical") else ""
+    return (f"{what}{face['verdict_reason']}; peaks {peaks} {units}; net {_net(face['net'])}, "
+            f"scheme {face['scheme']}, {face['method']}; {_advice_text(face)}; metric {pol['metric']}, "
+            f"warn at {pol['warn_fraction']:g} of tolerance" + (f"; {where}" if where else ""))
+
+
+# ---------------------------------------------------------------- text
+def _advised_cell(adv: dict | None) -> str:
+    if adv is None:  # skipped (gate --advise): the reason is in the JSON's advice_skipped
+        return "-"
+    return _net(adv["net"]) if adv["meets_tolerance"] else "out of reach"
+
+
+def _share(x) -> str:
+    return "" if x is None else f"{100 * x:.0f}%"
+
+
+def file_units(doc: dict, entry: dict) -> str:
+    """The unit of one file (never another file's: an OBJ beside STEP files stays in model units)."""
+    return unit_name(entry.get("units") if entry.get("units") else (doc["units"] if entry.get("faces") else None))
+
+
+def render_text(doc: dict, console, wide: bool | None = None) -> None:
+    """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary.
+
+    ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
+    the narrow layout (80 columns) shows face, net, value, its share, the worst direction, advised net
+    and verdict, with scheme and method under the table; no cell is cut or wraps inside a number.
+    """
+    from rich.table import Table
+
+    from ..runs.terminal import WIDE_COLUMNS, canonical_lines, face_cell, worst_direction
+
+    if wide is None:
+        wide = console.width >= WIDE_COLUMNS
+    for entry in doc["files"]:
+        v = entry["verdict"]
+        if v == "error":
+            console.print(f"[{_COLOURS[v]}]ERROR[/] {entry['error']}", soft_wrap=True)
+            continue
+        pol = entry["policy"]
+        units = file_units(doc, entry)
+        title = (f"{entry['path']}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} {units}, "
+                 f"{pol['metric']}, warn at {pol['warn_fraction']:g})")
+        if entry["faces"]:
+            table = Table(title=title, title_justify="left", header_style="bold")
+            cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised", "verdict")
+                    if wide else ("face", "net", "value", "share", "worst", "advised", "verdict"))
+            for col in cols:
+                # only the face label may fold; numbers never wrap or shrink
+                table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
+            for f in entry["faces"]:
+                sh = f["share"]
+                advised = _advised_cell(f["advice"])
+                verdict = f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]"
+                if wide:
+                    table.add_row(face_cell(f), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
+                                  _share(sh["x2"]), _share(sh["diagonal"]), _share(sh["lateral"]),
+                                  f"{f['value']:.4g}", advised, verdict)
+                else:
+                    key = "deviation" if pol["include_signal_error"] else "total"
+                    table.add_row(face_cell(f), _net(f["net"]), f"{f['value']:.4g}", _share(sh[key]),
+                                  worst_direction(sh), advised, verdict)
+            console.print(table)
+            if not wide:
+                schemes = ", ".join(sorted({f["scheme"] for f in entry["faces"]}))
+                methods = ", ".join(sorted({f["method"] for f in entry["faces"]}))
+                console.print(f"  values in {units}; scheme {schemes}; {methods}", soft_wrap=True)
+        else:
+            console.print(title)
+        for line in canonical_lines(entry["faces"]):  # no ripple along their exact directions
+            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+        for f in entry["faces"]:
+            if f["verdict"] != "pass":
+                where = where_text(f, units)
+                what = f" ({f['canonical']})" if f.get("canonical") else ""
+                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
+                              + (f"; {where}" if where else ""), soft_wrap=True)
+        repeats = 0
+        for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
+            for note in f.get("notes") or []:
+                if note.startswith(REPEAT_NOTE):  # not a judgement: counted below
+                    repeats += 1
+                    continue
+                console.print(f"  note: {face_label(entry['path'], f)}: {note}", soft_wrap=True, markup=False,
+                              highlight=False)
+        if repeats:
+            verb, whose = ("repeats", "its") if repeats == 1 else ("repeat", "their")
+            console.print(f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
+                          "is reused (the JSON report names the face)", soft_wrap=True)
+        if entry.get("share_failure"):
+            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)
+        for note in entry["notes"] + entry["warnings"]:
+            console.print(f"  note: {note}", soft_wrap=True)
+    console.print(summary_line(doc))
+
+
+def summary_line(doc: dict) -> str:
+    """``gate FAIL: 3 file(s), 10 face(s): 7 pass, 2 warn, 1 fail; 1 file(s) unreadable (exit 1)``."""
+    s = doc["summary"]
+    faces = s["verdicts"]["faces"]
+    v = doc["verdict"]
+    text = (f"[bold]gate [{_COLOURS[v]}]{v.upper()}[/][/]: {s['files']} file(s), {s['faces']} face(s): "
+            f"{faces['pass']} pass, {faces['warn']} warn, {faces['fail']} fail")
+    if s["errors"]:
+        text += f"; {s['errors']} file(s) could not be read or analysed"
+    return text + f" (exit {doc['exit_code']})"
+
+
+def to_text(doc: dict, width: int = 132) -> str:
+    """The text report without colours (for ``--output``)."""
+    from rich.console import Console
+
+    buf = io.StringIO()
+    render_text(doc, Console(file=buf, width=width, color_system=None, force_terminal=False, highlight=False))
+    return buf.getvalue()
+
+
+# ---------------------------------------------------------------- json
+def to_json(doc: dict) -> str:
+    """The gate document as JSON (strict: no NaN)."""
+    return json.dumps(doc, indent=2, allow_nan=False) + "\n"
+
+
+# ---------------------------------------------------------------- junit
+def to_junit(doc: dict) -> str:
+    """JUnit XML: a testsuite per file, a testcase per face; failures carry the numbers."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.Element("testsuites", name="cadartifact gate")
+    totals = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
+    for entry in doc["files"]:
+        suite = ET.SubElement(root, "testsuite", name=entry["path"])
+        counts = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
+        pol = entry.get("policy")
+        if pol:
+            props = ET.SubElement(suite, "properties")
+            for k in ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured"):
+                ET.SubElement(props, "property", name=k, value="default" if pol[k] is None else str(pol[k]))
+            ET.SubElement(props, "property", name="units", value=file_units(doc, entry))
+            ET.SubElement(props, "property", name="verdict", value=entry["verdict"])
+        if entry["verdict"] == "error":
+            case = ET.SubElement(suite, "testcase", name=entry["path"], classname="cadartifact.gate.run")
+            err = ET.SubElement(case, "error", message=entry["error"], type="CA003 unreadable-file")
+            err.text = entry["error"]
+            counts["tests"] += 1
+            counts["errors"] += 1
+        if entry.get("share_failure"):
+            case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (analysed share)",
+                                 classname="cadartifact.gate.run")
+            fail = ET.SubElement(case, "failure", message=entry["share_failure"],
+                                 type="CA005 analysed-share-too-small")
+            fail.text = entry["share_failure"]
+            counts["tests"] += 1
+            counts["failures"] += 1
+        if entry["verdict"] != "error" and not entry["faces"]:
+            case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (no analysable face)",
+                                 classname="cadartifact.gate.run")
+            ET.SubElement(case, "skipped", message="; ".join(entry["notes"] + entry["warnings"]))
+            counts["tests"] += 1
+            counts["skipped"] += 1
+        for f in entry["faces"]:
+            case = ET.SubElement(suite, "testcase", name=face_label(entry["path"], f), classname="cadartifact.gate.run")
+            props = ET.SubElement(case, "properties")
+            for name, value in (("verdict", f["verdict"]), ("value", f"{f['value']:.9g}"),
+                                ("tolerance", f"{pol['tolerance']:.9g}"), ("units", file_units(doc, entry)),
+                                ("advised_net", _net(f["advice"]["net"]) if f["advice"] else "")):
+                ET.SubElement(props, "property", name=name, value=value)
+            if f.get("entity") is not None:
+                ET.SubElement(props, "property", name="entity", value=f"#{f['entity']}")
+                if f.get("entity_line"):
+                    ET.SubElement(props, "property", name="entity_line", value=str(f["entity_line"]))
+            peak = f.get("peak_at")
+            if peak:
+                if peak.get("uv"):
+                    ET.SubElement(props, "property", name="peak_uv", value=" ".join(f"{t:.9g}" for t in peak["uv"]))
+                ET.SubElement(props, "property", name="peak_xyz", value=" ".join(f"{c:.9g}" for c in peak["xyz"]))
+            counts["tests"] += 1
+            numbers = face_numbers(doc, entry, f)
+            if f["verdict"] == "fail":
+                fail = ET.SubElement(case, "failure", message=f["verdict_reason"],
+                                     type="CA001 ripple-exceeds-tolerance")
+                fail.text = numbers
+                counts["failures"] += 1
+            elif f["verdict"] == "warn":
+                ET.SubElement(case, "system-out").text = "warning: " + numbers
+        for k, v in counts.items():
+            suite.set(k, str(v))
+            totals[k] += v
+    for k, v in totals.items():
+        root.set(k, str(v))
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+
+
+# ---------------------------------------------------------------- sarif
+def _uri(path: str, cwd: str) -> str:
+    absolute = os.path.abspath(path)
+    try:
+        rel = os.path.relpath(absolute, cwd)
+    except ValueError:  # another drive
+        return Path(absolute).as_uri()
+    return quote(Path(rel).as_posix())
+
+
+def _fingerprint(*parts) -> str:
+    return hashlib.sha256("\0".join(map(str, parts)).encode()).hexdigest()[:32]
+
+
+def to_sarif(doc: dict, cwd: str | None = None) -> str:
+    """SARIF 2.1.0 log: tool.driver ``cadartifact`` with rules CA001-CA004, one result per finding."""
+    from .. import __version__
+
+    cwd = os.path.abspath(cwd or os.getcwd())
+    index = {rule_id: i for i, (rule_id, *_rest) in enumerate(RULES)}
+    rules = [{"id": rid, "name": name, "shortDescription": {"text": text}, "fullDescription": {"text": text},
+              "defaultConfiguration": {"level": level}, "help": {"text": text}}
+             for rid, name, level, text in RULES]
+    results = []
+
+    def add(rule_id: str, level: str, text: str, path: str, face: dict | None, props: dict):
+        # the line of the face's STEP entity (#id = ADVANCED_FACE...); line 1 where there is none (OBJ)
+        line = (face or {}).get("entity_line") or 1
+        loc = {"physicalLocation": {"artifactLocation": {"uri": _uri(path, cwd)}, "region": {"startLine": line}}}
+        if face is not None:
+            entity = f" #{face['entity']}" if face.get("entity") is not None else ""
+            loc["logicalLocations"] = [{"name": f"face {face['face']}" + (f" {face['name']}" if face.get("name")
+                                                                            else "") + entity,
+                                        "fullyQualifiedName": face_label(path, face), "kind": "element"}]
+        results.append({"ruleId": rule_id, "ruleIndex": index[rule_id], "level": level, "message": {"text": text},
+                        "locations": [loc],
+                        "partialFingerprints": {"cadartifactFace/v1": _fingerprint(
+                            rule_id, _uri(path, cwd), None if face is None else face["face"])},
+                        "properties": props})
+
+    for entry in doc["files"]:
+        path = entry["path"]
+        if entry["verdict"] == "error":
+            add("CA003", "error", entry["error"], path, None, {"verdict": "error"})
+            continue
+        if entry.get("share_failure"):
+            add("CA005", "error", f"{path}: {entry['share_failure']}", path, None,
+                {"verdict": "fail", "analysed_share": entry.get("analysed_share")})
+        if not entry["faces"]:
+            add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
+                {"verdict": entry["verdict"]})
+        for f in entry["faces"]:
+            if f["verdict"] == "pass":
+                continue
+            rule_id, level = ("CA001", "error") if f["verdict"] == "fail" else ("CA002", "warning")
+            props = {"verdict": f["verdict"], "face": f["face"], "value": f["value"],
+                     "tolerance": entry["policy"]["tolerance"], "metric": entry["policy"]["metric"],
+                     "peaks": {k: f["budget"][k]["peak"] for k in _DIRECTIONS}, "net": f["net"],
+                     "advised_net": f["advice"]["net"] if f["advice"] else None, "units": file_units(doc, entry),
+                     "entity": None if f.get("entity") is None else f"#{f['entity']}",
+                     "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at")}
+            add(rule_id, level, f"{face_label(path, f)}: {face_numbers(doc, entry, f)}", path, f, props)
+    log = {
+        "$schema": SARIF_SCHEMA,
+        "version": "2.1.0",
+        "runs": [{
+            "tool": {"driver": {"name": "cadartifact", "version": __version__, "semanticVersion": __version__,
+                                "rules": rules}},
+            "invocations": [{"executionSuccessful": doc["exit_code"] != 2, "exitCode": doc["exit_code"]}],
+            "results": results,
+            "properties": {"verdict": doc["verdict"], "summary": doc["summary"]},
+        }],
+    }
+    return json.dumps(log, indent=2, allow_nan=False) + "\n"
+
+
+# ---------------------------------------------------------------- files
+def write_atomic(path, text: str) -> Path:
+    """Write ``text`` to ``path`` through a temporary file in the same folder and ``os.replace``.
+
+    Raises
+    ------
+    InputError
+        The folder does not exist or is not writable (the temporary file is removed).
+    """
+    path = Path(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError(path, "cannot write the report: folder does not exist")
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise InputError(path, f"cannot write the report ({exc.strerror or exc})") from None
+    try:
+        # backslashreplace: a file name that is not UTF-8 is shown as \udcff, not a crash
+        with os.fdopen(fd, "w", encoding="utf-8", errors="backslashreplace", newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is an ordinary file
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(exc, OSError):
+            raise InputError(path, f"cannot write the report ({exc.strerror or exc})") from None
+        raise
+    return path

@@ -1,0 +1,395 @@
+"""The pipeline quality gate: pass / warn / fail verdicts per face and file, and the exit code.
+
+``cadartifact gate PATH...`` measures every analysable face of every file (the advise document of
+:mod:`cadartifact.runs.records`) under the settings its policy gives it (:mod:`cadartifact.gate.policy`)
+and adds a verdict, so that a CI job or a pre-commit hook can block a model whose control nets
+ripple beyond the tolerance. Report writers are in :mod:`cadartifact.gate.reports`.
+
+The verdict needs today's budget only; the density advice (the costly search) is computed for the
+faces the policy's ``advise`` selects (``--advise failing``, the default: those that warn or fail;
+``all``; ``none``). A face without it keeps the schema: ``advice: null`` and ``advice_skipped``, the reason.
+
+Per face: ``fail`` when the value (ripple, or whole deviation with ``include_signal_error``, under
+the metric) exceeds the tolerance, ``warn`` when it is within it but ``>= warn_fraction *
+tolerance``, else ``pass``; faces with non-uniform knots are capped at ``warn`` only when the
+policy says ``measured = "warn"`` (the default gates them: :mod:`cadartifact.gate.policy`). Per file: the worst face;
+``pass`` with a note when the file has no analysable face; ``error`` when it cannot be read or
+analysed. Fail closed: an ``error`` file never passes, every readable file is still analysed and
+reported, and the exit code is then 2; else 1 when any face fails, else 0.
+"""
+
+from __future__ import annotations
+
+import os
+
+from ..errors import CadArtifactError, one_line
+from ..runs.verdicts import VERDICTS, face_verdict, worst_verdict
+from .policy import FileSettings, Policy
+
+__all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
+           "merge_parts", "run_gate"]
+
+GATE_SCHEMA = "cadartifact.gate/1"
+
+def file_verdict(entry: dict) -> str:
+    """The worst face verdict; ``error`` for an entry with an error; ``pass`` without faces."""
+    if entry.get("error"):
+        return "error"
+    return worst_verdict(f["verdict"] for f in entry["faces"])
+
+
+# ---------------------------------------------------------------- analysis (one file, any process)
+def _error_entry(path: str, settings: FileSettings | None, message: str) -> dict:
+    return {"path": path, "verdict": "error", "error": message, "units": None, "faces_total": None, "skipped": {},
+            "warnings": [], "notes": [], "ignored_faces": [], "faces": [],
+            "policy": settings.to_dict() if settings else None}
+
+
+#: Skipped-face kinds that mean broken data (non-finite or all-coincident poles, faces the STEP transfer
+#: dropped), not a face type.
+INVALID_SKIPS = ("degenerate", "conversion failed", "dropped")
+
+
+def gate_file(path: str, settings: FileSettings, verify: bool = False, read_timeout: float | None = None,
+              part: tuple[int, int] | None = None) -> dict:
+    """Read, advise and judge one file; never raises (errors become an ``error`` entry).
+
+    Parameters
+    ----------
+    path : str
+    settings : FileSettings
+    verify : bool
+        Verify the advice of failing faces on the real surface (slower).
+    read_timeout : float, optional
+        Seconds OCCT's reader may take on the file (see :func:`cadartifact.exchange.read`).
+    part : (int, int), optional
+        ``(r, k)``: only the analysable faces at positions ``r, r + k, ...`` (a face batch of a big file
+        on a cluster); the entry then carries ``_part`` and is completed by :func:`merge_parts`.
+
+    Returns
+    -------
+    dict
+        The advise document's file entry plus ``units``, ``verdict``, ``policy`` (the settings),
+        ``notes``, ``ignored_faces``, ``analysed_share`` (OBJ: the share of the cage's area in analysed
+        charts, else None), ``share_failure`` (only when that share is below ``min_analysed_share``:
+        the file fails) and per face ``verdict``, ``verdict_reason``, ``value``, ``advice_skipped`` (None, or why the advice was not computed), ``entity_line`` (the
+        line of the STEP entity ``entity``, else None) and ``peak_at`` (warn/fail faces:
+        :func:`cadartifact.runs.records.peak_location`, else None); or an error entry
+        ``{"path", "verdict": "error", "error": message, "faces": [], ...}``.
+
+    Notes
+    -----
+    Fail closed: a file that cannot be read, a face whose analysis raises or gives a non-finite
+    value, and a face the reader skipped because its control points are invalid (NaN/infinite or all
+    coincident: :data:`INVALID_SKIPS`) make the whole file an ``error``. Faces skipped because they
+    are analytic (planes, cylinders...) are simply not gated.
+    """
+    from ..runs.face_sharing import quiet_analysis
+
+    try:
+        # numpy overflow warnings (e.g. 1e300 coordinates) would only add noise: the non-finite
+        # result is turned into an error below
+        with quiet_analysis():
+            return _gate_file(path, settings, verify, read_timeout, part)
+    except CadArtifactError as exc:
+        return _file_error(path, settings, str(exc))
+    except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
+        return _error_entry(path, settings, one_line(f"{path}: analysis failed ({type(exc).__name__}: {exc})"))
+
+
+def _file_error(path: str, settings: FileSettings, message: str) -> dict:
+    """The error entry of a file for an error message, prefixed with the file's path when it is not."""
+    if not message.startswith(str(path)):
+        message = f"{path}: {message}"
+    return _error_entry(path, settings, one_line(message))
+
+
+def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None,
+               part: tuple[int, int] | None = None) -> dict:
+    from ..exchange.load import read
+    from ..exchange.step_text import entity_line
+    from ..runs.face_sharing import analyse_faces
+    from ..runs.records import analysed_share
+
+    if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
+        from ..errors import InputError
+
+        try:
+            os.listdir(path)
+        except OSError as exc:
+            raise InputError(path, f"cannot read this folder ({exc.strerror or exc}): its files are not gated") from None
+        raise InputError(path, "a folder, not a file")
+    res = read(path, convert=settings.convert, timeout=read_timeout)
+    invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
+    if invalid:
+        detail = "; ".join(w.removeprefix(f"{path}: ") for w in res.warnings if "no analysable face" not in w)
+        raise CadArtifactError(f"{invalid} face(s) could not be read or have invalid control points"
+                               + (f" ({detail})" if detail else ""))
+    key = "deviation" if settings.include_signal_error else "total"
+    todo = [net for net in res.nets if net.origin.face not in settings.ignore_faces]
+    positions = list(range(len(todo)))
+    if part is not None:
+        positions = positions[part[0]::part[1]]
+    faces, error = [], None
+    # records with peak_at for faces that warn or fail, in face order; the first error fails the file. A batch
+    # finds repeated faces over the whole file (its repeats' first faces may lie in another batch), so that its
+    # records are those of the whole file's run
+    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify, key,
+                                                     only=None if part is None else positions)):
+        if isinstance(outcome, BaseException):
+            if part is None:
+                raise outcome
+            error = [pos, str(outcome)]  # the merge raises the first of all parts'
+            break
+        outcome["entity_line"] = entity_line(path, outcome.get("entity"))
+        faces.append(outcome)
+    present = {n.origin.face for n in res.nets}
+    ignored = sorted(settings.ignore_faces)
+    notes = []
+    missing = [i for i in ignored if i not in present]
+    if missing:
+        notes.append(f"ignore_faces {missing} name no analysable face of this file")
+    share = analysed_share(res)
+    entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
+             "analysed_share": None if share is None else round(share, 9),
+             "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
+             "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
+    if part is not None:
+        entry["_part"] = {"index": part[0], "of": part[1], "positions": positions[:len(faces)], "error": error,
+                          "share": share}
+        return entry
+    return _complete(entry, share, settings)
+
+
+def merge_parts(parts: list, settings: FileSettings) -> dict:
+    """One file's entry from its face batches (:func:`gate_file` with ``part``), as :func:`gate_file` gives it
+    whole: faces in file order, the first error of all batches (or the read error, the same in each)."""
+    for e in parts:
+        if "_part" not in e:  # the file could not be read: every batch says so alike
+            return e
+    errors = [e["_part"]["error"] for e in parts if e["_part"]["error"] is not None]
+    path = parts[0]["path"]
+    if errors:
+        return _file_error(path, settings, min(errors)[1])
+    ranked = sorted((pos, k, f) for k, e in enumerate(parts) for pos, f in zip(e["_part"]["positions"], e["faces"]))
+    entry = {key: value for key, value in parts[0].items() if key != "_part"}
+    entry["notes"] = list(entry["notes"])
+    entry["faces"] = [f for _, _, f in ranked]
+    return _complete(entry, parts[0]["_part"]["share"], settings)
+
+
+def _complete(entry: dict, share, settings: FileSettings) -> dict:
+    """The file-level verdict and notes of an entry whose faces are all in."""
+    from ..runs.records import kind_count
+
+    notes = entry["notes"]
+    if not entry["faces"]:
+        notes.append("no analysable face (nothing to gate): pass")
+    entry["verdict"] = file_verdict(entry)
+    if share is not None:
+        skipped = ", ".join(kind_count(k, n) for k, n in sorted(entry["skipped"].items()))
+        text = f"analysed charts cover {100 * share:.1f} % of the cage's area" + (f" (not analysed: {skipped})"
+                                                                                   if skipped else "")
+        if share < settings.min_analysed_share:
+            entry["share_failure"] = (f"{text}, below min_analysed_share {settings.min_analysed_share:g}")
+            entry["verdict"] = worst_verdict([entry["verdict"], "fail"])
+        elif share < 1:
+            notes.append(text)
+    return entry
+
+
+def _gate_file_args(args):
+    return gate_file(*args)
+
+
+# ---------------------------------------------------------------- the run
+def _pool_context():
+    import multiprocessing as mp
+
+    # OCCT is not fork-safe once loaded, and the parent may hold rich's refresh thread
+    methods = mp.get_all_start_methods()
+    return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
+
+
+def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
+    """Run ``worker`` (default :func:`gate_file`) over ``(path, settings, verify)`` tasks in a process pool.
+
+    A task whose worker process dies (a crash in native code) becomes an error entry; the others are
+    rerun one per process so that only the culprit is blamed.
+    """
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    worker = worker or _gate_file_args
+    from ..exchange.reader_start import BREP_SUFFIXES
+
+    # each worker reads with a reader child of its own: start it with the worker, so that its OCP
+    # import overlaps the worker's own start-up (OBJ-only runs need none)
+    brep = any(str(t[0]).lower().endswith(BREP_SUFFIXES) for t in tasks)
+    init = _start_reader if brep else None
+
+    results: list = [None] * len(tasks)
+    pending = list(range(len(tasks)))
+    isolate = False
+    while pending:
+        # after a crash, rerun what is left one file per pool, so the culprit is known
+        batches = [[i] for i in pending] if isolate else [pending]
+        pending = []
+        for batch in batches:
+            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context(),
+                                     initializer=init) as ex:
+                # biggest files first (a cheap proxy for their cost) balances the workers' loads
+                order = sorted(batch, key=lambda i: -_size(tasks[i][0]))
+                futures = {ex.submit(worker, tasks[i]): i for i in order}
+                for fut in as_completed(futures):
+                    i = futures[fut]
+                    try:
+                        results[i] = fut.result()
+                        done(results[i])
+                    except BrokenProcessPool:
+                        if isolate:
+                            path, settings = tasks[i][0], tasks[i][1]
+                            results[i] = _error_entry(path, settings, f"{path}: the analysis process crashed "
+                                                                      "(corrupt geometry?)")
+                            done(results[i])
+                        else:
+                            pending.append(i)
+        pending.sort()
+        isolate = True
+    return results
+
+
+def _start_reader() -> None:
+    from ..exchange import isolation
+
+    isolation.prestart()
+
+
+def _workers_can_start() -> bool:
+    """Whether spawned workers can re-create ``__main__`` (they re-import it by path).
+
+    A program read from stdin (``__file__ == "<stdin>"``) cannot be: every worker would die at start,
+    so such callers are served in-process.
+    """
+    import sys
+
+    main = sys.modules.get("__main__")
+    if getattr(getattr(main, "__spec__", None), "name", None):
+        return True
+    path = getattr(main, "__file__", None)
+    return path is None or os.path.isfile(path)
+
+
+def _size(path: str) -> int:
+    try:
+        return os.path.getsize(path)
+    except OSError:
+        return 0
+
+
+def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None,
+             cache=None, cluster=None, read_timeout: float | None = None) -> list:
+    """Gate files (in parallel with ``jobs > 1``); results in input order, identical for any ``jobs``.
+
+    Parameters
+    ----------
+    paths : list of path-like
+    settings : list of FileSettings
+        One per path.
+    jobs : int
+        Worker processes; 1 runs in this process.
+    progress : callable, optional
+        ``progress(entry)`` after each file; with a ``cache``, ``progress(entry, cached=bool)``.
+    cache : cadartifact.gate.cache.GateCache, optional
+        Take unchanged files' entries from it, store the new ones.
+    cluster : cadartifact.gate.cluster.ClusterOptions, optional
+        Run the analysis on a Dask cluster instead of this machine's processes.
+    read_timeout : float, optional
+        Seconds OCCT's reader may take on one file (a file past it is an ``error`` entry).
+
+    Returns
+    -------
+    list of dict
+        File entries (:func:`gate_file`).
+    """
+    done = progress or (lambda entry, **kw: None)
+    tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
+    # the reader's child process (and spawned workers) take the timeout from the environment, for this run only
+    saved = os.environ.get("CADARTIFACT_READ_TIMEOUT")
+    if read_timeout is not None:
+        os.environ["CADARTIFACT_READ_TIMEOUT"] = repr(float(read_timeout))
+    try:
+        if cache is not None:  # the seam to cadartifact.gate.cache: it runs only the misses
+            return cache.run(tasks, lambda todo, finished: _execute(todo, jobs, finished, cluster), done)
+        return _execute(tasks, jobs, done, cluster)
+    finally:
+        if read_timeout is not None:
+            if saved is None:
+                os.environ.pop("CADARTIFACT_READ_TIMEOUT", None)
+            else:
+                os.environ["CADARTIFACT_READ_TIMEOUT"] = saved
+
+
+def _execute(tasks: list, jobs: int, done, cluster=None) -> list:
+    if cluster is not None:  # the seam to cadartifact.gate.cluster (imports distributed)
+        return cluster.run(tasks, done)
+    jobs = max(1, min(int(jobs), len(tasks)))
+    if jobs == 1 or not _workers_can_start():
+        from ..runs.face_sharing import sharing
+
+        out = []
+        with sharing():  # the only worker: the reader child's core may take part of a file's faces
+            for t in tasks:
+                out.append(gate_file(*t))
+                done(out[-1])
+        return out
+    return _run_isolated(tasks, jobs, done)
+
+
+def build_document(entries: list, base: dict, policy: Policy) -> dict:
+    """The gate document: the advise document's keys, verdicts, summary and exit code.
+
+    Parameters
+    ----------
+    entries : list of dict
+        File entries from :func:`run_gate`.
+    base : dict
+        The settings without per-file overrides (``tolerance``, ``metric``, ``include_signal_error``,
+        ``warn_fraction``, ``measured``, ``scheme``).
+    policy : Policy
+
+    Returns
+    -------
+    dict
+        ``{"schema": "cadartifact.advise/1", "gate": "cadartifact.gate/1", "tolerance", "units",
+        "metric", "include_signal_error", "warn_fraction", "measured", "policy": source | None,
+        "files": [...], "summary": {..., "verdicts": {"files": {...}, "faces": {...}}},
+        "verdict", "exit_code"}``
+    """
+    from ..runs.records import SCHEMA
+
+    face_counts = {v: 0 for v in VERDICTS[:3]}
+    file_counts = {v: 0 for v in VERDICTS}
+    summary = {"files": len(entries), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+    for e in entries:
+        file_counts[e["verdict"]] += 1
+        for f in e["faces"]:
+            face_counts[f["verdict"]] += 1
+            summary["faces"] += 1
+            summary["within" if f["meets_tolerance"] else "exceeding"] += 1
+            # a face without advice (skipped by --advise) is not counted as out of reach
+            summary["unreachable"] += 0 if (f["advice"] or {}).get("meets_tolerance", True) else 1
+    summary["errors"] = file_counts["error"]
+    summary["verdicts"] = {"files": file_counts, "faces": face_counts}
+    verdict = worst_verdict(e["verdict"] for e in entries)
+    exit_code = 2 if verdict == "error" else 1 if verdict == "fail" else 0
+    units = next((e["units"] for e in entries if e.get("units")), "mm")
+    # with the tolerance only in overrides, the top level shows the first file's (the schema needs one)
+    tolerance = base["tolerance"]
+    if tolerance is None:
+        tolerance = next((e["policy"]["tolerance"] for e in entries if e.get("policy")), None)
+    return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": tolerance, "units": units,
+            "metric": base["metric"], "include_signal_error": base["include_signal_error"],
+            "intent": base.get("intent", "surface"), "warn_fraction": base["warn_fraction"], "measured": base["measured"], "scheme": base["scheme"],
+            "policy": policy.source[len("policy "):] if policy.source else None,
+            "files": entries, "summary": summary, "verdict": verdict, "exit_code": exit_code}

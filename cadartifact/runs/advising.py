@@ -1,0 +1,214 @@
+"""Advise over files: the advise document (:mod:`.records` gives its schema), and the resampled surfaces
+written beside it (``--write-resampled``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..analysis.budget import METRICS, check_tolerance
+from ..errors import FileFormatError, OptionError, check_option
+from .records import SCHEMA, analysed_share, json_number
+
+__all__ = ["advise_files", "resampled_nets", "advised_outputs", "write_advised"]
+
+
+def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
+                 faces=None, compare="auto", verify: bool = True, progress=None, keep=None,
+                 convert: bool = False, intent: str = "surface") -> dict:
+    """Load every file, advise every analysable face, and build the document.
+
+    Parameters
+    ----------
+    paths : list of path-like
+    tolerance : float
+    scheme, metric, include_signal_error
+        As :func:`cadartifact.advise`.
+    faces : set of int, optional
+        Only these face indices (per file); an index that no file has raises :class:`OptionError`.
+    progress : callable, optional
+        ``progress(kind, total_or_None, label)``: "files" once with the count of faces, "face" per face,
+        "file" after each file (``total`` its face count, ``label`` its path).
+    keep : list, optional
+        If given, ``(path, net, advice)`` tuples are appended (for writing resampled faces).
+    convert : bool
+        Convert revolution/extrusion/offset faces to B-splines (as :func:`cadartifact.read`).
+
+    Returns
+    -------
+    dict
+        The document described in this module's docstring.
+
+    Raises
+    ------
+    CadArtifactError
+        For the first file that cannot be read: nothing is returned (fail closed, no partial document).
+    """
+    from ..exchange.load import read
+
+    check_option("metric", metric, METRICS)
+    tolerance = check_tolerance(tolerance)  # before any file is read (each face's advice would raise it too)
+    paths = [Path(p) for p in paths]
+    if not paths:
+        raise OptionError("FILE", "at least one file", "none")
+    from .face_sharing import sharing
+
+    # one sharing block for the reads and the faces: after its read the reader child imports the analysis while
+    # idle, then takes its share of each file's faces (not when the Advice objects are kept: they stay here)
+    with sharing(keep is None):
+        loaded = [read(p, convert=convert) for p in paths]  # read all first: a bad file fails before any output
+        for p, res in zip(paths, loaded):
+            if res.skipped.get("degenerate"):
+                # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
+                import re
+
+                why = next((w for w in res.warnings if re.search(r"#\d+: ", w)), "")
+                m = re.search(r"#(\d+): (.*)", why)
+                raise FileFormatError(p, f"face {m.group(1)}: {m.group(2)}" if m else
+                                      "a face has invalid control points")
+            if res.skipped.get("dropped"):  # faces the STEP transfer lost: the file is not what it says
+                why = next((w for w in res.warnings if "was dropped" in w), "")
+                raise FileFormatError(p, why.removeprefix(f"{p}: ") or "a face could not be read")
+        if faces is not None:  # a face index no file has is a usage error, not an empty (passing) report
+            have = sorted({n.origin.face for r in loaded for n in r.nets})
+            missing = sorted(set(faces) - set(have))
+            if missing:
+                where = paths[0].name if len(paths) == 1 else f"any of the {len(paths)} files"
+                shown = ", ".join(map(str, have[:20])) + (", ..." if len(have) > 20 else "") if have else "none"
+                raise OptionError("faces", f"an analysable face index of {where} ({shown})", missing[0])
+        total_faces = sum(len([n for n in r.nets if faces is None or n.origin.face in faces]) for r in loaded)
+        if progress:
+            progress("files", total_faces, "")
+        doc_files = []
+        summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+        from ..exchange.step_text import entity_line
+        from .face_sharing import advise_faces, one_blas_thread
+
+        options = dict(tolerance=tolerance, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
+                       compare=compare, verify=verify, intent=intent)
+        key = "deviation" if include_signal_error else "total"
+        for path, res in zip(paths, loaded):
+            entries = []
+            todo = [net for net in res.nets if faces is None or net.origin.face in faces]
+
+            def face_done(i, todo=todo, path=path):
+                if progress:
+                    progress("face", None, f"{path.name}#{todo[i].origin.face}")
+
+            # one outcome per face, in order (part of them from the idle reader child unless the advice
+            # objects are kept, which stay in the process that made them); the first error stops the run.
+            # One BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
+            with one_blas_thread():
+                outcomes = advise_faces(todo, options, path, key, done=face_done, keep=keep is not None)
+            for net, outcome in zip(todo, outcomes):
+                if isinstance(outcome, BaseException):
+                    raise outcome
+                rec, adv = outcome
+                rec["entity_line"] = entity_line(path, rec.get("entity"))
+                entries.append(rec)
+                if keep is not None:
+                    keep.append((path, net, adv))
+                summary["faces"] += 1
+                summary["within" if rec["meets_tolerance"] else "exceeding"] += 1
+                summary["unreachable"] += 0 if rec["advice"]["meets_tolerance"] else 1
+            if progress:
+                progress("file", len(entries), str(path))
+            doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
+                              "faces_total": res.faces_total, "analysed_share": json_number(analysed_share(res)),
+                              "skipped": dict(res.skipped),
+                              "warnings": list(res.warnings), "faces": entries})
+        units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
+        return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
+                "intent": "net" if include_signal_error else intent,
+                "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
+
+
+def resampled_nets(kept) -> list:
+    """The advised nets of ``(path, net, advice)`` tuples as B-spline nets ready for :func:`write_step`.
+
+    A cage (OBJ chart) becomes a B-spline net of the scheme's degrees (bicubic for Catmull-Clark)
+    with uniform clamped knots; faces under non-B-spline schemes keep their own degrees.
+    """
+    from ..net import ControlNet, clamped_uniform_knots
+    from ..theory.catalogue import scheme as get_scheme
+
+    out = []
+    for _, net, adv in kept:
+        new = adv.resampled()
+        if new.degrees is None:
+            degs = get_scheme(adv.scheme).degrees or (3, 3)
+            degs = tuple(min(d, n - 1) for d, n in zip(degs, new.shape))
+            knots = tuple(clamped_uniform_knots(n, d) for n, d in zip(new.shape, degs))
+            new = ControlNet(points=new.points, degrees=degs, knots=knots, unit=new.unit, origin=new.origin)
+        out.append(new)
+    return out
+
+
+def advised_outputs(kept, out) -> list:
+    """``(source path, output path, [(path, net, advice), ...])`` per input file of ``kept``.
+
+    One input file writes ``out`` itself; several write ``OUT_<input stem>.step`` each, next to ``out``.
+    """
+    groups: dict = {}
+    for item in kept:
+        groups.setdefault(Path(item[0]), []).append(item)
+    out = Path(out)
+    if len(groups) == 1:
+        return [(src, out, items) for src, items in groups.items()]
+    return [(src, out.with_name(f"{out.stem}_{src.stem}{out.suffix}"), items) for src, items in groups.items()]
+
+
+def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None) -> dict:
+    """Write the advice of ``(path, net, advice)`` tuples: whole models, or the advised faces only.
+
+    Parameters
+    ----------
+    kept : list of (path, ControlNet, Advice)
+        As collected by :func:`advise_files` with ``keep``.
+    out : path-like
+        A ``.step``/``.stp`` file (see :func:`advised_outputs` for several input files).
+    faces_only : bool
+        Write every advised face as an untrimmed B-spline face (no model). OBJ inputs are
+        always written this way (a cage has no B-rep to keep).
+    provenance : dict, optional
+        Header provenance (tool, version, tolerance, intent).
+
+    Returns
+    -------
+    dict
+        The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
+        "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
+        "edge_tolerance", "valid", "model_valid"}], "kept": [face indices left as they were],
+        "valid": BRepCheck on the written model or None}], "path", "faces"}``
+        (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
+        faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
+        untouched and are listed in ``kept``.
+    """
+    from ..exchange.model_writer import check_step_output, write_model
+    from ..exchange.step import write_step
+
+    check_step_output(out)
+    files = []
+    for src, target, items in advised_outputs(kept, out):
+        nets = resampled_nets(items)
+        by_face = {net.origin.face: new for (_, net, _), new in zip(items, nets)}
+        mode = "faces-only" if faces_only or src.suffix.lower() == ".obj" else "model"
+        if mode == "faces-only" and src.suffix.lower() == ".obj":
+            write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
+            faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
+                      "edge_tolerance": None, "valid": None} for n in nets]
+            kept_faces = []
+        elif mode == "faces-only":
+            faces = write_model(src, by_face, target, provenance=provenance, faces_only=True)
+            kept_faces = []
+        else:
+            changed = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
+                       if not getattr(adv, "kept_today", new.shape == net.shape)}
+            faces = write_model(src, changed, target, provenance=provenance)
+            kept_faces = sorted(set(by_face) - set(changed))
+        checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
+        files.append({"path": str(target), "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
+                      "valid": all(checks) if checks else None})
+    modes = {f["mode"] for f in files}
+    return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,
+            "path": files[0]["path"] if files else str(out), "faces": files[0]["faces"] if len(files) == 1 else
+            [dict(r, file=f["path"]) for f in files for r in f["faces"]]}

@@ -1,0 +1,227 @@
+"""What a person reads in a terminal: the advise document as rich tables, and the progress of a long run
+(a bar on a terminal, one line per file in a log)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .records import kind_count, plural, unit_name
+
+__all__ = ["WIDE_COLUMNS", "canonical_lines", "face_cell", "worst_direction", "render", "RichProgress", "LineProgress"]
+
+
+def _mm_pct(value, share) -> str:
+    """A value in model units with its share of the tolerance: ``0.0213 43%``."""
+    if value is None or share is None:
+        return "-"
+    pct = f"{share * 100:.0f}%" if share < 10 else f"{share:.0f}x"
+    colour = "green" if share <= 0.5 else "yellow" if share <= 1.0 else "red"
+    return f"{value:.3g} [{colour}]{pct}[/]"
+
+
+def _bar(share: float | None, width: int = 4) -> str:
+    """A compact bar of a share of the tolerance: green up to half, yellow up to 1, red beyond."""
+    if share is None:
+        return ""
+    filled = min(width, int(round(min(share, 1.0) * width)))
+    colour = "green" if share <= 0.5 else "yellow" if share <= 1.0 else "red"
+    pct = f"{share * 100:.0f}%" if share < 10 else f"{share:.0f}x"
+    return f"[{colour}]{'█' * filled}{'·' * (width - filled)} {pct:>4}[/]"
+
+
+#: Below this console width ``render`` uses its narrow layout (``wide=None``).
+WIDE_COLUMNS = 110
+
+
+def worst_direction(share: dict) -> str:
+    """``"X2 204%"``: the direction (X1, X2, diagonal) whose ripple takes most of the tolerance."""
+    name, value = max(((k, share.get(k) or 0.0) for k in ("x1", "x2", "diagonal")), key=lambda kv: kv[1])
+    label = {"x1": "X1", "x2": "X2", "diagonal": "diag"}[name]
+    pct = f"{value * 100:.0f}%" if value < 10 else f"{value:.0f}x"
+    return f"{label} {pct}"
+
+
+def canonical_lines(faces) -> list[str]:
+    """One line per canonical label among face records: ``"canonical: sphere r=12.5: faces 3, 15"``.
+
+    Canonical faces (exactly a plane, cylinder, ..., or exactly straight/circular along a direction)
+    carry no ripple along their exact directions; the label says which.
+    """
+    groups: dict = {}
+    for r in faces:
+        if r.get("canonical"):
+            groups.setdefault(r["canonical"], []).append(str(r["face"]))
+    return [f"canonical: {label}: {'face' if len(ids) == 1 else 'faces'} {', '.join(ids)}"
+            for label, ids in groups.items()]
+
+
+def face_cell(r: dict, limit: int = 24) -> str:
+    label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
+    return label if len(label) <= limit else label[:limit - 1] + "~"
+
+
+def render(doc: dict, console, wide: bool | None = None) -> None:
+    """Print one rich table per file and a summary line.
+
+    Each direction column shows that ripple's share of the tolerance (peak or RMS, as the
+    document's metric), with a small bar; ``ripple`` is all of it together.
+
+    Parameters
+    ----------
+    doc : dict
+        The advise document.
+    console : rich.console.Console
+    wide : bool, optional
+        Every direction column (X1, X2, diagonal, lateral). Default: when the console is at least
+        :data:`WIDE_COLUMNS` wide; narrower consoles (80 columns) get face, net, ripple, the worst
+        direction, advised net and verdict, each cell whole (the rest is in ``--wide`` and the JSON).
+    """
+    from rich import box
+    from rich.table import Table
+
+    if wide is None:
+        wide = console.width >= WIDE_COLUMNS
+    t = doc["tolerance"]
+    key = "deviation" if doc["include_signal_error"] else "total"
+    value_name = "deviation" if key == "deviation" else "ripple"
+    for f in doc["files"]:
+        schemes = sorted({r["scheme"] for r in f["faces"]})
+        methods = sorted({f"{r['method']}, intent {r.get('intent', 'surface')}" for r in f["faces"]})
+        caption = (f"tolerance {t:g} {unit_name(f.get('units') or doc['units'])} ({doc['metric']}); cells: "
+                   f"{unit_name(f.get('units') or doc['units'])} and % of the tolerance; road: meas(ured) or "
+                   f"pred(icted) / intent; "
+                   f"scheme {', '.join(schemes) or '-'}; {'; '.join(methods) or 'no face analysed'}")
+        table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
+                      title_justify="left", caption_justify="left", pad_edge=False)
+        cols = (("face", "net", "road", "X1 (u)", "X2 (v)", "diagonal", "lateral", value_name, "advised", "verdict")
+                if wide else ("face", "net", value_name, "worst", "advised", "verdict"))
+        for col in cols:
+            # the face label may fold (it is the only free text); numbers never wrap or shrink
+            table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
+        rows = sorted(f["faces"], key=lambda r: -(r["share"][key] or 0.0))
+        for r in rows:
+            sh = r["share"]
+            adv = r["advice"]
+            if r["meets_tolerance"]:
+                verdict = "[green]within[/]"
+                if wide and adv["points"] < r["net"][0] * r["net"][1]:
+                    verdict += " [dim](coarser ok)[/]"
+            elif adv["meets_tolerance"]:
+                verdict = "[red]exceeds[/]"
+            else:
+                verdict = "[red]exceeds[/] [dim](out of reach)[/]" if wide else "[red]unreachable[/]"
+            advised = "x".join(map(str, adv["net"]))
+            ver = adv.get("verification")
+            if ver is not None and not ver.get("meets", True):
+                advised += " [yellow]?[/]"
+            mm = r["budget"]
+            if wide:
+                road = f"{'pred' if r['method'] == 'predicted' else 'meas'}/{r.get('intent', 'surface')}"
+                table.add_row(face_cell(r), "x".join(map(str, r["net"])), road,
+                              *(_mm_pct(mm[k][doc["metric"]], sh[k]) for k in ("x1", "x2", "diagonal", "lateral", key)),
+                              advised, verdict)
+            else:
+                table.add_row(face_cell(r), "x".join(map(str, r["net"])), _mm_pct(mm[key][doc["metric"]], sh[key]),
+                              worst_direction(sh), advised, verdict)
+        console.print(table)
+        for line in canonical_lines(f["faces"]):  # no ripple along their exact directions
+            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+        for r in rows:  # why each direction of a changed net has its count
+            reasons = (r.get("advice") or {}).get("reasons") or {}
+            if reasons and not (r.get("advice") or {}).get("kept_today", True):
+                why = "; ".join(f"{d} {reasons[d]['today']}->{reasons[d]['advised']}: {reasons[d]['reason']}"
+                                for d in ("u", "v") if d in reasons)
+                console.print(f"  face {r['face']}: {why}", soft_wrap=False, overflow="fold")
+        skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
+        share = f.get("analysed_share")
+        if skipped:
+            cover = "" if share is None else f" (the analysed charts cover {100 * share:.1f} % of the area)"
+            console.print(f"  not analysed: {skipped}{cover}")
+        for w in f["warnings"]:
+            console.print(f"  [yellow]warning:[/] {w}")
+    s = doc["summary"]
+    console.print(f"[bold]{plural(s['faces'], 'face')} in {plural(s['files'], 'file')}: {s['within']} within tolerance, "
+                  f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
+    if any((ff["advice"].get("verification") or {}).get("meets") is False for fl in doc["files"] for ff in fl["faces"]):
+        console.print("[yellow]?[/] the advised net did not verify on the real surface's interior "
+                      "(clamped ends of strongly curved faces): see the JSON 'verification'.")
+
+
+@dataclass
+class RichProgress:
+    """A progress-callback for :func:`advise_files` drawing a rich progress bar on stderr."""
+
+    console: object
+    enabled: bool = True
+
+    def __post_init__(self):
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self._p = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                           console=self.console, transient=True, disable=not self.enabled)
+        self._task = None
+
+    def __enter__(self):
+        self._p.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self._p.__exit__(*exc)
+
+    def __call__(self, kind, total, label):
+        if kind == "files":
+            self._task = self._p.add_task("advising faces", total=total)
+        elif kind == "face" and self._task is not None:
+            self._p.update(self._task, advance=1, description=f"advising {label}")
+
+
+_ING = {"advised": "advising", "gated": "gating", "rendered": "rendering"}
+
+
+class LineProgress:
+    """Progress for logs and pipes (no terminal): one plain line per file on stderr, with the time taken.
+
+    Works as the ``progress`` callback of :func:`advise_files` (kind "file") and, through
+    :meth:`file_done`, of the gate and of ``view``. Inside a file of many faces (kind "face") a
+    heartbeat line follows every ``heartbeat`` seconds, so that a long file shows it is moving.
+    """
+
+    def __init__(self, console, verb: str = "advised", total: int | None = None, heartbeat: float = 10.0):
+        import time
+
+        self.console, self.verb, self.total, self.done = console, verb, total, 0
+        self.heartbeat = heartbeat
+        self._clock = time.perf_counter
+        self._start = self._last = self._clock()
+        self._faces = 0
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def _count(self, n: int) -> str:
+        return f"{n}/{self.total}" if self.total else str(n)
+
+    def __call__(self, kind, total, label):
+        if kind == "file":
+            self.file_done(label, f"{plural(total, 'face')}")
+        elif kind == "face":
+            self._faces += 1
+            now = self._clock()
+            if now - self._last >= self.heartbeat:
+                self._last = now
+                where = label.rsplit("#", 1)[0]
+                self.console.print(f"cadartifact: [{self._count(self.done + 1)}] {_ING.get(self.verb, self.verb)} "
+                                   f"{where}: {plural(self._faces, 'face')} done ({now - self._start:.1f} s)",
+                                   markup=False, highlight=False, soft_wrap=True)
+
+    def file_done(self, path: str, detail: str = "") -> None:
+        self.done += 1
+        self._faces = 0
+        now = self._clock()
+        took, self._start = now - self._start, now
+        self._last = now
+        self.console.print(f"cadartifact: [{self._count(self.done)}] {self.verb} {path}" + (f": {detail}" if detail else "")
+                           + f" ({took:.1f} s)", markup=False, highlight=False, soft_wrap=True)

@@ -1,0 +1,106 @@
+"""One face's gate record and verdict, wherever the face is analysed (this process, the reader child, a
+pool worker or a Dask worker): today's budget against the tolerance, and the density advice where the
+policy asks for it. The gate (:mod:`cadartifact.gate.run`) judges whole files from these records."""
+
+from __future__ import annotations
+
+from ..errors import CadArtifactError
+
+__all__ = ["VERDICTS", "worst_verdict", "face_verdict", "advice_wanted", "face_entry"]
+
+#: Verdicts from best to worst.
+VERDICTS = ("pass", "warn", "fail", "error")
+
+
+def worst_verdict(verdicts) -> str:
+    return max(verdicts, key=VERDICTS.index, default="pass")
+
+
+def face_verdict(record: dict, settings) -> tuple[str, str, float]:
+    """Verdict of one face record of the advise document.
+
+    Parameters
+    ----------
+    record : dict
+        A face entry (:func:`cadartifact.runs.records.face_record`).
+    settings : FileSettings
+
+    Returns
+    -------
+    verdict : {"pass", "warn", "fail"}
+    reason : str
+        One line with the numbers.
+    value : float
+        ``budget[total | deviation][metric]``, the number compared with the tolerance.
+
+    Notes
+    -----
+    ``fail`` if ``value > t``; ``warn`` if ``warn_fraction * t <= value <= t``; else ``pass``. A
+    face with non-uniform knots is capped at ``warn`` when the policy says ``measured = "warn"``
+    (default ``"fail"``: gated like any other face).
+    """
+    from .records import unit_name
+
+    key = "deviation" if settings.include_signal_error else "total"
+    value = record["budget"][key][settings.metric]
+    t = settings.tolerance
+    what = "deviation" if settings.include_signal_error else "ripple"
+    u = unit_name(record.get("units"))  # the face's own unit, next to its numbers
+    if value > t:
+        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} {u} exceeds tolerance {t:g} {u}"
+    elif value >= settings.warn_fraction * t:
+        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} {u} is within tolerance {t:g} {u} but "
+                                   f"above {settings.warn_fraction:g} of it")
+    else:
+        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} {u} within tolerance {t:g} {u}"
+    if verdict == "fail" and not record.get("uniform", True) and settings.measured == "warn":
+        verdict = "warn"
+        reason += " (non-uniform knots: capped at warn by policy measured = 'warn')"
+    return verdict, reason, value
+
+
+def advice_wanted(settings, verdict: str) -> str | None:
+    """None when the face gets the density advice under ``settings.advise``, else why it does not."""
+    if settings.advise == "all" or (settings.advise == "failing" and verdict in ("warn", "fail")):
+        return None
+    if settings.advise == "none":
+        return "not computed (--advise none)"
+    return "face passes (--advise failing)"
+
+
+def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
+    """One face's gate record (today's budget and verdict, and the advice where ``settings.advise`` asks)
+    and today's :class:`~cadartifact.budget.Budget` with its fields when it is the ``surface`` reading's
+    (what :func:`cadartifact.runs.records.peak_location` needs: it is not computed again), else None.
+
+    The verdict needs today's budget only; the advice (a density search, the costly part) is added
+    only for the faces ``settings.advise`` selects. A face without advice keeps the record's schema:
+    ``advice`` is None and ``advice_skipped`` says why (None where the advice was computed).
+    """
+    from ..advice.advise import advise
+    from ..analysis.budget import budget
+    from .records import budget_record, face_record
+
+    key = "deviation" if settings.include_signal_error else "total"
+    # the reading advise() scores today's net under (include_signal_error is the net reading)
+    reading = "net" if settings.include_signal_error else settings.intent
+    current = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=reading,
+                     keep_fields=reading == "surface")
+    def finite(rec):
+        if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
+            raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
+        return rec
+
+    rec = finite(budget_record(net, current, reading == "net"))
+    verdict, reason, value = face_verdict(rec, settings)
+    skipped = advice_wanted(settings, verdict)
+    if skipped is None:
+        # verification costs a real-surface evaluation: only for faces that fail today
+        check = verify and not current.meets(settings.include_signal_error)
+        adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
+                     include_signal_error=settings.include_signal_error, compare=False, verify=check,
+                     current=current if current.fields is not None else None)
+        rec = finite(face_record(net, adv))
+        verdict, reason, value = face_verdict(rec, settings)
+    rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
+    return rec, (current if reading == "surface" else None)
