@@ -12,7 +12,8 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from cadartifact.cli.app import _OneLineUsageErrors, app
+from cadartifact.cli.app import app
+from cadartifact.cli.root import _OneLineUsageErrors
 
 pytest.importorskip("OCP")
 

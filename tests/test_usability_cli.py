@@ -13,7 +13,8 @@ from typer.testing import CliRunner
 
 import cadartifact
 from cadartifact import errors
-from cadartifact.cli.app import app, demo_hint
+from cadartifact.cli.advise_cmds import demo_hint
+from cadartifact.cli.app import app
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
@@ -104,7 +105,7 @@ def test_demo_finds_the_samples_in_an_installed_copy_not_in_the_users_folder(tmp
     work = tmp_path / "work"
     (work / "samples").mkdir(parents=True)
     (work / "samples" / "mine.step").write_text("not the bundled samples")
-    code = "import cadartifact.cli.app as c; print(c._samples_dir())"
+    code = "import cadartifact.cli.advise_cmds as c; print(c._samples_dir())"
     env = {**os.environ, "PYTHONPATH": str(site)}
     out = subprocess.run([sys.executable, "-c", code], cwd=work, env=env, capture_output=True, text=True, check=True)
     assert Path(out.stdout.strip()) == site / "cadartifact" / "samples"

@@ -1,0 +1,131 @@
+"""``cadartifact gate``: the CI quality gate, pass / warn / fail per face against a tolerance policy, with
+text, JSON, JUnit and SARIF reports."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from .root import _console, app, cli_errors
+from ..errors import OptionError, check_option
+
+
+# ---------------------------------------------------------------- gate (CI quality gate)
+@app.command("gate", short_help="CI quality gate: pass / warn / fail per face, reports.")
+@cli_errors
+def gate_cmd(
+    paths: List[str] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files, folders (recursive) or globs.",
+                                      show_default=False),
+    tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
+    policy: Optional[Path] = typer.Option(None, "--policy",
+                                          help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
+                                               "pyproject.toml, looked up from here upward)."),
+    fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
+    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
+    report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
+    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", help="Worker processes (default: CPU count)."),
+    metric: Optional[str] = typer.Option(None, "--metric", help="peak or rms (overrides the policy)."),
+    warn_fraction: Optional[float] = typer.Option(None, "--warn-fraction",
+                                                  help="Warn at this fraction of the tolerance (0 < f <= 1; "
+                                                       "default 0.8)."),
+    scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
+    intent: Optional[str] = typer.Option(None, "--intent",
+                                         help="Design intent: surface or net (overrides the policy)."),
+    verify: bool = typer.Option(False, "--verify/--no-verify",
+                                help="Verify the advised net of failing faces on the real surface (slower)."),
+    advise: Optional[str] = typer.Option(None, "--advise",
+                                         help="Density advice for: failing (faces that warn or fail; default), all "
+                                              "or none. The verdict needs today's budget only (policy: advise)."),
+    convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
+                                           help="Convert revolution/extrusion/offset faces to B-splines and gate "
+                                                "them (overrides the policy's convert; default: skip them)."),
+    wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
+                                        help="Every column in the text report (default: at 110 columns or more)."),
+    read_timeout: Optional[float] = typer.Option(None, "--read-timeout",
+                                                 help="Seconds OCCT's reader may take on one file (default 120 or "
+                                                      "$CADARTIFACT_READ_TIMEOUT); a file past it is an error."),
+    cache: Optional[Path] = typer.Option(None, "--cache",
+                                         help="Keep results in this folder, keyed by file content, policy and "
+                                              "version: unchanged files are not analysed again (policy: cache)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                            help="Run on a Dask cluster: a scheduler address (tcp://host:8786) or "
+                                                 "'local' (a LocalCluster of --jobs workers). Needs "
+                                                 "cadartifact[dask]."),
+    ship: bool = typer.Option(False, "--ship", help="With --scheduler: send the files' bytes to the workers (no "
+                                                    "shared storage)."),
+    scheduler_timeout: float = typer.Option(10.0, "--scheduler-timeout",
+                                            help="Seconds to wait for the scheduler."),
+):
+    """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
+
+    Exit 0 when every face passes (warnings allowed), 1 when a face fails, 2 on usage errors or unreadable files.
+
+    An unreadable file is reported as an error and the other files are still analysed (fail closed).
+
+    Policy: cadartifact.toml or [tool.cadartifact] in pyproject.toml (see cadartifact.gate.policy).
+    """
+    import importlib.util
+    import os
+
+    from ..gate.run import build_document, run_gate
+    from ..gate.policy import base_settings, check_cli, expand_paths, find_policy, load_policy
+    from ..gate.reports import FORMATS, render_text, summary_line, to_json, to_junit, to_sarif, to_text, write_atomic
+
+    check_option("--format", fmt, FORMATS)
+    if jobs is not None and jobs < 1:
+        raise OptionError("--jobs", "a number of processes >= 1", jobs)
+    if read_timeout is not None and not (0 < read_timeout < float("inf")):
+        raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
+    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
+                     "intent": intent, "convert": convert, "advise": advise})
+    pol = load_policy(policy) if policy is not None else find_policy()
+    files = expand_paths(paths)
+    settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis
+    for option, target in (("--output", output), ("--report", report)):
+        if target is not None and not (target.parent if str(target.parent) else Path(".")).is_dir():
+            raise OptionError(option, "a file in an existing folder", str(target))
+    if report is not None and importlib.util.find_spec("cadartifact.viz.html") is None:
+        raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
+                                      "installation", str(report))
+
+    workers = jobs or os.cpu_count() or 1
+    cluster = result_cache = None
+    if scheduler is not None:
+        from ..gate.cluster import ClusterOptions, require_distributed
+
+        cluster = ClusterOptions(scheduler.strip(), workers=workers, ship=ship, timeout=scheduler_timeout)
+        require_distributed()  # a missing extra is a usage error before any work
+    elif ship:
+        raise OptionError("--ship", "--scheduler too (files are shipped to Dask workers)", "--ship alone")
+    cache = cache if cache is not None else pol.cache
+    if cache is not None:
+        from ..gate.cache import GateCache
+
+        result_cache = GateCache(cache)
+
+    from ..gate.progress import GateProgress
+
+    with GateProgress(_console(stderr=True), len(files)) as progress:
+        entries = run_gate(files, settings, jobs=workers, verify=verify, progress=progress, cache=result_cache,
+                           cluster=cluster, read_timeout=read_timeout)
+    doc = build_document(entries, base_settings(pol, cli), pol)
+
+    if fmt == "text" and output is None:
+        con = _console()
+        if not con.is_terminal and not os.environ.get("COLUMNS"):  # CI logs: the whole table, unfolded
+            con.width = max(con.width, 132)
+        render_text(doc, con, wide=wide)
+    else:
+        text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
+        if output is None:
+            typer.echo(text, nl=False)
+        else:
+            write_atomic(output, text)
+            _console().print(summary_line(doc) + f"; {fmt} report written to {output}", soft_wrap=True)
+    if report is not None:
+        from ..viz.html import write_report
+
+        write_report(doc, report)
+    raise typer.Exit(doc["exit_code"])
