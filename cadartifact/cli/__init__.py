@@ -5,7 +5,10 @@ or input error. Errors are one line on stderr, never a traceback.
 
 - :mod:`.prestart`: starts OCCT's reader child before anything heavy is imported (standard library only);
 - :mod:`.usage`: one-line usage errors;
-- :mod:`.app`: the commands.
+- :mod:`.root`: the command group and what the commands share (one-line errors, the consoles);
+- :mod:`.catalogue_cmds` (schemes, maps), :mod:`.advise_cmds` (advise, demo), :mod:`.gate_cmd` (gate),
+  :mod:`.files_cmds` (inspect, view): the commands;
+- :mod:`.app`: the app with every command, and :func:`~.app.run`.
 """
 
 from __future__ import annotations
