@@ -29,7 +29,6 @@ __all__ = ["ArtifactToleranceWarning", "MODES", "check", "report", "register"]
 #: What :func:`check` does when a face exceeds the tolerance.
 MODES = ("raise", "warn")
 
-_METRICS = ("peak", "rms")
 _DIRECTIONS = ("x1", "x2", "diagonal", "lateral")
 
 
@@ -37,10 +36,14 @@ class ArtifactToleranceWarning(UserWarning):
     """Issued by ``check(mode="warn")`` when a face's artifact exceeds the tolerance."""
 
 
-def _tolerance(tol) -> float:
-    from .analysis.budget import check_tolerance
+def _settings(tol, metric: str, scheme, intent: str, include_signal_error: bool):
+    """The run's :class:`~cadartifact.analysis.settings.RunSettings`, checked once as the hook is called (the
+    tolerance under this hook's own name, ``tol``)."""
+    from .analysis.settings import RunSettings, check_tolerance
 
-    return check_tolerance(tol, "tol")
+    t = None if tol is None else check_tolerance(tol, "tol")
+    return RunSettings(tolerance=t, metric=metric, scheme=scheme, intent=intent,
+                       include_signal_error=include_signal_error)
 
 
 def _nets(obj, convert: bool, name):
@@ -96,27 +99,24 @@ def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak"
         method, reason, budget {direction: {peak, rms}}, share, meets_tolerance, advice``.
         Without ``tol``: ``share``, ``meets_tolerance`` and ``advice`` are None.
     """
-    from .advice.advise import advise
-    from .analysis.budget import budget
+    from .advice.advise import advise_for
+    from .analysis.budget import budget_for
     from .runs.records import face_record
 
-    check_option("metric", metric, _METRICS)
-    check_option("intent", intent, ("surface", "net"))
-    t = None if tol is None else _tolerance(tol)
+    settings = _settings(tol, metric, scheme, intent, include_signal_error)
     rows = []
     for net in _nets(shape_or_workplane, convert, name):
-        if t is None:
-            rows.append(_record(net, budget(net, scheme, metric=metric, intent=intent), include_signal_error))
+        if settings.tolerance is None:
+            rows.append(_record(net, budget_for(net, settings), include_signal_error))
         else:
-            adv = advise(net, t, scheme, metric=metric, intent=intent, include_signal_error=include_signal_error,
-                         compare=compare, verify=verify)
+            adv = advise_for(net, settings.replace(intent=settings.reading), compare=compare, verify=verify)
             rows.append(face_record(net, adv))
     return rows
 
 
-def _describe(row: dict, metric: str, t: float, include_signal_error: bool, units: str = "mm") -> str:
-    key = "deviation" if include_signal_error else "total"
-    what = "deviation" if include_signal_error else "ripple"
+def _describe(row: dict, settings, units: str = "mm") -> str:
+    metric, t, key = settings.metric, settings.tolerance, settings.compared
+    what = "deviation" if settings.include_signal_error else "ripple"
     label = f"face {row['face']}" + (f" ({row['name']})" if row["name"] else "")
     parts = ", ".join(f"{d} {row['budget'][d][metric]:.4g}" for d in _DIRECTIONS)
     text = (f"{label}: {what} {metric} {row['budget'][key][metric]:.4g} {units} exceeds tolerance {t:g} {units} "
@@ -163,34 +163,30 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
     --------
     >>> wp.invoke(cadartifact.cq.check(tol=0.05, mode="warn"))      # doctest: +SKIP
     """
-    t = _tolerance(tol)
+    settings = _settings(tol, metric, scheme, intent, include_signal_error)
     check_option("mode", mode, MODES)
-    check_option("metric", metric, _METRICS)
-    check_option("intent", intent, ("surface", "net"))
     if scheme is not None:
         from .theory.catalogue import scheme as get_scheme
 
-        scheme = get_scheme(scheme)  # a bad name fails when the check is built, not mid-model
+        settings = settings.replace(scheme=get_scheme(scheme))  # a bad name fails when the check is built
 
     # Workplane.invoke reads the arity from __code__, so this must be a plain one-argument function.
     def artifact_check(workplane):
-        from .advice.advise import advise
-        from .analysis.budget import budget
+        from .advice.advise import advise_for
+        from .analysis.budget import budget_for
 
-        key = "deviation" if include_signal_error else "total"
         rows = []
         for net in _nets(workplane, convert, None):
-            b = budget(net, scheme, t, metric=metric, intent=intent)
+            b = budget_for(net, settings)
             if not b.meets(include_signal_error):
-                rows.append((b.stats[key].get(metric), net, _record(net, b, include_signal_error)))
+                rows.append((b.stats[settings.compared].get(metric), net, _record(net, b, include_signal_error)))
         if not rows:
             return workplane
         rows.sort(key=lambda r: -r[0])
         _, worst_net, worst = rows[0]
-        adv = advise(worst_net, t, scheme, metric=metric, intent=intent, include_signal_error=include_signal_error,
-                     compare=False, verify=False)
+        adv = advise_for(worst_net, settings.replace(intent=settings.reading), compare=False, verify=False)
         worst["advice"] = adv.to_dict()
-        message = _describe(worst, metric, t, include_signal_error, worst_net.unit)
+        message = _describe(worst, settings, worst_net.unit)
         if len(rows) > 1:
             message = f"{len(rows)} faces exceed the tolerance; worst {message}"
         if mode == "raise":
@@ -200,7 +196,7 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
         warnings.warn(message, ArtifactToleranceWarning, stacklevel=3)
         return workplane
 
-    artifact_check.__doc__ = f"cadartifact check: tolerance {t:g}, {metric}, mode {mode}"
+    artifact_check.__doc__ = f"cadartifact check: tolerance {settings.tolerance:g}, {metric}, mode {mode}"
     return artifact_check
 
 

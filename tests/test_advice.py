@@ -221,6 +221,7 @@ def test_total_ripple_is_the_budgets_number_to_the_bit(periodic):
     """The comparison's lean predicate (no lateral field, one band's statistics) against the full budget."""
     from cadartifact.advice.advise import NAMED_SCHEMES
     from cadartifact.analysis.budget import budget, total_ripple
+    from cadartifact.analysis.settings import RunSettings
     from cadartifact.theory.catalogue import scheme
 
     rng = np.random.default_rng(7)
@@ -233,12 +234,14 @@ def test_total_ripple_is_the_budgets_number_to_the_bit(periodic):
                 for component in ("normal", "vector"):
                     full = budget(cage, scheme(name), metric=metric, component=component, levels=1,
                                   method="predicted").stats["total"].get(metric)
-                    assert total_ripple(cage, scheme(name), metric=metric, component=component, levels=1) == full
+                    under = RunSettings(scheme=scheme(name), metric=metric, component=component, levels=1)
+                    assert total_ripple(cage, under) == full
 
 
 def test_total_ripple_of_faces_is_the_budgets_number_to_the_bit():
     """Faces take the measured road: B-spline faces of several degrees and the samples' real faces."""
     from cadartifact.analysis.budget import budget, total_ripple
+    from cadartifact.analysis.settings import RunSettings
 
     rng = np.random.default_rng(3)
     nets = []
@@ -251,7 +254,7 @@ def test_total_ripple_of_faces_is_the_budgets_number_to_the_bit():
     for net in nets:
         for metric in ("peak", "rms"):
             full = budget(net, metric=metric, levels=3).stats["total"].get(metric)
-            assert total_ripple(net, metric=metric, levels=3) == full, (net.origin, metric)
+            assert total_ripple(net, RunSettings(metric=metric, levels=3)) == full, (net.origin, metric)
 
 
 def test_confirmation_does_not_climb_along_the_direction_that_does_not_bind(monkeypatch):

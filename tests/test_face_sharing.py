@@ -127,9 +127,9 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
     nets = [_net(10 + k, 8 + k % 3, 1.0, n).replace(origin=NetOrigin(name=n, face=k, kind="bspline"))
             for k, n in enumerate(names)]
     settings = FileSettings(tolerance=0.01)
-    serial = [split.face_outcome(n, settings, False, "total") for n in nets]
+    serial = [split.face_outcome(n, settings, False) for n in nets]
     monkeypatch.setattr(split, "enabled", lambda: True)
-    shared = split.analyse_faces(nets, settings, False, "total")
+    shared = split.analyse_faces(nets, settings, False)
     assert [type(o) for o in shared] == [type(o) for o in serial]
     assert [str(o) if isinstance(o, Exception) else json.dumps(o, sort_keys=True) for o in shared] == \
         [str(o) if isinstance(o, Exception) else json.dumps(o, sort_keys=True) for o in serial]

@@ -20,20 +20,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis.budget import METRICS, Budget, Stat, analysis_net, budget, check_tolerance, default_scheme, total_ripple
+from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
 from ..analysis.baseband import baseband_at, release
 from .density_search import frontier, gallop
 from ..errors import OptionError, check_option
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
-from ..analysis.intent import READINGS
+from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_scheme
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
-__all__ = ["Advice", "advise", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
+__all__ = ["Advice", "advise", "advise_for", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
 
 
 #: What the tolerance bounds: the candidate's whole error against the intent, or its ripple only.
@@ -63,13 +63,13 @@ INTENT_MARGIN = 0.1
 class _Scorer:
     """Scores candidate densities (and today's net) against one intent on check grids (memoised)."""
 
-    def __init__(self, net: ControlNet, work: ControlNet, scheme, fields, intent, reading: str, levels: int,
-                 metric: str, component: str):
+    def __init__(self, net: ControlNet, work: ControlNet, scheme, fields, intent, settings: RunSettings):
         from ..analysis.budget import trim_mask
 
         self.net, self.work, self.scheme = net, work, scheme
-        self.fields, self.intent, self.reading = fields, intent, reading
-        self.K, self.metric, self.component = 2 ** levels, metric, component
+        # settings.intent is the reading candidates are scored against, settings.levels the check grid's
+        self.fields, self.intent, self.reading = fields, intent, settings.intent
+        self.K, self.metric, self.component = 2 ** settings.levels, settings.metric, settings.component
         self.frames = intent.frames
         self.degrees = work.degrees if work.degrees is not None else tuple(
             min(d, n - 1) for d, n in zip(scheme.degrees or (3, 3), work.shape))
@@ -360,27 +360,34 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     ``n'v(n'u)`` (galloping from today's density) at ``K = 4``, then confirms at ``K = 2**levels``,
     growing until feasible and shrinking each direction while it stays so.
     """
-    from ..theory.catalogue import Scheme, scheme as get_scheme
-
-    check_option("metric", metric, METRICS)
     check_option("intent", intent, READINGS)
     check_option("objective", objective, OBJECTIVES)
-    if include_signal_error:
-        intent = "net"
-    tolerance = check_tolerance(tolerance)
+    settings = RunSettings(tolerance=tolerance, metric=metric, scheme=scheme, intent="net" if include_signal_error
+                           else intent, levels=levels, component=component)
+    return advise_for(net, settings, objective=objective, compare=compare, verify=verify, current=current)
+
+
+def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "deviation", compare: bool | str = "auto",
+               verify: bool | str = True, current: Budget | None = None) -> Advice:
+    """:func:`advise` under a run's settings (made and checked once, at the edge; see
+    :mod:`cadartifact.analysis.settings`): ``settings.tolerance`` (required), ``scheme``, ``metric``,
+    ``intent`` (the reading: ``"net"`` when the signal error counts), ``levels`` and ``component``."""
+    check_option("objective", objective, OBJECTIVES)
+    tolerance = check_tolerance(settings.tolerance)
+    metric, levels, intent = settings.metric, settings.levels, settings.intent
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
-    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    sch = resolve_scheme(net, settings.scheme)
+    settings = settings.replace(scheme=sch, method="auto", region="auto")  # the road and region advise() reads
     reuse = (current is not None and current.net is net and current.fields is not None and current.scheme == sch.name
-             and (current.metric, current.levels, current.component, current.intent) == (metric, levels, component,
-                                                                                         intent)
+             and (current.metric, current.levels, current.component, current.intent) == (metric, levels,
+                                                                                         settings.component, intent)
              and current.options == ("auto", "auto"))  # the road and region advise() itself would use
     if not reuse:
-        current = budget(net, sch, tolerance, metric=metric, levels=levels, component=component, intent=intent,
-                         keep_fields=True)
+        current = budget_for(net, settings, keep_fields=True)
     work = analysis_net(net, sch)
     # one intent for both check grids (only the grid's density differs): the fields of today's budget
-    scorers = {lv: _make_scorer(net, work, sch, intent, lv, metric, component, current)
+    scorers = {lv: _make_scorer(net, work, sch, settings.replace(levels=lv), current)
                for lv in sorted({min(SEARCH_LEVELS, levels), levels})}
     fine = scorers[levels]
     coarse = scorers[min(SEARCH_LEVELS, levels)]
@@ -393,11 +400,11 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         reserve) and, for the surface reading, its own ripple as the gate will read it (so the advice
         passes the gate; a budget per candidate, so only where the fine grid confirms)."""
         if objective == "ripple":
-            return _ripple_of(sc, a, b, sch, metric, component)
+            return _ripple_of(sc, a, b, settings)
         dev = sc.value(a, b) * reserve
         if dev > t or intent == "net" or not own_ripple:  # the net reading bounds the deviation from the shape
             return dev
-        return max(dev, _ripple_of(sc, a, b, sch, metric, component))
+        return max(dev, _ripple_of(sc, a, b, settings))
 
     shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
     a, b = shape
@@ -445,7 +452,7 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         sc = fine.score(*shape)
     # kept: the advised net is today's, whose budget under the same options is `current` already
     known = current if kept else None
-    stats = _advice_stats(advised, sch if kept else None, tolerance, metric, levels, component, intent, sc, known)
+    stats = _advice_stats(advised, settings.replace(scheme=sch if kept else None), sc, known)
     if stats["boundary"].peak > t:
         notes.append(f"the advised net's border curves lie up to {stats['boundary'].peak:.3g} from today's (more than "
                      "the tolerance): neighbouring faces must follow")
@@ -474,8 +481,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
         if not compare:
             comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
-        comparison = compare_schemes(net, work, sch, shape, meets, tolerance, metric, component, fine,
-                                     growth=GROWTH, max_points=MAX_POINTS)
+        comparison = compare_schemes(net, work, sch, shape, meets, settings, fine, growth=GROWTH,
+                                     max_points=MAX_POINTS)
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
     return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
@@ -485,34 +492,36 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
                   pending=pending)
 
 
-def _make_scorer(net, work, sch, reading, levels, metric, component, current=None) -> _Scorer:
-    """A scorer of candidates against the intent: the surface reading's fields (today's budget's when it kept
-    them), and the intent object (a split face's :class:`cadartifact.analysis.pieces.PiecewiseIntent`)."""
+def _make_scorer(net, work, sch, settings: RunSettings, current=None) -> _Scorer:
+    """A scorer of candidates against the intent (``settings.intent``: the reading, ``settings.levels``: the
+    check grid): the surface reading's fields (today's budget's when it kept them), and the intent object (a
+    split face's :class:`cadartifact.analysis.pieces.PiecewiseIntent`)."""
     from ..analysis.intent import design_intent
 
     fields = current.fields if current is not None else None
     if fields is None or fields.baseband is None:  # a net-reading budget keeps no base band: the surface reading
-        lv = current.levels if current is not None else levels
-        fields = budget(work, sch, levels=lv, component=component, intent="surface", keep_fields=True).fields
+        lv = current.levels if current is not None else settings.levels
+        surface = RunSettings(scheme=sch, levels=lv, component=settings.component)
+        fields = budget_for(work, surface, keep_fields=True).fields
     it = fields.baseband.get("intent") or design_intent(work, sch, fields.levels)
-    return _Scorer(net, work, sch, fields, it, reading, levels, metric, component)
+    return _Scorer(net, work, sch, fields, it, settings)
 
 
-def _ripple_of(sc: _Scorer, a, b, sch, metric, component) -> float:
-    """The ripple-only objective: the fitted candidate's own ripple budget."""
+def _ripple_of(sc: _Scorer, a, b, settings: RunSettings) -> float:
+    """The ripple-only objective: the fitted candidate's own ripple budget (under its own degrees, on the
+    scorer's check grid)."""
     key = ("ripple", a, b)
     if key not in sc._scores:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
-        sc._scores[key] = total_ripple(cand, None, metric=metric, component=component, levels=int(np.log2(sc.K)))
+        sc._scores[key] = total_ripple(cand, settings.replace(scheme=None, levels=int(np.log2(sc.K))))
     return sc._scores[key]
 
 
-def _advice_stats(advised, scheme, tolerance, metric, levels, component, intent, score, known=None) -> dict:
-    """The advised net's stats: its own budget (``known``: that budget, already computed) with the candidate's
-    deviation and border distance."""
-    b = known if known is not None else budget(advised, scheme, tolerance, metric=metric, levels=levels,
-                                               component=component, intent=intent)
+def _advice_stats(advised, settings: RunSettings, score, known=None) -> dict:
+    """The advised net's stats: its own budget under ``settings`` (``known``: that budget, already computed) with
+    the candidate's deviation and border distance."""
+    b = known if known is not None else budget_for(advised, settings)
     stats = {k: v for k, v in b.stats.items() if k != "deviation"}
     stats["deviation"] = Stat(peak=score["peak"], rms=score["rms"])
     stats["boundary"] = Stat(peak=score.get("boundary", 0.0), rms=score.get("boundary", 0.0))
@@ -566,16 +575,14 @@ def resample(net: ControlNet, shape: tuple[int, int], scheme=None, *, intent: st
         A B-spline net of the face's degrees (clipped to ``n' - 1``; a cage: the scheme's) over the
         same parameter range, uniform knots, no weights; its points fit the intent by least squares.
     """
-    from ..theory.catalogue import Scheme, scheme as get_scheme
-
     check_option("intent", intent, READINGS)
-    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    sch = resolve_scheme(net, scheme)
     try:
         a, b = (int(s) for s in shape)
     except (TypeError, ValueError):
         raise OptionError("shape", "two integers (n'u, n'v)", shape) from None
     work = analysis_net(net, sch)
-    sc = _make_scorer(net, work, sch, intent, levels, "peak", "normal")
+    sc = _make_scorer(net, work, sch, RunSettings(scheme=sch, intent=intent, levels=levels))
     low = tuple(d + 1 for d in sc.degrees)
     if a < low[0] or b < low[1]:
         raise OptionError("shape", f"at least {low[0]}x{low[1]} control points", (a, b))

@@ -9,6 +9,7 @@ scheme keeps the advice's answer. The cages are shared by the schemes (their fro
 from __future__ import annotations
 
 from ..analysis.budget import total_ripple
+from ..analysis.settings import RunSettings
 from ..analysis.baseband import baseband_at
 from ..theory.catalogue import scheme as get_scheme
 from .density_search import frontier
@@ -20,8 +21,8 @@ __all__ = ["NAMED_SCHEMES", "compare_schemes"]
 NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 
 
-def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, tolerance: float, metric: str,
-                    component: str, fine, *, growth: int, max_points: int) -> dict:
+def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, settings: RunSettings, fine, *,
+                    growth: int, max_points: int) -> dict:
     """Fewest points per named scheme for the intent's ripple (the intent sampled at each scheme's net).
 
     Parameters
@@ -32,8 +33,8 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
         The face's own scheme: its entry is the advice itself (``shape``, ``meets``, objective ``deviation``).
     shape : (int, int)
     meets : bool
-    tolerance : float
-    metric, component : str
+    settings : RunSettings
+        The run's ``tolerance``, ``metric`` and ``component``.
     fine : cadartifact.advice.advise._Scorer
         The advice's scorer at the confirmation grid: its intent, fields and frames.
     growth, max_points : int
@@ -69,11 +70,11 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
             continue
 
         seen = {}  # a memo per scheme: the frontier asks about some densities twice
+        under = settings.replace(scheme=other, levels=1)
 
-        def ok(a, b, other=other, seen=seen):
+        def ok(a, b, under=under, seen=seen):
             if (a, b) not in seen:
-                seen[(a, b)] = total_ripple(cage_of(a, b), other, metric=metric, component=component,
-                                            levels=1) <= tolerance
+                seen[(a, b)] = total_ripple(cage_of(a, b), under) <= settings.tolerance
             return seen[(a, b)]
 
         low = (3, 3)

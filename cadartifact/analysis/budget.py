@@ -14,17 +14,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import OptionError, check_option
-from .fields import COMPONENTS, FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals, project
-from .intent import READINGS, design_intent
+from ..errors import OptionError
+from .fields import FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals, project
+from .intent import design_intent
 from ..net import ControlNet
 from .pieces import gather_fields, split_net
+from .settings import METRICS, RunSettings, resolve_scheme  # noqa: F401  METRICS: the CLI's import, until it moves
 
-__all__ = ["Budget", "Stat", "budget", "default_scheme", "total_ripple", "METHODS", "METRICS", "REGIONS"]
+__all__ = ["Budget", "Stat", "budget", "budget_for", "total_ripple"]
 
-METHODS = ("auto", "predicted", "measured", "both")
-METRICS = ("peak", "rms")
-REGIONS = ("auto", "face", "interior")
 
 #: All statistics a budget carries: the ripple fields, the signal error and the whole deviation.
 STAT_NAMES = FIELD_NAMES + ("deviation",)
@@ -39,15 +37,6 @@ class Stat:
 
     def get(self, metric: str) -> float:
         return self.peak if metric == "peak" else self.rms
-
-
-def default_scheme(net: ControlNet):
-    """The scheme a net is analysed with by default: its own B-spline degrees, Catmull-Clark for cages."""
-    from ..theory.catalogue import bspline, scheme
-
-    if net.degrees is not None:
-        return bspline(*net.degrees)
-    return scheme("catmull-clark")
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,17 +220,6 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
     return res
 
 
-def check_tolerance(tolerance, parameter: str = "tolerance") -> float:
-    """A tolerance as a positive finite float (model units), or :class:`OptionError` naming ``parameter``."""
-    try:
-        value = float(tolerance)
-    except (TypeError, ValueError):
-        raise OptionError(parameter, "a positive number of model units", tolerance) from None
-    if not math.isfinite(value) or value <= 0:
-        raise OptionError(parameter, "a positive number of model units", tolerance)
-    return value
-
-
 def analysis_net(net: ControlNet, scheme) -> ControlNet:
     """The net as the scheme reads it: a face under its own degrees keeps its knots and weights;
     under another scheme its points are a cage (uniform parametrisation of that scheme)."""
@@ -294,36 +272,36 @@ def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metr
     ``A r / sqrt(2)`` with ``r`` the continuous (or, at ``levels=1``, refined-vertex) response
     of SPEC §3 per direction; ``total`` RMS is ``A sqrt(3) energy / sqrt(2)``.
     """
-    from ..theory.catalogue import Scheme, scheme as get_scheme
+    settings = RunSettings(tolerance=tolerance, metric=metric, scheme=scheme, intent=intent, levels=levels,
+                           component=component, method=method, region=region)
+    return budget_for(net, settings, keep_fields=keep_fields)
 
-    check_option("metric", metric, METRICS)
-    check_option("method", method, METHODS)
-    check_option("component", component, COMPONENTS)
-    check_option("region", region, REGIONS)
-    check_option("intent", intent, READINGS)
-    if tolerance is not None:
-        tolerance = check_tolerance(tolerance)
+
+def budget_for(net: ControlNet, settings: RunSettings, *, keep_fields: bool = False) -> Budget:
+    """:func:`budget` under a run's settings (made and checked once, at the edge; see
+    :mod:`cadartifact.analysis.settings`): ``settings.scheme``, ``tolerance``, ``metric``, ``method``,
+    ``levels``, ``component``, ``region`` and ``intent`` as :func:`budget`'s arguments."""
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
-    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch)
     b = None
     if work.knots is not None:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work:
-            b = _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region,
-                                  intent, keep_fields)
+            b = _piecewise_budget(net, work, pieces, sch, settings, keep_fields)
         elif pieces[0].note:
-            b = _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
+            b = _budget_of(net, work, sch, settings, keep_fields)
             b = dataclasses.replace(b, reason=f"{b.reason}; {pieces[0].note}", caveats=(pieces[0].note,))
     if b is None:
-        b = _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields)
-    return b if (method, region) == ("auto", "auto") else dataclasses.replace(b, options=(method, region))
+        b = _budget_of(net, work, sch, settings, keep_fields)
+    options = (settings.method, settings.region)
+    return b if options == ("auto", "auto") else dataclasses.replace(b, options=options)
 
 
-def _budget_of(net, work, sch, tolerance, metric, method, levels, component, region, intent, keep_fields,
-               keep_scalars=False) -> Budget:
+def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=False) -> Budget:
     """:func:`budget` of a net that needs no splitting."""
+    method, levels, component, intent = settings.method, settings.levels, settings.component, settings.intent
     it = design_intent(work, sch, levels)
     face = work.knots is not None
     primary = _road(work, method)
@@ -342,8 +320,7 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
     main = artifact_fields(it, sch, primary, intent)
     frames = it.frames
     margin = border_margin(work, sch)
-    if region == "auto":
-        region = "face"
+    region = "face" if settings.region == "auto" else settings.region
     scalars = _scalars(main, component)
     keep = region_mask(work, frames, main.x, main.y, region, margin)
     stats = _stats(scalars, keep)
@@ -359,8 +336,8 @@ def _budget_of(net, work, sch, tolerance, metric, method, levels, component, reg
         peak = float(scale.max()) if scale.size else 0.0
         check = {"method": other_name, "max_abs_diff": mad, "relative": mad / peak if peak > 0 else 0.0}
 
-    return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=tolerance, metric=metric,
-                  component=component, levels=levels, stats=stats, check=check, intent=intent,
+    return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=settings.tolerance,
+                  metric=settings.metric, component=component, levels=levels, stats=stats, check=check, intent=intent,
                   undersampled=it.undersampled(),
                   fields=main if keep_fields else None,
                   scalar_fields=scalars if keep_fields or keep_scalars else None,
@@ -374,27 +351,25 @@ def _road(work: ControlNet, method: str = "auto") -> str:
     return method
 
 
-def total_ripple(net: ControlNet, scheme=None, *, metric: str = "peak", levels: int = 3,
-                 component: str = "normal") -> float:
-    """``budget(net, scheme, metric=..., levels=..., component=...).stats["total"][metric]`` computed for
-    that number only: the same fields less the lateral one, the same projection and mask, no other band's
-    statistics. The advice asks this of hundreds of candidates per face (the scheme comparison's cages,
-    the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
+def total_ripple(net: ControlNet, settings: RunSettings) -> float:
+    """``budget_for(net, settings).stats["total"][settings.metric]`` computed for that number only (the default
+    road and the whole face, the surface reading): the same fields less the lateral one, the same projection
+    and mask, no other band's statistics. The advice asks this of hundreds of candidates per face (the scheme
+    comparison's cages, the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
     """
-    from ..theory.catalogue import Scheme, scheme as get_scheme
-
-    sch = default_scheme(net) if scheme is None else (scheme if isinstance(scheme, Scheme) else get_scheme(scheme))
+    sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch)
     if work.knots is not None:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
-            return budget(net, sch, metric=metric, levels=levels, component=component).stats["total"].get(metric)
-    it = design_intent(work, sch, levels)
+            whole = settings.replace(tolerance=None, scheme=sch, intent="surface", method="auto", region="auto")
+            return budget_for(net, whole).stats["total"].get(settings.metric)
+    it = design_intent(work, sch, settings.levels)
     main = artifact_fields(it, sch, _road(work), "surface", lateral=False)
-    normal = None if component == "vector" else intent_normals(main.intent, 2 ** main.levels)
-    total = project(main.bands["total"], normal, component)
+    normal = None if settings.component == "vector" else intent_normals(main.intent, 2 ** main.levels)
+    total = project(main.bands["total"], normal, settings.component)
     keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, sch))
-    return _stats({"total": total}, keep)["total"].get(metric)
+    return _stats({"total": total}, keep)["total"].get(settings.metric)
 
 
 def _after_junction(a: np.ndarray, piece) -> np.ndarray:
@@ -402,12 +377,12 @@ def _after_junction(a: np.ndarray, piece) -> np.ndarray:
     return a[(1 if piece.index[0] > 0 else 0):, (1 if piece.index[1] > 0 else 0):]
 
 
-def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels, component, region, intent,
-                      keep_fields) -> Budget:
+def _piecewise_budget(net, work, pieces, sch, settings: RunSettings, keep_fields) -> Budget:
     """The budget of a face split at its junctions (:mod:`cadartifact.analysis.pieces`): each piece analysed as a
     net of its own; peaks over all pieces, RMS over all their fine-grid samples."""
-    parts = [_budget_of(p.net, p.net, sch, None, metric, method, levels, component, region, intent, keep_fields,
-                        keep_scalars=True) for p in pieces]
+    levels = settings.levels
+    each = settings.replace(tolerance=None)
+    parts = [_budget_of(p.net, p.net, sch, each, keep_fields, keep_scalars=True) for p in pieces]
     scalars = [dict(b.scalar_fields, __region__=b.region) for b in parts]
     fields = None
     if keep_fields:
@@ -426,8 +401,9 @@ def _piecewise_budget(net, work, pieces, sch, tolerance, metric, method, levels,
               f"pieces analysed separately")
     # method "both": the pieces' worst agreement between the roads
     check = max((b.check for b in parts if b.check), key=lambda c: c["max_abs_diff"], default=None)
-    return Budget(net=net, scheme=sch.name, method=first.method, reason=reason, tolerance=tolerance, metric=metric,
-                  component=component, levels=levels, stats=stats, check=check, intent=intent,
+    return Budget(net=net, scheme=sch.name, method=first.method, reason=reason, tolerance=settings.tolerance,
+                  metric=settings.metric, component=settings.component, levels=levels, stats=stats, check=check,
+                  intent=settings.intent,
                   undersampled=max(b.undersampled for b in parts), pieces=(rows, cols),
                   fields=fields, scalar_fields=gathered if keep_fields else None,
                   region=keep if keep_fields else None)

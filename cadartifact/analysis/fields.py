@@ -37,7 +37,8 @@ import numpy as np
 from ..errors import check_option
 from .frames import AxisFrame
 from .baseband import baseband_at
-from .intent import READINGS, Intent, _legendre, design_intent, from_homogeneous
+from .settings import COMPONENTS, READINGS
+from .intent import Intent, _legendre, design_intent, from_homogeneous
 from ..numerics.operator_cache import OperatorCache
 from ..numerics.tensor import sandwich
 
@@ -48,7 +49,6 @@ __all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "pred
 #: The fields a budget reports, in report order.
 FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
 
-COMPONENTS = ("normal", "vector")
 
 
 @dataclass(frozen=True, eq=False)

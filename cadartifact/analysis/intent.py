@@ -38,6 +38,7 @@ from functools import cached_property
 import numpy as np
 
 from .frames import AxisFrame, axis_frames
+from .settings import READINGS
 from ..net import ControlNet, knot_multiplicities, lifted
 from ..numerics.operator_cache import OperatorCache
 from ..numerics.tensor import sandwich
@@ -46,7 +47,6 @@ __all__ = ["Intent", "AxisIntent", "design_intent", "axis_intent", "from_homogen
            "UNDERSAMPLED_FREQUENCY"]
 
 #: The two readings of the design intent (SPEC §4).
-READINGS = ("surface", "net")
 
 #: Band limit of the Fourier extension, cycles per control point (open directions). Content
 #: between it and 1/2 cannot be told from ripple on a finite net.

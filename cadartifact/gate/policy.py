@@ -42,8 +42,10 @@ import math
 import os
 import tomllib
 from dataclasses import asdict, dataclass, field
+from functools import cached_property
 from pathlib import Path
 
+from ..analysis.settings import METRICS, RunSettings
 from ..errors import CadArtifactError, InputError, OptionError
 
 __all__ = [
@@ -64,7 +66,6 @@ __all__ = [
 CAD_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp", ".obj")
 
 POLICY_FILE = "cadartifact.toml"
-METRICS = ("peak", "rms")
 MEASURED = ("warn", "fail")
 #: Which faces get the (costly) density advice: the verdict needs today's budget only.
 ADVISE = ("all", "failing", "none")
@@ -132,6 +133,12 @@ class FileSettings:
     min_analysed_share: float = 0.0
     advise: str = "failing"
     ignore_faces: tuple = ()
+
+    @cached_property
+    def run(self) -> RunSettings:
+        """The analysis's share of these settings, as the budget and the advice read them (validated once)."""
+        return RunSettings(tolerance=self.tolerance, metric=self.metric, scheme=self.scheme, intent=self.intent,
+                           include_signal_error=self.include_signal_error)
 
     def to_dict(self) -> dict:
         d = asdict(self)

@@ -125,7 +125,6 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
         detail = "; ".join(w.removeprefix(f"{path}: ") for w in res.warnings if "no analysable face" not in w)
         raise CadArtifactError(f"{invalid} face(s) could not be read or have invalid control points"
                                + (f" ({detail})" if detail else ""))
-    key = "deviation" if settings.include_signal_error else "total"
     todo = [net for net in res.nets if net.origin.face not in settings.ignore_faces]
     positions = list(range(len(todo)))
     if part is not None:
@@ -134,7 +133,7 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     # records with peak_at for faces that warn or fail, in face order; the first error fails the file. A batch
     # finds repeated faces over the whole file (its repeats' first faces may lie in another batch), so that its
     # records are those of the whole file's run
-    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify, key,
+    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify,
                                                      only=None if part is None else positions)):
         if isinstance(outcome, BaseException):
             if part is None:

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..analysis.budget import METRICS, check_tolerance
-from ..errors import FileFormatError, OptionError, check_option
+from ..analysis.settings import RunSettings, check_tolerance
+from ..errors import FileFormatError, OptionError
 from .records import SCHEMA, analysed_share, json_number
 
 __all__ = ["advise_files", "resampled_nets", "advised_outputs", "write_advised"]
@@ -45,8 +45,10 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     """
     from ..exchange.load import read
 
-    check_option("metric", metric, METRICS)
-    tolerance = check_tolerance(tolerance)  # before any file is read (each face's advice would raise it too)
+    # the run's settings, checked before any file is read (each face's advice would raise the same errors later)
+    settings = RunSettings(tolerance=tolerance, metric=metric, scheme=scheme, intent=intent,
+                           include_signal_error=include_signal_error)
+    check_tolerance(settings.tolerance)  # the advice needs one (None passes RunSettings: a budget needs none)
     paths = [Path(p) for p in paths]
     if not paths:
         raise OptionError("FILE", "at least one file", "none")
@@ -83,9 +85,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         from ..exchange.step_text import entity_line
         from .face_sharing import advise_faces, one_blas_thread
 
-        options = dict(tolerance=tolerance, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
-                       compare=compare, verify=verify, intent=intent)
-        key = "deviation" if include_signal_error else "total"
+        advice = dict(compare=compare, verify=verify)
         for path, res in zip(paths, loaded):
             entries = []
             todo = [net for net in res.nets if faces is None or net.origin.face in faces]
@@ -98,7 +98,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             # objects are kept, which stay in the process that made them); the first error stops the run.
             # One BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
             with one_blas_thread():
-                outcomes = advise_faces(todo, options, path, key, done=face_done, keep=keep is not None)
+                outcomes = advise_faces(todo, settings, advice, path, done=face_done, keep=keep is not None)
             for net, outcome in zip(todo, outcomes):
                 if isinstance(outcome, BaseException):
                     raise outcome
@@ -117,9 +117,9 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
                               "skipped": dict(res.skipped),
                               "warnings": list(res.warnings), "faces": entries})
         units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
-        return {"schema": SCHEMA, "tolerance": float(tolerance), "units": units, "metric": metric,
-                "intent": "net" if include_signal_error else intent,
-                "include_signal_error": bool(include_signal_error), "files": doc_files, "summary": summary}
+        return {"schema": SCHEMA, "tolerance": settings.tolerance, "units": units, "metric": settings.metric,
+                "intent": settings.reading, "include_signal_error": settings.include_signal_error,
+                "files": doc_files, "summary": summary}
 
 
 def resampled_nets(kept) -> list:

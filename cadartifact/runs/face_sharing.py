@@ -189,7 +189,7 @@ def share(items: list, costs: list, here, finish, child: str, args: tuple, *, do
     return out
 
 
-def analyse_faces(nets: list, settings, verify: bool, key: str, *, only=None) -> list:
+def analyse_faces(nets: list, settings, verify: bool, *, only=None) -> list:
     """The gate's per-face work (:func:`face_outcome`), shared: records (``peak_at`` set, ``entity_line``
     not) or the :class:`CadArtifactError` naming the face, in face order. ``verify`` runs are not shared
     (the advice's verification needs OCCT in the first phase).
@@ -198,41 +198,44 @@ def analyse_faces(nets: list, settings, verify: bool, key: str, *, only=None) ->
     ----------
     nets : list of ControlNet
     settings : FileSettings
+        The file's settings; the peak is located on the budget entry its tolerance bounds
+        (``settings.run.compared``).
     verify : bool
-    key : {"total", "deviation"}
-        The budget entry the peak is located on.
     only : list of int, optional
         The outcomes of these faces only (a batch of the file's faces), as the whole file's run gives them.
     """
+    key = settings.run.compared
+
     def run(faces, done):
         if verify:
-            return [face_outcome(n, settings, verify, key) for n in faces]
+            return [face_outcome(n, settings, verify) for n in faces]
         return share(faces, [estimated_ms(n) for n in faces], lambda n: _budgeted(n, settings, verify),
                      lambda n, first: _located(*first, n, key), "cadartifact.runs.face_sharing:child_gate",
-                     (settings, verify, key))
+                     (settings, verify))
 
     from .face_instances import instance_record
 
     return per_instance(nets, run, instance_record, only=only)
 
 
-def child_gate(nets: list, settings, verify: bool, key: str) -> list:
+def child_gate(nets: list, settings, verify: bool) -> list:
     """The reader child's side of :func:`analyse_faces`."""
-    return _in_child(lambda n: face_outcome(n, settings, verify, key), nets)
+    return _in_child(lambda n: face_outcome(n, settings, verify), nets)
 
 
-def advise_faces(nets: list, options: dict, path, key: str, *, done=None, keep: bool = False) -> list:
+def advise_faces(nets: list, settings, advice: dict, path, *, done=None, keep: bool = False) -> list:
     """The advise document's per-face work, shared: ``(record, advice)`` (``peak_at`` set, ``entity_line``
     not; the advice only with ``keep``, else None: each holds its budget's fields) or the exception, in
     face order.
 
-    ``options``: :func:`cadartifact.advise`'s keyword arguments (``verify`` among them).
+    ``settings``: the run's :class:`~cadartifact.analysis.settings.RunSettings`; ``advice``: the advice's own
+    options (``compare``, ``verify``: :func:`cadartifact.advice.advise.advise_for`).
     """
     def run(faces, done):
         costs = [ADVICE_MS + 4.0 * estimated_ms(n) for n in faces]  # a search and a comparison: several budgets
-        return share(faces, costs, lambda n: _advised(n, options, later=True),
-                     lambda n, adv: _recorded(adv, n, options, path, key, keep),
-                     "cadartifact.runs.face_sharing:child_advise", (options, str(path), key), done=done)
+        return share(faces, costs, lambda n: _advised(n, settings, advice, later=True),
+                     lambda n, adv: _recorded(adv, n, settings, path, keep),
+                     "cadartifact.runs.face_sharing:child_advise", (settings, advice, str(path)), done=done)
 
     if keep:  # the Advice objects (advised nets to write) are each face's own
         return run(nets, done)
@@ -270,27 +273,26 @@ def per_instance(nets: list, run, moved, *, done=None, only=None) -> list:
     return out
 
 
-def child_advise(nets: list, options: dict, path, key: str) -> list:
+def child_advise(nets: list, settings, advice: dict, path) -> list:
     """The reader child's side of :func:`advise_faces`: records only (an Advice stays where it was made)."""
-    return _in_child(lambda n: _recorded(_advised(n, options, later=False), n, options, path, key, False), nets)
+    return _in_child(lambda n: _recorded(_advised(n, settings, advice, later=False), n, settings, path, False), nets)
 
 
-def _advised(net, options: dict, later: bool):
-    """Phase one of the advise work: the :class:`~cadartifact.advice.advise.Advice` (its verification left for
-    later with ``later``) or the exception."""
-    from ..advice.advise import advise
+def _advised(net, settings, advice: dict, later: bool):
+    """Phase one of the advise work: the :class:`~cadartifact.advice.advise.Advice` under the run's reading (its
+    verification left for later with ``later``) or the exception."""
+    from ..advice.advise import advise_for
 
     try:
-        opts = dict(options)
-        tolerance = opts.pop("tolerance")
+        opts = dict(advice)
         if later and opts.get("verify", True):
             opts["verify"] = "later"
-        return advise(net, tolerance, **opts)
+        return advise_for(net, settings.replace(intent=settings.reading), **opts)
     except Exception as exc:  # noqa: BLE001 - raised by the caller, in face order
         return exc
 
 
-def _recorded(adv, net, options: dict, path, key: str, keep: bool):
+def _recorded(adv, net, settings, path, keep: bool):
     """Phase two: the verification left for later, then ``(record, advice if keep else None)``, checked and
     located, or the exception."""
     from .records import face_record
@@ -301,7 +303,8 @@ def _recorded(adv, net, options: dict, path, key: str, keep: bool):
     try:
         adv = complete(adv)
         rec = face_record(net, adv)
-        if any(rec["budget"][k][options.get("metric", "peak")] is None for k in {key, "total"}):
+        key = settings.compared
+        if any(rec["budget"][k][settings.metric] is None for k in {key, "total"}):
             return FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
                                          "(coordinates or weights too large?)")
         rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
@@ -332,10 +335,10 @@ def unpack(answer):
     return answer[1] if answer[0] == "ok" else rebuilt_error(*answer[1:])
 
 
-def face_outcome(net, settings, verify: bool, key: str):
+def face_outcome(net, settings, verify: bool):
     """The gate record of one face with its peak location, or the :class:`CadArtifactError` the serial
     gate raises for it (other exceptions become ``analysis failed (Type: message)``, as the gate words them)."""
-    return _located(*_budgeted(net, settings, verify), net, key)
+    return _located(*_budgeted(net, settings, verify), net, settings.run.compared)
 
 
 def _budgeted(net, settings, verify: bool):

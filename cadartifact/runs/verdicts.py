@@ -77,15 +77,17 @@ def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
     only for the faces ``settings.advise`` selects. A face without advice keeps the record's schema:
     ``advice`` is None and ``advice_skipped`` says why (None where the advice was computed).
     """
-    from ..advice.advise import advise
-    from ..analysis.budget import budget
+    from ..advice.advise import advise_for
+    from ..analysis.budget import budget_for
     from .records import budget_record, face_record
 
-    key = "deviation" if settings.include_signal_error else "total"
+    run = settings.run
+    key = run.compared
     # the reading advise() scores today's net under (include_signal_error is the net reading)
-    reading = "net" if settings.include_signal_error else settings.intent
-    current = budget(net, settings.scheme, settings.tolerance, metric=settings.metric, intent=reading,
-                     keep_fields=reading == "surface")
+    reading = run.reading
+    scored = run.replace(intent=reading)
+    current = budget_for(net, scored, keep_fields=reading == "surface")
+
     def finite(rec):
         if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
             raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
@@ -97,9 +99,8 @@ def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
     if skipped is None:
         # verification costs a real-surface evaluation: only for faces that fail today
         check = verify and not current.meets(settings.include_signal_error)
-        adv = advise(net, settings.tolerance, settings.scheme, metric=settings.metric, intent=settings.intent,
-                     include_signal_error=settings.include_signal_error, compare=False, verify=check,
-                     current=current if current.fields is not None else None)
+        adv = advise_for(net, scored, compare=False, verify=check,
+                         current=current if current.fields is not None else None)
         rec = finite(face_record(net, adv))
         verdict, reason, value = face_verdict(rec, settings)
     rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
