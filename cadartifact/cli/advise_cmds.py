@@ -9,6 +9,7 @@ from typing import List, Optional
 import typer
 
 from .root import _console, app, cli_errors, fail
+from .usage import escape
 from ..errors import CadArtifactError, InputError, check_option
 
 
@@ -104,7 +105,7 @@ def advise_cmd(
 
         write_report(doc, report)
         if not json_out:
-            _console().print(f"wrote {report}", soft_wrap=True)
+            _console().print(f"wrote {escape(report)}", soft_wrap=True)
     all_ok = all(f["meets_tolerance"] for fl in doc["files"] for f in fl["faces"])
     raise typer.Exit(0 if all_ok else 1)
 
@@ -115,15 +116,15 @@ def _print_written(written: dict, units: str) -> None:
     for f in written["files"]:
         if f["mode"] == "model":
             kept = f" ({len(f['kept'])} advised face(s) kept as they were: advice = today's net)" if f["kept"] else ""
-            con.print(f"wrote {f['path']}: the model of {f['source']} with {len(f['faces'])} face(s) "
-                      f"replaced{kept}", soft_wrap=True)
+            con.print(f"wrote {escape(f['path'])}: the model of {escape(f['source'])} with "
+                      f"{len(f['faces'])} face(s) replaced{kept}", soft_wrap=True)
         else:
             why = " (an OBJ cage has no B-rep to keep)" if f["source"].lower().endswith(".obj") else ""
-            con.print(f"wrote {len(f['faces'])} resampled face(s) only to {f['path']}{why}", soft_wrap=True)
+            con.print(f"wrote {len(f['faces'])} resampled face(s) only to {escape(f['path'])}{why}", soft_wrap=True)
         for r in f["faces"]:
             if r["max_distance"] is None:
                 continue
-            label = str(r["face"]) + (f" ({r['name']})" if r["name"] else "")
+            label = str(r["face"]) + (f" ({escape(r['name'])})" if r["name"] else "")
             edges = "" if r["edge_tolerance"] is None else f"; edge tolerance {r['edge_tolerance']:.3g} {units}"
             con.print(f"  face {label}: max {r['max_distance']:.4g} {units}, mean {r['mean_distance']:.4g} {units} "
                       f"from the old surface (same u, v){edges}; "
@@ -190,7 +191,8 @@ def demo_cmd(
         _write_json(doc)
         return
     con = _console()
-    con.print(f"[bold]cadartifact demo[/]: {len(files)} sample file(s) from {folder}, tolerance {tol:g} mm\n")
+    con.print(f"[bold]cadartifact demo[/]: {len(files)} sample file(s) from {escape(folder)}, "
+              f"tolerance {tol:g} mm\n", soft_wrap=True)
     render(doc, con)
     con.print("\n" + demo_hint(doc, tol), soft_wrap=True)
 

@@ -10,6 +10,7 @@ from typing import List, Optional
 import typer
 
 from .root import _console, app, cli_errors
+from .usage import escape
 from ..errors import OptionError, check_option
 
 
@@ -46,6 +47,8 @@ def schemes_cmd(
         return
     from rich.table import Table
 
+    from ..runs.terminal import print_table
+
     table = Table(title="cadartifact schemes", header_style="bold")
     for col in ("name", "arrows X1,X2,X1+X2,X1-X2", "mask", "limit stencil", "interpolating", "reproduces degree"):
         table.add_column(col)
@@ -53,7 +56,7 @@ def schemes_cmd(
         arrows = ",".join(map(str, r["arrows"])) if r["arrows"] else "kernel"
         table.add_row(r["name"], arrows, "x".join(map(str, r["mask"])), "x".join(map(str, r["limit_stencil"])),
                       "yes" if r["interpolating"] else "no", str(r["reproduction_degree"]))
-    _console().print(table)
+    print_table(_console(), table)
     _console().print("Also: bspline(p,q) for any degrees >= 1, box(n1,n2,n3,n4), or Scheme.from_mask(array).")
 
 
@@ -84,4 +87,4 @@ def maps_cmd(
         path = plot_grid(out, stage=stage, resolution=resolution, domain=domain)
     else:
         path = plot_maps(scheme or ["bicubic"], out, stage=stage, resolution=resolution, domain=domain)
-    _console().print(f"wrote {path}")
+    _console().print(f"wrote {escape(path)}", soft_wrap=True)

@@ -9,6 +9,7 @@ from typing import List, Optional
 import typer
 
 from .root import _console, app, cli_errors, fail
+from .usage import escape
 from ..errors import CadArtifactError, OptionError
 
 
@@ -50,6 +51,7 @@ def inspect_cmd(
     from ..exchange.load import SUPPORTED_EXTENSIONS, LoadWarning, read
     from ..exchange.summary import result_summary
     from ..runs.records import kind_count, plural
+    from ..runs.terminal import print_table
 
     summaries, errors = [], []
     for path in files:
@@ -76,7 +78,7 @@ def inspect_cmd(
         con.width = max(con.width, 132)
     yes = {True: "yes", False: "no"}
     for doc in summaries:
-        table = Table(title=doc["path"], header_style="bold", title_justify="left")
+        table = Table(header_style="bold")
         for col in ("face", "kind", "degrees", "net", "rational", "weights vary", "periodic u,v",
                     "uniform knots u,v", "kept area", "name"):
             table.add_column(col)
@@ -86,11 +88,11 @@ def inspect_cmd(
                 str(f["face"]), f["kind"], "x".join(map(str, f["degrees"])) if f["degrees"] else "cage",
                 "x".join(map(str, f["size"])), yes[f["rational"]], yes[f["weights_vary"]],
                 ",".join(yes[x] for x in f["periodic"]), ",".join(yes[x] for x in f["knots_uniform"]),
-                "-" if frac is None else f"{frac:.3f}", f["name"] or "")
+                "-" if frac is None else f"{frac:.3f}", escape(f["name"] or ""))
         if doc["faces"]:
-            con.print(table)
+            print_table(con, table, escape(doc["path"]))
         skipped = ", ".join(kind_count(k, n) for k, n in doc["skipped"].items()) or "none"
-        con.print(f"{doc['path']}: {plural(doc['faces_total'], 'face')}, {doc['analysable']} analysable, "
+        con.print(f"{escape(doc['path'])}: {plural(doc['faces_total'], 'face')}, {doc['analysable']} analysable, "
                   f"skipped: {skipped}", soft_wrap=True)
         mesh = doc["mesh"]
         if mesh is not None:
@@ -102,7 +104,7 @@ def inspect_cmd(
                       + f", {plural(mesh['regular_faces'], 'regular face')} in {plural(len(mesh['charts']), 'chart')}",
                       soft_wrap=True)
         for w in doc["warnings"]:
-            _console(stderr=True).print(f"[yellow]warning:[/] {w}", soft_wrap=True)
+            _console(stderr=True).print(f"[yellow]warning:[/] {escape(w)}", soft_wrap=True)
 
 
 # ---------------------------------------------------------------- view (3-D heatmaps)
@@ -131,8 +133,8 @@ def view_cmd(
     require("pyvista", "3-D heatmaps").OFF_SCREEN = True  # this process never opens a window
     err = _console(stderr=True)
     if err.is_terminal:
-        status = err.status(f"reading {file}")
-        say = lambda message: status.update(message)  # noqa: E731
+        status = err.status(f"reading {escape(file)}")
+        say = lambda message: status.update(escape(message))  # noqa: E731
     else:  # logs and pipes: one plain line per stage
         import contextlib
 
@@ -145,10 +147,10 @@ def view_cmd(
     con = _console()
     from ..runs.records import plural, unit_name
 
-    con.print(f"wrote {res.png} ({plural(len(res.faces), 'face')}, {res.direction} peak {res.peak:.4g} "
+    con.print(f"wrote {escape(res.png)} ({plural(len(res.faces), 'face')}, {res.direction} peak {res.peak:.4g} "
               f"{unit_name(getattr(res, 'unit', None) or _unit_of(file))})", soft_wrap=True)
     if res.glb is not None:
-        con.print(f"wrote {res.glb}", soft_wrap=True)
+        con.print(f"wrote {escape(res.glb)}", soft_wrap=True)
 
 
 def _unit_of(path) -> str:

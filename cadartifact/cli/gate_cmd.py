@@ -9,6 +9,7 @@ from typing import List, Optional
 import typer
 
 from .root import _console, app, cli_errors
+from .usage import escape
 from ..errors import OptionError, check_option
 
 
@@ -123,7 +124,7 @@ def gate_cmd(
             typer.echo(text, nl=False)
         else:
             write_atomic(output, text)
-            _console().print(summary_line(doc) + f"; {fmt} report written to {output}", soft_wrap=True)
+            _console().print(summary_line(doc) + f"; {fmt} report written to {escape(output)}", soft_wrap=True)
     if report is not None:
         from ..viz.html import write_report
 

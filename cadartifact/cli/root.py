@@ -14,7 +14,7 @@ from typing import Optional
 import typer
 from typer.core import TyperGroup
 
-from .usage import UsageError, usage_message
+from .usage import UsageError, escape, usage_message
 from ..errors import CadArtifactError, OptionError
 
 
@@ -78,18 +78,21 @@ def _root(
 
 
 def _console(stderr: bool = False):
+    """The console of stdout (or stderr). Off a terminal (CI logs, pipes, files) it wraps nothing
+    (``soft_wrap``): a path or a name stays one token on one line, to copy or grep, and tables take their
+    content's width (:func:`cadartifact.runs.terminal.print_table`); its width (``$COLUMNS``, else 120)
+    only chooses the tables' layout. On a terminal, tables are fitted to the terminal's width."""
     from rich.console import Console
 
     con = Console(stderr=stderr, highlight=False)
-    if not con.is_terminal and not stderr and not os.environ.get("COLUMNS"):
-        con = Console(stderr=stderr, highlight=False, width=120)  # logs and pipes: do not squeeze tables to 80
+    if not con.is_terminal:
+        width = None if stderr or os.environ.get("COLUMNS") else 120  # logs and pipes: do not squeeze tables to 80
+        con = Console(stderr=stderr, highlight=False, width=width, soft_wrap=True)
     return con
 
 
 def fail(message: str, code: int = 2) -> "typer.Exit":
     """Print a one-line error to stderr and return the Exit to raise."""
-    from rich.markup import escape
-
     # escaped: messages quote user text and names like [tool.cadartifact] that rich would eat as markup
     from ..errors import one_line
 

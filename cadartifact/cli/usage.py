@@ -1,4 +1,5 @@
-"""Command-line plumbing: one-line usage messages for typer's parse errors, and one-line warnings.
+"""Command-line plumbing: one-line usage messages for typer's parse errors, one-line warnings, and paths
+escaped for rich's markup.
 
 Kept apart from :mod:`cadartifact.cli` (the commands) so that each stays short.
 """
@@ -9,7 +10,7 @@ from enum import Enum
 
 from ..errors import OptionError, check_option
 
-__all__ = ["UsageError", "usage_message", "quiet_warnings"]
+__all__ = ["UsageError", "usage_message", "quiet_warnings", "escape"]
 
 try:  # typer >= 0.2x vendors click
     from typer._click.exceptions import UsageError
@@ -86,13 +87,15 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     text = " ".join(str(message).split())
     from rich.console import Console
 
-    Console(stderr=True, highlight=False).print(f"[yellow]cadartifact: warning:[/] {_escape(text)}", soft_wrap=True)
+    Console(stderr=True, highlight=False).print(f"[yellow]cadartifact: warning:[/] {escape(text)}", soft_wrap=True)
 
 
-def _escape(text: str) -> str:
-    from rich.markup import escape
+def escape(text) -> str:
+    """``text`` (a path, a name, a message) as rich markup that prints it as it is: ``[draft]`` in a file
+    name is not a style tag to be eaten."""
+    from rich.markup import escape as escape_markup
 
-    return escape(text)
+    return escape_markup(str(text))
 
 
 def quiet_warnings() -> None:

@@ -50,7 +50,10 @@ class GateProgress:
         self.cached += bool(cached)
         self.failed += entry.get("verdict") in ("fail", "error")
         if self._bar is not None:
-            self._bar.update(self._task, advance=1, description=f"gated {entry['path']}", counts=self._counts())
+            from rich.markup import escape  # a path is not markup: [draft] stays in the name
+
+            self._bar.update(self._task, advance=1, description=f"gated {escape(entry['path'])}",
+                             counts=self._counts())
         else:
             width = len(str(self.total))
             self.console.print(f"[{self.done:>{width}}/{self.total}] {entry.get('verdict', 'error'):5s} "

@@ -129,24 +129,29 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
     ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
     the narrow layout (80 columns) shows face, net, value, its share, the worst direction, advised net
     and verdict, with scheme and method under the table; no cell is cut or wraps inside a number.
+    Paths and face names are never broken: each file's heading is a line of its own, and on a console that
+    wraps nothing (:func:`~cadartifact.runs.terminal.wraps_nothing`: a log, a file) face labels are whole
+    and a table takes its content's width.
     """
+    from rich.markup import escape
     from rich.table import Table
 
-    from ..runs.terminal import WIDE_COLUMNS, canonical_lines, face_cell, worst_direction
+    from ..runs.terminal import WIDE_COLUMNS, canonical_lines, face_cell, print_table, worst_direction, wraps_nothing
 
     if wide is None:
         wide = console.width >= WIDE_COLUMNS
+    limit = None if wraps_nothing(console) else 24  # a log shows every face name whole
     for entry in doc["files"]:
         v = entry["verdict"]
         if v == "error":
-            console.print(f"[{_COLOURS[v]}]ERROR[/] {entry['error']}", soft_wrap=True)
+            console.print(f"[{_COLOURS[v]}]ERROR[/] {escape(entry['error'])}", soft_wrap=True)
             continue
         pol = entry["policy"]
         units = file_units(doc, entry)
-        title = (f"{entry['path']}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} {units}, "
-                 f"{pol['metric']}, warn at {pol['warn_fraction']:g})")
+        title = (f"{escape(entry['path'])}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} "
+                 f"{units}, {pol['metric']}, warn at {pol['warn_fraction']:g})")
         if entry["faces"]:
-            table = Table(title=title, title_justify="left", header_style="bold")
+            table = Table(header_style="bold")
             cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised", "verdict")
                     if wide else ("face", "net", "value", "share", "worst", "advised", "verdict"))
             for col in cols:
@@ -157,20 +162,20 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 advised = _advised_cell(f["advice"])
                 verdict = f"[{_COLOURS[f['verdict']]}]{f['verdict']}[/]"
                 if wide:
-                    table.add_row(face_cell(f), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
+                    table.add_row(face_cell(f, limit), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
                                   _share(sh["x2"]), _share(sh["diagonal"]), _share(sh["lateral"]),
                                   f"{f['value']:.4g}", advised, verdict)
                 else:
                     key = "deviation" if pol["include_signal_error"] else "total"
-                    table.add_row(face_cell(f), _net(f["net"]), f"{f['value']:.4g}", _share(sh[key]),
+                    table.add_row(face_cell(f, limit), _net(f["net"]), f"{f['value']:.4g}", _share(sh[key]),
                                   worst_direction(sh), advised, verdict)
-            console.print(table)
+            print_table(console, table, title)
             if not wide:
                 schemes = ", ".join(sorted({f["scheme"] for f in entry["faces"]}))
                 methods = ", ".join(sorted({f["method"] for f in entry["faces"]}))
                 console.print(f"  values in {units}; scheme {schemes}; {methods}", soft_wrap=True)
         else:
-            console.print(title)
+            console.print(title, soft_wrap=True)
         for line in canonical_lines(entry["faces"]):  # no ripple along their exact directions
             console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         for f in entry["faces"]:
@@ -178,7 +183,7 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 where = where_text(f, units)
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
                 console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
-                              + (f"; {where}" if where else ""), soft_wrap=True)
+                              + (f"; {where}" if where else ""), soft_wrap=True, markup=False, highlight=False)
         repeats = 0
         for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
             for note in f.get("notes") or []:
@@ -192,9 +197,10 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
             console.print(f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
                           "is reused (the JSON report names the face)", soft_wrap=True)
         if entry.get("share_failure"):
-            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True)
+            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True, markup=False,
+                          highlight=False)
         for note in entry["notes"] + entry["warnings"]:
-            console.print(f"  note: {note}", soft_wrap=True)
+            console.print(f"  note: {note}", soft_wrap=True, markup=False, highlight=False)
     console.print(summary_line(doc))
 
 
@@ -211,11 +217,13 @@ def summary_line(doc: dict) -> str:
 
 
 def to_text(doc: dict, width: int = 132) -> str:
-    """The text report without colours (for ``--output``)."""
+    """The text report without colours (for ``--output``): a file, so nothing wraps (a path or a name is one
+    token to grep); ``width`` chooses the layout (``render_text``'s ``wide``) and fits tables that can."""
     from rich.console import Console
 
     buf = io.StringIO()
-    render_text(doc, Console(file=buf, width=width, color_system=None, force_terminal=False, highlight=False))
+    render_text(doc, Console(file=buf, width=width, color_system=None, force_terminal=False, highlight=False,
+                             soft_wrap=True))
     return buf.getvalue()
 
 

@@ -1,5 +1,10 @@
 """What a person reads in a terminal: the advise document as rich tables, and the progress of a long run
-(a bar on a terminal, one line per file in a log)."""
+(a bar on a terminal, one line per file in a log).
+
+A console with ``soft_wrap`` set (the command line's off a terminal: CI logs, pipes, files) wraps nothing:
+a path or a name stays one token on one line, to copy or grep, and a table takes its content's width
+(:func:`print_table`). On a terminal, tables are fitted to its width; paths are never cut by rich either
+(their lines are soft-wrapped: the terminal folds them at its edge)."""
 
 from __future__ import annotations
 
@@ -7,7 +12,8 @@ from dataclasses import dataclass
 
 from .records import kind_count, plural, unit_name
 
-__all__ = ["WIDE_COLUMNS", "canonical_lines", "face_cell", "worst_direction", "render", "RichProgress", "LineProgress"]
+__all__ = ["WIDE_COLUMNS", "canonical_lines", "face_cell", "worst_direction", "wraps_nothing", "print_table", "render",
+           "RichProgress", "LineProgress"]
 
 
 def _mm_pct(value, share) -> str:
@@ -55,9 +61,35 @@ def canonical_lines(faces) -> list[str]:
             for label, ids in groups.items()]
 
 
-def face_cell(r: dict, limit: int = 24) -> str:
+def face_cell(r: dict, limit: int | None = 24) -> str:
+    """``"3 hood_left"``: the face's index and name, cut to ``limit`` characters (``~`` at the end); whole
+    with ``limit=None``."""
     label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
-    return label if len(label) <= limit else label[:limit - 1] + "~"
+    return label if limit is None or len(label) <= limit else label[:limit - 1] + "~"
+
+
+def wraps_nothing(console) -> bool:
+    """Whether ``console`` wraps no line (``soft_wrap``: the command line's console off a terminal): then
+    no name is cut or folded and tables take their content's width."""
+    return bool(getattr(console, "soft_wrap", False))
+
+
+def print_table(console, table, heading: str | None = None) -> None:
+    """Print ``heading`` (rich markup: escape the paths in it) on a line of its own, then ``table``.
+
+    The heading is soft-wrapped (rich never breaks it: a path in it stays whole); on a console that
+    :func:`wraps_nothing`, the table takes its content's width, past the console's if it must, so that
+    no cell is cut or folded. Elsewhere (a terminal) the table is fitted to the console's width.
+    """
+    if heading is not None:
+        console.print(heading, style="table.title", soft_wrap=True, highlight=False)
+    if wraps_nothing(console):
+        from rich.measure import Measurement
+
+        need = Measurement.get(console, console.options.update_width(1 << 20), table).maximum
+        if need > console.width:
+            table.width = need
+    console.print(table)
 
 
 def render(doc: dict, console, wide: bool | None = None) -> None:
@@ -75,12 +107,16 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
         Every direction column (X1, X2, diagonal, lateral). Default: when the console is at least
         :data:`WIDE_COLUMNS` wide; narrower consoles (80 columns) get face, net, ripple, the worst
         direction, advised net and verdict, each cell whole (the rest is in ``--wide`` and the JSON).
+        On a console that :func:`wraps_nothing` (a log), face labels are whole and a table takes its
+        content's width.
     """
     from rich import box
+    from rich.markup import escape
     from rich.table import Table
 
     if wide is None:
         wide = console.width >= WIDE_COLUMNS
+    limit = None if wraps_nothing(console) else 24  # a log shows every face name whole
     t = doc["tolerance"]
     key = "deviation" if doc["include_signal_error"] else "total"
     value_name = "deviation" if key == "deviation" else "ripple"
@@ -91,8 +127,8 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
                    f"{unit_name(f.get('units') or doc['units'])} and % of the tolerance; road: meas(ured) or "
                    f"pred(icted) / intent; "
                    f"scheme {', '.join(schemes) or '-'}; {'; '.join(methods) or 'no face analysed'}")
-        table = Table(title=f"[bold]{f['path']}[/]", caption=caption, box=box.SIMPLE_HEAD, header_style="bold",
-                      title_justify="left", caption_justify="left", pad_edge=False)
+        table = Table(caption=caption, box=box.SIMPLE_HEAD, header_style="bold", caption_justify="left",
+                      pad_edge=False)
         cols = (("face", "net", "road", "X1 (u)", "X2 (v)", "diagonal", "lateral", value_name, "advised", "verdict")
                 if wide else ("face", "net", value_name, "worst", "advised", "verdict"))
         for col in cols:
@@ -117,13 +153,13 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
             mm = r["budget"]
             if wide:
                 road = f"{'pred' if r['method'] == 'predicted' else 'meas'}/{r.get('intent', 'surface')}"
-                table.add_row(face_cell(r), "x".join(map(str, r["net"])), road,
+                table.add_row(face_cell(r, limit), "x".join(map(str, r["net"])), road,
                               *(_mm_pct(mm[k][doc["metric"]], sh[k]) for k in ("x1", "x2", "diagonal", "lateral", key)),
                               advised, verdict)
             else:
-                table.add_row(face_cell(r), "x".join(map(str, r["net"])), _mm_pct(mm[key][doc["metric"]], sh[key]),
-                              worst_direction(sh), advised, verdict)
-        console.print(table)
+                table.add_row(face_cell(r, limit), "x".join(map(str, r["net"])),
+                              _mm_pct(mm[key][doc["metric"]], sh[key]), worst_direction(sh), advised, verdict)
+        print_table(console, table, f"[bold]{escape(f['path'])}[/]")
         for line in canonical_lines(f["faces"]):  # no ripple along their exact directions
             console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         for r in rows:  # why each direction of a changed net has its count
@@ -131,14 +167,14 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
             if reasons and not (r.get("advice") or {}).get("kept_today", True):
                 why = "; ".join(f"{d} {reasons[d]['today']}->{reasons[d]['advised']}: {reasons[d]['reason']}"
                                 for d in ("u", "v") if d in reasons)
-                console.print(f"  face {r['face']}: {why}", soft_wrap=False, overflow="fold")
+                console.print(f"  face {r['face']}: {why}", markup=False, highlight=False)
         skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
         share = f.get("analysed_share")
         if skipped:
             cover = "" if share is None else f" (the analysed charts cover {100 * share:.1f} % of the area)"
             console.print(f"  not analysed: {skipped}{cover}")
         for w in f["warnings"]:
-            console.print(f"  [yellow]warning:[/] {w}")
+            console.print(f"  [yellow]warning:[/] {escape(w)}")
     s = doc["summary"]
     console.print(f"[bold]{plural(s['faces'], 'face')} in {plural(s['files'], 'file')}: {s['within']} within tolerance, "
                   f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
@@ -172,7 +208,9 @@ class RichProgress:
         if kind == "files":
             self._task = self._p.add_task("advising faces", total=total)
         elif kind == "face" and self._task is not None:
-            self._p.update(self._task, advance=1, description=f"advising {label}")
+            from rich.markup import escape
+
+            self._p.update(self._task, advance=1, description=f"advising {escape(label)}")
 
 
 _ING = {"advised": "advising", "gated": "gating", "rendered": "rendering"}
