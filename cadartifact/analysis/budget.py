@@ -19,7 +19,7 @@ from .fields import FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals
 from .intent import design_intent
 from ..net import ControlNet
 from .pieces import gather_fields, split_net
-from .settings import METRICS, RunSettings, resolve_scheme  # noqa: F401  METRICS: the CLI's import, until it moves
+from .settings import RunSettings, resolve_scheme
 
 __all__ = ["Budget", "Stat", "budget", "budget_for", "total_ripple"]
 

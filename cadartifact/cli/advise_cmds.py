@@ -57,7 +57,7 @@ def advise_cmd(
     Exit 0 when every face meets the tolerance today, 1 when some face needs another density,
     2 on usage or input errors.
     """
-    from ..analysis.budget import METRICS
+    from ..analysis.settings import METRICS
     from ..runs.advising import advise_files
     from ..runs.terminal import render
 
