@@ -265,7 +265,8 @@ def test_design_command_writes_the_mask_and_the_maps(tmp_path):
 
 
 @pytest.mark.parametrize("args,option", [
-    (["--support", "6y6"], "--support"), (["--objective", "ripple"], "--objective"), (["--continuity", "C3"], "--continuity"),
+    (["--support", "6y6"], "--support"), (["--objective", "ripple"], "--objective"),
+    (["--continuity", "C3"], "--continuity"),
     (["--zero", "0.2"], "--zero"), (["--stage", "continuous"], "--stage"), (["--name", "a/b"], "--name"),
     (["--symmetry", "round"], "--symmetry"),
 ])

@@ -147,7 +147,7 @@ def _difference_norm(c: np.ndarray) -> float:
 
 
 def difference_contraction(mask, steps: int) -> float:
-    """``gamma_n``: the factor by which ``n`` steps contract the differences of any net (sufficient test of convergence).
+    """``gamma_n``: the factor by which ``n`` steps contract the differences of any net (a sufficient convergence test).
 
     ``Delta_i (S^n f)_alpha = sum_beta c_(alpha,i)(beta) f_beta`` with ``c(beta) = a_n(alpha - 2^n beta)
     - a_n(alpha - e_i - 2^n beta)`` (``a_n`` :func:`multistep_mask`), a zero-sum sequence written as differences of
