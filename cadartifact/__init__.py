@@ -37,6 +37,7 @@ _LAZY = {
     "scheme": ("theory.catalogue", "scheme"),
     "schemes": ("theory.catalogue", "schemes"),
     "Response": ("theory.spectral", "Response"),
+    "design": ("theory.design", "design"),
     "Budget": ("analysis.budget", "Budget"),
     "budget": ("analysis.budget", "budget"),
     "Advice": ("advice.advise", "Advice"),

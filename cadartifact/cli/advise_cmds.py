@@ -27,7 +27,8 @@ def advise_cmd(
     tol: float = typer.Option(..., "--tol", "-t", help="Tolerance in model units (mm for STEP)."),
     metric: str = typer.Option("peak", "--metric", help="Compare the peak or the RMS ripple: peak or rms."),
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s",
-                                         help="Scheme (default: each face's own B-spline degrees; Catmull-Clark for OBJ)."),
+                                         help="Scheme (default: each face's own B-spline degrees; Catmull-Clark "
+                                              "for OBJ); file:MASK.json for a designed mask."),
     include_signal_error: bool = typer.Option(False, "--include-signal-error",
                                               help="Let the tolerance cover the whole deviation from intent."),
     intent: str = typer.Option("surface", "--intent",

@@ -64,8 +64,8 @@ def schemes_cmd(
 @cli_errors(aliases={"schemes": "scheme", "out suffix": "out"})
 def maps_cmd(
     scheme: Optional[List[str]] = typer.Option(None, "--scheme", "-s",
-                                               help="Scheme name; repeat to compare (default: bicubic; "
-                                                    "not with --grid, whose schemes are the paper's)."),
+                                               help="Scheme name or file:MASK.json; repeat to compare (default: "
+                                                    "bicubic; not with --grid, whose schemes are the paper's)."),
     stage: str = typer.Option("limit", "--stage", help="Which response to map: one-step, limit or continuous."),
     out: Path = typer.Option(Path("maps.png"), "--out", "-o", help="PNG file to write."),
     grid: bool = typer.Option(False, "--grid", help="Draw the paper's Figure 8 array (g axis x d diagonal smoothing pairs)."),

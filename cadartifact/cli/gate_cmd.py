@@ -31,7 +31,8 @@ def gate_cmd(
     warn_fraction: Optional[float] = typer.Option(None, "--warn-fraction",
                                                   help="Warn at this fraction of the tolerance (0 < f <= 1; "
                                                        "default 0.8)."),
-    scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (overrides the policy)."),
+    scheme: Optional[str] = typer.Option(None, "--scheme", "-s",
+                                         help="Scheme (overrides the policy); file:MASK.json for a designed mask."),
     intent: Optional[str] = typer.Option(None, "--intent",
                                          help="Design intent: surface or net (overrides the policy)."),
     verify: bool = typer.Option(False, "--verify/--no-verify",

@@ -31,6 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import maskfiles as mf
 from . import symbols as sy
 from ..errors import OptionError, SchemeError
 from ..numerics.arrays import frozen_array
@@ -43,7 +44,7 @@ SCHEME_NAMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 _ALIASES = {"catmull-clark": "bicubic", "catmull_clark": "bicubic", "catmullclark": "bicubic"}
 
 _VALID_NAMES = ("'bilinear', 'bicubic' (alias 'catmull-clark'), '4-3', '4-8', 'kobbelt', "
-                "'bspline(p,q)', 'bspline(p)', 'box(n1,n2,n3,n4)'")
+                "'bspline(p,q)', 'bspline(p)', 'box(n1,n2,n3,n4)', 'file:MASK.json' or 'file:MASK.npy'")
 
 #: Largest mask side accepted from users (the continuous stage works with the autocorrelation
 #: mask, about twice as large, through dense eigen-decompositions).
@@ -515,7 +516,9 @@ def scheme(name) -> Scheme:
     """Resolve a scheme name (case-insensitive, spaces ignored) or pass a :class:`Scheme` through.
 
     Names: ``bilinear``, ``bicubic`` (alias ``catmull-clark``), ``4-3``, ``4-8``, ``kobbelt``,
-    ``bspline(p,q)``, ``bspline(p)``, ``box(n1,n2,n3,n4)``. Instances are cached.
+    ``bspline(p,q)``, ``bspline(p)``, ``box(n1,n2,n3,n4)``, or ``file:PATH`` for a mask file: JSON with a ``"mask"``
+    array (what ``cadartifact design`` writes) or a NumPy ``.npy`` array; the scheme's name is the given string.
+    Instances are cached (files by path, size and modification time).
 
     Raises
     ------
@@ -526,6 +529,8 @@ def scheme(name) -> Scheme:
         return name
     if not isinstance(name, str):
         raise SchemeError("scheme", f"a scheme name ({_VALID_NAMES}) or a Scheme", name)
+    if mf.is_file_name(name):
+        return _file_scheme(name.strip(), *mf.mask_path(name))
     key = re.sub(r"\s+", "", name).lower()
     key = _ALIASES.get(key, key)
     if key in SCHEME_NAMES:
@@ -541,6 +546,16 @@ def scheme(name) -> Scheme:
         if m.group(1) == "box" and len(nums) == 4:
             return box(*nums)
     raise SchemeError("scheme", f"one of {_VALID_NAMES}", name)
+
+
+@lru_cache(maxsize=32)
+def _file_scheme(name: str, path: str, _size: int, _mtime: int) -> Scheme:
+    """The scheme of a mask file (cached by path, size and modification time)."""
+    array = mf.read_mask(name, path)
+    try:
+        return Scheme.from_mask(array, name)
+    except SchemeError as exc:
+        raise SchemeError("scheme", f"a valid mask in {name}", f"{exc.expected}; received {exc.received}") from None
 
 
 @lru_cache(maxsize=128)
