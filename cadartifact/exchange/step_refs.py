@@ -82,6 +82,9 @@ _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _POINT3 = re.compile(r"\s*CARTESIAN_POINT\s*\(\s*(?:" + _STRING + r"|\$)\s*,\s*\(\s*" + _NUM + r"\s*,\s*" + _NUM
                      + r"\s*,\s*" + _NUM + r"\s*\)\s*\)\s*")
 _REFS_ANYWHERE = re.compile(r"#(\d+)")
+# a string ('' escapes a quote; an unterminated one runs to the end), a comment, or a statement end
+_STATEMENT_TOKENS = re.compile(r"'(?:[^']|'')*(?:'|\Z)|/\*.*?(?:\*/|\Z)|;", re.DOTALL)
+_STATEMENT_HEAD = re.compile(r"\s*(?:/\*.*?\*/\s*)*#(\d+)\s*=", re.DOTALL)
 _STRINGS_AND_COMMENTS = re.compile(_STRING + r"|/\*.*?\*/", re.DOTALL)
 
 
@@ -102,7 +105,7 @@ _FAST = {keyword: _fast_pattern(keyword, slots) for keyword, slots in SCHEMA.ite
 # the same, as one statement among statements joined by ';', with its id as the first group
 _BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + pattern.pattern + r"(?=;|\Z)")
           for keyword, pattern in _FAST.items()}
-_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*#\d+\s*=" + _POINT3.pattern + r"(?=;|\Z)")
+_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + _POINT3.pattern + r"(?=;|\Z)")
 _DIGITS = re.compile(r"\d+")
 
 
@@ -152,12 +155,18 @@ class _Records:
         return self.statements[i] if i < len(self.statements) else ""
 
     def _exact(self) -> dict[str, tuple[int, int]]:
+        """``{id: (start, end) of the body}`` from the statement ends outside strings and comments (one linear
+        pass; a regex that also had to end each record at a ';' could backtrack exponentially on '' runs)."""
         if self.exact is None:
-            record = re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=((?:[^;'/]|" + _STRING + r"|/\*.*?\*/|/)*)(?=;)",
-                                re.DOTALL)
             self.exact = {}
-            for m in record.finditer(self.data):
-                self.exact.setdefault(m.group(1), (m.start(2), m.end(2)))
+            start = 0
+            for m in _STATEMENT_TOKENS.finditer(self.data):
+                if m.group(0) != ";":
+                    continue
+                head = _STATEMENT_HEAD.match(self.data, start, m.start())
+                if head is not None:
+                    self.exact.setdefault(head.group(1), (head.end(), m.start()))
+                start = m.end()
         return self.exact
 
     def line(self, ident: str) -> int | None:
@@ -261,7 +270,7 @@ def _records_problem(records: _Records, keyword: str, slots: tuple, indices: lis
     targets = [_DIGITS.findall(",".join(m[k + 1] for m in matched)) if slot[2] else [m[k + 1] for m in matched]
                for k, slot in enumerate(groups)]
     late: list[tuple[str, str, tuple]] = []  # (owner, target, slot) of the records parsed one by one
-    if len(matched) != len(idents):
+    if owners != idents:  # some record is not well-formed (or not its own statement: found exactly below)
         well_formed = set(owners)
         for ident in idents:
             if ident not in well_formed:
@@ -299,23 +308,26 @@ def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
             return (f"{records.label(ident)} has {len(args)} parameters, the schema gives {keyword} "
                     f"{SURFACE_ARITY[keyword]}")
     kind = records.kind
-    poles: dict[str, str] = {}  # pole -> the first surface naming it
-    for ident in surfaces:
-        body = records.body(ident)
-        if "'" in body or "/*" in body:
-            body = _STRINGS_AND_COMMENTS.sub("''", body)
-        for pole in _REFS_ANYWHERE.findall(body):
-            if kind.get(pole) != "CARTESIAN_POINT":
-                problem = reference_problem(records, pole, "a pole", {"CARTESIAN_POINT"}, ident)
-                if problem:
-                    return problem
-            poles.setdefault(pole, ident)
-    joined = ";".join(records.statement(pole) for pole in poles)
-    if len(_BATCH_POINT.findall(joined)) == len(poles):
+    bodies = [records.body(ident) for ident in surfaces]
+    bodies = [_STRINGS_AND_COMMENTS.sub("''", b) if "'" in b or "/*" in b else b for b in bodies]
+    poles = list(dict.fromkeys(_REFS_ANYWHERE.findall(";".join(bodies))))  # each once, in file order
+
+    def owner(pole: str) -> str:
+        """The first surface that names ``pole`` (for the message)."""
+        return next(i for i, b in zip(surfaces, bodies) if re.search("#" + pole + r"(?!\d)", b))
+
+    for pole in [p for p in poles if kind.get(p) != "CARTESIAN_POINT"]:
+        problem = reference_problem(records, pole, "a pole", {"CARTESIAN_POINT"}, owner(pole))
+        if problem:
+            return problem
+    position, statements, last = records.position, records.statements, len(records.statements) - 1
+    joined = ";".join([statements[min(position[p] + 1, last)] for p in poles])
+    if _BATCH_POINT.findall(joined) == poles:  # every pole's own statement, a well-formed 3D point
         return None
-    for pole, ident in poles.items():
+    for pole in poles:
         if not _POINT3.fullmatch(records.body(pole)):
-            return f"#{pole} is referenced by {records.label(ident)} as a pole, and " + _point_problem(records, pole)
+            return (f"#{pole} is referenced by {records.label(owner(pole))} as a pole, and "
+                    + _point_problem(records, pole))
     return None
 
 
