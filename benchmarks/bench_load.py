@@ -7,7 +7,8 @@ Per real STEP file (../shared/realdata/step): best-of-N wall time of
 (the same read + transfer, plus the STEP text pre-scan, the dropped-face audit, walking every
 face and extracting the B-spline nets per index and the face names, in the reader child process).
 The ratio's excess over 1 is that overhead (target < 10 %). Then the cost of the child process
-alone: read() through the child vs in this process. Also: OCCT grid evaluation speed (evaluate_grid) on the real nets at
+alone: read() through the child vs in this process, and of the STEP text scans (numbers; references,
+target <= 5 % of the read). Also: OCCT grid evaluation speed (evaluate_grid) on the real nets at
 the (8 nu) x (8 nv) grids the measured road uses, and OBJ load times.
 """
 
@@ -85,15 +86,20 @@ def main(argv=None) -> int:
 
     print(f"\nReader isolation (best of {args.repeat}, interleaved): read() through the reader child process vs "
           "the same read in this process (CADARTIFACT_READ_ISOLATION=0); 'prescan' = the STEP text bounds check "
-          "alone, over the in-process read")
-    print(f"{'file':34s} {'in-proc ms':>11s} {'child ms':>9s} {'ratio':>7s} {'prescan ms':>11s} {'prescan %':>10s}")
+          "alone, 'refs' = the reference integrity scan alone (step_refs, given the record heads both share), "
+          "each over the in-process read (both run in this process while the child reads)")
+    print(f"{'file':34s} {'in-proc ms':>11s} {'child ms':>9s} {'ratio':>7s} {'prescan ms':>11s} {'prescan %':>10s} "
+          f"{'refs ms':>8s} {'refs %':>7s}")
     import os
 
-    from cadartifact.exchange.step_scan import check_step_text
+    from cadartifact.exchange.step_refs import check_references
+    from cadartifact.exchange.step_scan import check_step_text, data_section, record_heads
 
-    iso_ratios = []
+    iso_ratios, ref_shares = [], []
     for path in files:
-        inproc, child, scan = [], [], []
+        inproc, child, scan, refs = [], [], [], []
+        text = path.read_bytes().decode("latin-1")
+        heads = record_heads(data_section(text))
         for _ in range(args.repeat):
             child.append(best_of(lambda: read(path), 1))
             os.environ["CADARTIFACT_READ_ISOLATION"] = "0"
@@ -102,11 +108,15 @@ def main(argv=None) -> int:
             finally:
                 del os.environ["CADARTIFACT_READ_ISOLATION"]
             scan.append(best_of(lambda: check_step_text(path, path.read_bytes().decode("latin-1")), 1))
+            refs.append(best_of(lambda: check_references(path, text, heads), 1))
         ratio = min(child) / min(inproc)
         iso_ratios.append(ratio)
+        ref_shares.append(min(refs) / min(inproc))
         print(f"{path.name:34s} {1e3 * min(inproc):11.1f} {1e3 * min(child):9.1f} {ratio:7.3f} "
-              f"{1e3 * min(scan):11.1f} {100 * min(scan) / min(inproc):9.1f}%")
-    print(f"{'geometric mean':34s} {'':11s} {'':9s} {np.exp(np.mean(np.log(iso_ratios))):7.3f}")
+              f"{1e3 * min(scan):11.1f} {100 * min(scan) / min(inproc):9.1f}% {1e3 * min(refs):8.1f} "
+              f"{100 * min(refs) / min(inproc):6.1f}%")
+    print(f"{'geometric mean':34s} {'':11s} {'':9s} {np.exp(np.mean(np.log(iso_ratios))):7.3f} {'':11s} {'':10s} "
+          f"{'':8s} {100 * np.exp(np.mean(np.log(ref_shares))):6.1f}%")
 
     print("\nOCCT grid evaluation (evaluate_grid) on (8 nu) x (8 nv) grids")
     points = seconds = 0.0

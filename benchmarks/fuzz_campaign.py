@@ -7,9 +7,11 @@ random: the samples and the real files under 150 KB, or every real file with ``-
 each in this process with :func:`cadartifact.gate.run.gate_file` (the STEP reader runs in its child
 process). Prints the count per outcome class (pass / warn / fail / error:<why>) and per mutation
 kind, and every contract violation (:func:`fuzzing.check_entry`): an unexpected exception, a report
-with fewer or more faces than the file declares, a non-finite number, a message that is not one line.
+with fewer or more faces than the file declares, a non-finite number, a message that is not one line;
+and, as a class of its own, every silent loss (:func:`fuzzing.silent_loss`: fewer faces analysed than the
+unmutated file, exit 0, no warning or note).
 A hang is a reader stopped after ``--read-timeout`` seconds (class ``error:timeout``); a crash is a
-reader child that died (``error:crash``); neither ends the run. Exit 1 when any violation was found.
+reader child that died (``error:crash``); neither ends the run. Exit 1 when any violation or silent loss was found.
 """
 
 from __future__ import annotations
@@ -51,6 +53,10 @@ def main(argv=None) -> int:
     violations = []
     slowest = (0.0, "")
     start = time.perf_counter()
+    # faces each unmutated source gives: a mutant that analyses fewer, exits 0 and says nothing is a silent loss
+    baseline = {src.name: fuzzing.faces_analysed(gate_file(str(src), settings, read_timeout=args.read_timeout))
+                for src in sources}
+    silent = []
     with tempfile.TemporaryDirectory(prefix="cadartifact-fuzz-") as tmp:
         for i, case in enumerate(fuzzing.mutations(sources, args.n, seed=args.seed)):
             path = fuzzing.write_case(case, Path(tmp) / str(i % 64))
@@ -59,6 +65,10 @@ def main(argv=None) -> int:
             dt = time.perf_counter() - t0
             slowest = max(slowest, (dt, f"{case.source} {case.kind}"))
             cls = fuzzing.classify(entry, case)
+            if fuzzing.silent_loss(entry, baseline.get(case.source)):
+                cls = "silent-loss"
+                silent.append(f"#{i} {case.source} {case.kind}: {fuzzing.faces_analysed(entry)} faces analysed, "
+                              f"{baseline[case.source]} in the unmutated file, verdict {entry['verdict']}")
             classes[cls] += 1
             by_kind[case.kind][cls] += 1
             for problem in fuzzing.check_entry(entry, path, case):
@@ -75,6 +85,9 @@ def main(argv=None) -> int:
         print(f"  {cls:22s}{n:6d}")
     print("\nper mutation kind: " + "; ".join(
         f"{k}: " + ", ".join(f"{c} {n}" for c, n in sorted(v.items())) for k, v in sorted(by_kind.items())))
+    print(f"\nsilent losses (fewer faces analysed than the unmutated file, exit 0, nothing said): {len(silent)}")
+    for v in silent[:50]:
+        print("  " + v)
     print(f"\ncontract violations: {len(violations)}")
     for v in violations[:50]:
         print("  " + v)
@@ -83,7 +96,7 @@ def main(argv=None) -> int:
           f"{classes.get('error:unexpected-exception', 0)} unexpected exceptions caught; "
           f"{crashes} reader crashes and {hangs} reader hangs turned into error entries (the run went on); "
           f"{sum(1 for v in violations if 'faces reported' in v)} reports with a face count other than declared")
-    return 1 if violations else 0
+    return 1 if violations or silent else 0
 
 
 if __name__ == "__main__":

@@ -6,7 +6,10 @@ Used by ``tests/test_fuzz.py`` (a few hundred inputs in CI) and ``benchmarks/fuz
 Mutation kinds (:data:`KINDS`): byte flips, truncation, deleted / duplicated lines, a number
 replaced by NaN / inf / 1e308 / 1e154, a broken entity reference, decreasing knots, a changed
 multiplicity or degree, a zero weight, an OBJ face index out of range, an odd file name (spaces,
-non-ASCII, not UTF-8, a leading dash), an empty file and the other format's extension.
+non-ASCII, not UTF-8, a leading dash), an empty file and the other format's extension; and breaks of the
+chain that makes a face (:data:`CHAIN_KINDS`, :func:`chain_links`): a referenced entity of each type on
+the chain deleted, a reference pointed at an entity of the wrong type or at its owner, a pole emptied to
+``CARTESIAN_POINT('')``, a keyword on the chain corrupted (``ADVANCED_FAC``).
 
 The contract (:func:`check_entry`): the gate's entry for the file is either an ``error`` with a
 one-line message naming the file, or a complete report whose ``faces_total`` equals the faces the
@@ -28,7 +31,9 @@ REALDATA = ROOT.parent / "shared" / "realdata"
 
 KINDS = ("flip", "truncate", "delete-line", "duplicate-line", "nan", "inf", "1e308", "1e154", "broken-ref",
          "decreasing-knots", "multiplicity", "degree", "zero-weight", "obj-index", "odd-name", "empty",
-         "wrong-ext")
+         "wrong-ext", "delete-referenced", "wrong-type-ref", "self-ref", "empty-point", "corrupt-keyword")
+#: The kinds that break the chain that makes a face (issue 27): every one is an error naming the entity.
+CHAIN_KINDS = ("delete-referenced", "wrong-type-ref", "self-ref", "empty-point", "corrupt-keyword")
 
 #: Faces a STEP text declares (simple instances), counted independently of the reader.
 _STEP_FACE = re.compile(rb"#\d+\s*=\s*(?:ADVANCED_FACE|FACE_SURFACE)\s*\(")
@@ -118,6 +123,76 @@ def _lists(text: bytes) -> list[tuple[int, int]]:
     return [(m.start(1), m.end(1)) for m in re.finditer(rb"\(([-+0-9.E, \r\n]+)\)", text)]
 
 
+_RECORD_HEAD = re.compile(rb"(?:^|;)\s*(#(\d+)\s*=\s*([A-Z_0-9]+|\())")
+#: The links of the chain that make a face: owner keyword -> (role, the target keywords it may name).
+_LINKS = {b"CLOSED_SHELL": b"face", b"OPEN_SHELL": b"face", b"ADVANCED_FACE": None, b"FACE_SURFACE": None,
+          b"FACE_BOUND": b"loop", b"FACE_OUTER_BOUND": b"loop", b"EDGE_LOOP": b"oriented edge",
+          b"ORIENTED_EDGE": b"edge", b"B_SPLINE_SURFACE_WITH_KNOTS": b"pole"}
+
+
+def step_records(data: bytes) -> dict[bytes, tuple[int, int, bytes]]:
+    """``{id: (start, end, keyword)}`` of a STEP text's records (``start`` at ``#``, ``end`` after ``;``)."""
+    out = {}
+    for m in _RECORD_HEAD.finditer(data):
+        end = data.find(b";", m.end())
+        if end > 0:
+            out.setdefault(m.group(2), (m.start(1), end + 1, m.group(3)))
+    return out
+
+
+def chain_links(data: bytes) -> list[tuple[str, bytes, bytes, int]]:
+    """The references on the chain that makes a face: ``(role, owner id, target id, offset of the reference)``.
+
+    Roles: ``face`` (shell -> face), ``bound`` and ``surface`` (face -> ...), ``loop``, ``oriented edge``,
+    ``edge``, ``pole`` (B-spline surface -> point). A face's last reference is its surface, the others
+    its bounds.
+    """
+    records = step_records(data)
+    links = []
+    for owner, (start, end, keyword) in records.items():
+        role = _LINKS.get(keyword, b"-")
+        if role == b"-":
+            continue
+        body = data[start:end]
+        refs = [(m.group(1), start + m.start()) for m in re.finditer(rb"#(\d+)", body)][1:]  # [0] is the owner
+        if role is None:
+            links += [("bound", owner, t, at) for t, at in refs[:-1]] + [("surface", owner, t, at) for t, at in refs[-1:]]
+        else:
+            links += [(role.decode(), owner, t, at) for t, at in refs]
+    return [link for link in links if link[2] in records]
+
+
+def _chain_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
+    """One break of the chain that makes a face (see :data:`CHAIN_KINDS`); ``data`` unchanged when none applies."""
+    links = chain_links(data)
+    if kind == "empty-point":
+        links = [link for link in links if link[0] == "pole"]
+    if not links:
+        return data
+    records = step_records(data)
+    by_role: dict[str, list] = {}
+    for link in links:
+        by_role.setdefault(link[0], []).append(link)
+    role, owner, target, at = rng.choice(by_role[rng.choice(sorted(by_role))])  # every role alike
+    start, end, keyword = records[target]
+    if kind == "delete-referenced":
+        return data[:start] + data[end:]
+    if kind == "empty-point":
+        return data[:start] + b"#" + target + b" = CARTESIAN_POINT('');" + data[end:]
+    if kind == "corrupt-keyword":
+        k = data.index(keyword, start)
+        new = keyword[:-1] if rng.random() < 0.5 else keyword[:-1] + bytes([keyword[-1] ^ 1])
+        return data[:k] + new + data[k + len(keyword):]
+    ref_end = at + 1 + len(target)
+    if kind == "self-ref":
+        return data[:at] + b"#" + owner + data[ref_end:]
+    # wrong-type-ref: an entity of another type than the target's
+    others = [i for i, (_, _, kw) in records.items() if kw != keyword]
+    if not others:
+        return data
+    return data[:at] + b"#" + rng.choice(others) + data[ref_end:]
+
+
 def mutate(data: bytes, fmt: str, kind: str, rng: random.Random) -> tuple[str, bytes]:
     """One mutation of a good ``fmt`` ("step" or "obj") file: ``(file name, content)``."""
     ext = "." + ("stp" if fmt == "step" and rng.random() < 0.2 else fmt)
@@ -193,6 +268,8 @@ def mutate(data: bytes, fmt: str, kind: str, rng: random.Random) -> tuple[str, b
         items[i] = rng.choice([b"0", str(nv + 1).encode(), str(-nv - 1).encode(), b"99999999999999999999",
                                b"1//", b"1/2/3/4", "\u0663".encode()])
         return name, _replace_span(data, m.start(1), m.end(1), b" ".join(items))
+    if kind in CHAIN_KINDS and fmt == "step":
+        return name, _chain_mutation(data, kind, rng)
     if kind == "odd-name":
         base = rng.choice(["with space", "ünïcödé", "-dash", "quote'\"", "semi;colon", "x" * 200])
         raw = rng.choice([base.encode("utf-8"), b"bad\xff\xfe"])
@@ -234,11 +311,24 @@ def classify(entry: dict, case: Case) -> str:
     text = entry["error"]
     for needle, label in (("crashed", "error:crash"), ("gave no answer", "error:timeout"),
                           ("analysis failed (", "error:unexpected-exception"), ("was dropped", "error:dropped"),
+                          ("is referenced by", "error:reference"), ("the schema gives", "error:reference"),
                           ("not finite or exceeds", "error:bounds"), ("B_SPLINE", "error:bounds"),
                           ("OCCT's parser rejected", "error:parse"), ("line ", "error:obj-syntax")):
         if needle in text:
             return label
     return "error:other"
+
+
+def faces_analysed(entry: dict) -> int:
+    """Faces the gate analysed in a file (0 for an error entry)."""
+    return len(entry.get("faces") or [])
+
+
+def silent_loss(entry: dict, baseline: int | None) -> bool:
+    """A mutant that lost faces without a word: fewer faces analysed than the unmutated file (``baseline``),
+    a verdict that exits 0 (pass or warn), and no warning, note or skipped face in the entry."""
+    return (baseline is not None and entry["verdict"] in ("pass", "warn") and faces_analysed(entry) < baseline
+            and not entry.get("warnings") and not entry.get("notes") and not entry.get("skipped"))
 
 
 def check_entry(entry: dict, path: Path, case: Case) -> list[str]:

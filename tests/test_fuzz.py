@@ -11,6 +11,7 @@ runs the same generator over 10 000 inputs and more.
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 import warnings
@@ -34,8 +35,20 @@ def sources():
     return fuzzing.default_sources(small=True)
 
 
+@pytest.fixture(scope="module")
+def baseline(sources):
+    """Faces the gate analyses in each unmutated source."""
+    from cadartifact.gate.run import gate_file
+    from cadartifact.gate.policy import FileSettings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return {src.name: fuzzing.faces_analysed(gate_file(str(src), FileSettings(tolerance=TOL)))
+                for src in sources}
+
+
 @pytest.mark.parametrize("chunk", range(CHUNKS))
-def test_mutated_inputs_meet_the_contract_in_process(sources, tmp_path, chunk):
+def test_mutated_inputs_meet_the_contract_in_process(sources, baseline, tmp_path, chunk):
     from cadartifact.gate.run import gate_file
     from cadartifact.gate.policy import FileSettings
 
@@ -50,8 +63,31 @@ def test_mutated_inputs_meet_the_contract_in_process(sources, tmp_path, chunk):
         classes[cls] = classes.get(cls, 0) + 1
         for problem in fuzzing.check_entry(entry, path, case):
             violations.append(f"{case.source} {case.kind} -> {problem}")
+        if fuzzing.silent_loss(entry, baseline[case.source]):
+            violations.append(f"{case.source} {case.kind} -> silent loss: {fuzzing.faces_analysed(entry)} faces "
+                              f"analysed, {baseline[case.source]} unmutated, nothing said")
     assert not violations, "\n".join(violations)
     assert sum(classes.values()) == PER_CHUNK
+
+
+@pytest.mark.parametrize("kind", fuzzing.CHAIN_KINDS)
+def test_every_break_of_the_chain_is_an_error_naming_the_entity(sources, tmp_path, kind):
+    """Each chain mutation of every STEP source (samples, small real files), several seeds: an error entry
+    whose message names the broken reference and the line of the entity that holds it."""
+    from cadartifact.gate.run import gate_file
+    from cadartifact.gate.policy import FileSettings
+
+    settings = FileSettings(tolerance=TOL)
+    steps = [src for src in sources if src.suffix.lower() != ".obj"]
+    cases = list(fuzzing.mutations(steps, 3 * len(steps), seed=2700 + fuzzing.CHAIN_KINDS.index(kind), kinds=(kind,)))
+    for i, case in enumerate(cases):
+        path = fuzzing.write_case(case, tmp_path / str(i))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            entry = gate_file(str(path), settings, read_timeout=READ_TIMEOUT)
+        assert entry["verdict"] == "error", (case.source, kind, entry["verdict"])
+        assert fuzzing.classify(entry, case) == "error:reference", entry["error"]
+        assert re.search(r"#\d+ .*\(line \d+\)", entry["error"]), entry["error"]
 
 
 def test_mutated_inputs_through_the_command_line(sources, tmp_path):

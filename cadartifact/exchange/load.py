@@ -116,11 +116,17 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
 
 
 def _prescan(path: Path) -> list[str]:
-    """The STEP text's check for impossible numbers (:func:`~cadartifact.exchange.step_scan.check_step_text`)."""
-    from .step_scan import check_step_text
+    """The STEP text's checks: impossible numbers (:func:`~cadartifact.exchange.step_scan.check_step_text`), then
+    broken references (:func:`~cadartifact.exchange.step_refs.check_references`). Returns the record ids."""
+    from .step_refs import check_references
+    from .step_scan import check_step_text, data_section, record_heads
 
     with open(path, "rb") as fh:
-        return check_step_text(path, fh.read().decode("latin-1"))
+        text = fh.read().decode("latin-1")
+    heads = record_heads(data_section(text))
+    ids = check_step_text(path, text, heads)
+    check_references(path, text, heads)
+    return ids
 
 
 def _file_ids(result: LoadResult, records) -> None:

@@ -25,7 +25,8 @@ import re
 from ..errors import FileFormatError
 from .messages import quote
 
-__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "declared_faces", "parse_parameters", "record_ids"]
+__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "data_section", "declared_faces", "parse_parameters",
+           "record_heads", "record_ids"]
 
 #: Largest magnitude of any real number (model units, knots, weights) a real model holds.
 MAX_ABS = 1e12
@@ -114,9 +115,13 @@ def declared_faces(text: str) -> dict[int, str]:
     return {int(m.group(1)): m.group(2) for m in _FACE.finditer(text)}
 
 
-def _data_section(text: str) -> str:
+def data_section(text: str) -> str:
+    """The text from ``DATA;`` on (the whole text when there is none)."""
     start = text.find("DATA;")
     return text[start:] if start >= 0 else text
+
+
+_data_section = data_section
 
 
 def _spline(parts: list) -> tuple[str, dict] | None:
@@ -261,6 +266,7 @@ def spline_problem(kind: str, attrs: dict) -> str | None:
 
 
 _IDS = re.compile(r";\s*#(\d+)\s*=")
+_HEADS = re.compile(r";\s*#(\d+)\s*=\s*([A-Za-z_][A-Za-z_0-9]*|\()")
 
 
 def record_ids(text: str) -> list[str]:
@@ -268,7 +274,16 @@ def record_ids(text: str) -> list[str]:
     return ["#" + i for i in _IDS.findall(_data_section(text))]
 
 
-def check_step_text(path, text: str) -> list[str]:
+def record_heads(data: str) -> list[tuple[str, str]]:
+    """``[(id, KEYWORD)]`` of every record of a DATA section (:func:`data_section`), in file order.
+
+    The keyword is as written (``"("`` for a complex instance); ids are the digits, without ``#``. A
+    statement ``#n =`` followed by no keyword is not a record (OCCT's parser rejects it).
+    """
+    return _HEADS.findall(data)
+
+
+def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None) -> list[str]:
     """Raise :class:`FileFormatError` for a repeated entity id or the first impossible number or B-spline entity.
 
     Returns
@@ -282,6 +297,8 @@ def check_step_text(path, text: str) -> list[str]:
         For the message.
     text : str
         The STEP file's text (latin-1 decoded).
+    heads : list of (str, str), optional
+        :func:`record_heads` of the text's DATA section, if known.
 
     Raises
     ------
@@ -289,7 +306,7 @@ def check_step_text(path, text: str) -> list[str]:
         ``"PATH: #ID: problem"`` (see the module notes).
     """
     data = _data_section(text)
-    ids = ["#" + i for i in _IDS.findall(data)]
+    ids = ["#" + i for i in _IDS.findall(data)] if heads is None else ["#" + i for i, _ in heads]
     if len(set(ids)) != len(ids):
         seen_ids: set[str] = set()
         twice = next(i for i in ids if i in seen_ids or seen_ids.add(i))

@@ -1,0 +1,388 @@
+"""Reference integrity of a STEP text: every ``#N`` exists, and the chain that makes a face holds.
+
+OCCT's STEP transfer drops a face without a word when an entity on the way to it is missing or is not
+what the schema says: a shell that lists a deleted face, a pole list naming a deleted point (or the
+surface itself), a pole ``CARTESIAN_POINT('')`` with no coordinates, a keyword corrupted to
+``ADVANCED_FAC``. This scan (pure Python, no OCP, run beside the reader like :mod:`.step_scan`) makes
+such a file an error naming the entity, its line and what is wrong::
+
+    #2446 is referenced by B_SPLINE_SURFACE_WITH_KNOTS #2210 (line 388) as a pole, and is not in the file
+
+Checked:
+
+- every reference ``#N`` anywhere in the DATA section (outside strings and comments) names an entity
+  of the file;
+- along the chain that makes a face (shell -> face -> bounds -> loop -> oriented edges -> edges, and
+  face -> surface -> poles), every entity of the chain has the number of parameters the schema gives
+  (:data:`SCHEMA`), each reference stands where the schema allows its type (an unknown or corrupted
+  keyword stands nowhere), and a B-spline surface's poles are ``CARTESIAN_POINT`` entities with three
+  coordinates.
+
+The checks run on the records of those types by regular expressions that accept the well-formed
+record; only a record they do not accept is parsed (:func:`~.step_scan.parse_parameters`) to say what
+is wrong, so the scan costs a few per cent of the read (``benchmarks/bench_load.py``).
+"""
+
+from __future__ import annotations
+
+import re
+from operator import itemgetter
+
+from ..errors import FileFormatError
+from .step_scan import collapse_grids, data_section, parse_parameters, record_heads
+
+__all__ = ["SCHEMA", "SURFACES", "CURVES", "check_references", "reference_problem"]
+
+FACES = frozenset({"ADVANCED_FACE", "FACE_SURFACE"})
+#: Faces a shell may list (an ``ORIENTED_FACE`` wraps one of :data:`FACES`).
+SHELL_FACES = FACES | {"ORIENTED_FACE"}
+BOUNDS = frozenset({"FACE_BOUND", "FACE_OUTER_BOUND"})
+LOOPS = frozenset({"EDGE_LOOP", "VERTEX_LOOP", "POLY_LOOP"})
+#: An oriented edge's edge (the schema's rule: not an oriented edge, so a reference cannot loop back).
+EDGES = frozenset({"EDGE_CURVE", "SUBEDGE"})
+VERTICES = frozenset({"VERTEX_POINT"})
+#: Surface entities of the STEP geometry schema (a complex instance qualifies with one of them as a part).
+SURFACES = frozenset({
+    "PLANE", "CYLINDRICAL_SURFACE", "CONICAL_SURFACE", "SPHERICAL_SURFACE", "TOROIDAL_SURFACE",
+    "DEGENERATE_TOROIDAL_SURFACE", "SURFACE_OF_LINEAR_EXTRUSION", "SURFACE_OF_REVOLUTION", "B_SPLINE_SURFACE",
+    "B_SPLINE_SURFACE_WITH_KNOTS", "BEZIER_SURFACE", "UNIFORM_SURFACE", "QUASI_UNIFORM_SURFACE",
+    "RATIONAL_B_SPLINE_SURFACE", "RECTANGULAR_TRIMMED_SURFACE", "OFFSET_SURFACE", "CURVE_BOUNDED_SURFACE",
+    "RECTANGULAR_COMPOSITE_SURFACE", "SURFACE_REPLICA"})
+#: Curve entities of the STEP geometry schema.
+CURVES = frozenset({
+    "LINE", "CIRCLE", "ELLIPSE", "PARABOLA", "HYPERBOLA", "POLYLINE", "B_SPLINE_CURVE", "B_SPLINE_CURVE_WITH_KNOTS",
+    "BEZIER_CURVE", "UNIFORM_CURVE", "QUASI_UNIFORM_CURVE", "RATIONAL_B_SPLINE_CURVE", "TRIMMED_CURVE",
+    "COMPOSITE_CURVE", "COMPOSITE_CURVE_ON_SURFACE", "OFFSET_CURVE_3D", "SURFACE_CURVE", "SEAM_CURVE",
+    "INTERSECTION_CURVE", "BOUNDED_CURVE", "CURVE_REPLICA", "PCURVE", "CURVE"})
+
+# one parameter slot: None (a value, not a reference), or (role, allowed types, a list of references?)
+_FACE_SLOTS = (None, ("a bound", BOUNDS, True), ("its surface", SURFACES, False), None)
+_SHELL_SLOTS = (None, ("a face", SHELL_FACES, True))
+_BOUND_SLOTS = (None, ("its loop", LOOPS, False), None)
+#: The parameters of each entity on the chain that makes a face (simple instances), in schema order.
+SCHEMA: dict[str, tuple] = {
+    "CLOSED_SHELL": _SHELL_SLOTS,
+    "OPEN_SHELL": _SHELL_SLOTS,
+    "ORIENTED_FACE": (None, None, ("its face", FACES, False), None),
+    "ADVANCED_FACE": _FACE_SLOTS,
+    "FACE_SURFACE": _FACE_SLOTS,
+    "FACE_BOUND": _BOUND_SLOTS,
+    "FACE_OUTER_BOUND": _BOUND_SLOTS,
+    "EDGE_LOOP": (None, ("an edge", frozenset({"ORIENTED_EDGE"}), True)),
+    "ORIENTED_EDGE": (None, None, None, ("its edge", EDGES, False), None),
+    "EDGE_CURVE": (None, ("its start vertex", VERTICES, False), ("its end vertex", VERTICES, False),
+                   ("its curve", CURVES, False), None),
+}
+#: Parameters of a simple B-spline surface entity (its poles are checked one by one).
+SURFACE_ARITY = {"B_SPLINE_SURFACE_WITH_KNOTS": 13, "B_SPLINE_SURFACE": 8}
+
+_STRING = r"'(?:[^']|'')*'"
+_VALUE = r"(?:" + _STRING + r"|\$|\*|\.[A-Za-z_0-9]+\.|[-+]?\d+\.?\d*(?:[eE][-+]?\d+)?)"
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_POINT3 = re.compile(r"\s*CARTESIAN_POINT\s*\(\s*(?:" + _STRING + r"|\$)\s*,\s*\(\s*" + _NUM + r"\s*,\s*" + _NUM
+                     + r"\s*,\s*" + _NUM + r"\s*\)\s*\)\s*")
+_REFS_ANYWHERE = re.compile(r"#(\d+)")
+# a string ('' escapes a quote; an unterminated one runs to the end), a comment, or a statement end
+_STATEMENT_TOKENS = re.compile(r"'(?:[^']|'')*(?:'|\Z)|/\*.*?(?:\*/|\Z)|;", re.DOTALL)
+_STATEMENT_HEAD = re.compile(r"\s*(?:/\*.*?\*/\s*)*#(\d+)\s*=", re.DOTALL)
+_STRINGS_AND_COMMENTS = re.compile(_STRING + r"|/\*.*?\*/", re.DOTALL)
+
+
+def _fast_pattern(keyword: str, slots: tuple) -> re.Pattern:
+    """A regex accepting the well-formed record ``keyword(...)``, one group per reference slot."""
+    parts = []
+    for slot in slots:
+        if slot is None:
+            parts.append(_VALUE)
+        elif slot[2]:
+            parts.append(r"\(\s*(#\d+(?:\s*,\s*#\d+)*)\s*\)")
+        else:
+            parts.append(r"#(\d+)")
+    return re.compile(r"\s*" + keyword + r"\s*\(\s*" + r"\s*,\s*".join(parts) + r"\s*\)\s*")
+
+
+_FAST = {keyword: _fast_pattern(keyword, slots) for keyword, slots in SCHEMA.items()}
+# the same, as one statement among statements joined by ';', with its id as the first group
+_BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + pattern.pattern + r"(?=;|\Z)")
+          for keyword, pattern in _FAST.items()}
+_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + _POINT3.pattern + r"(?=;|\Z)")
+_DIGITS = re.compile(r"\d+")
+
+
+class _Records:
+    """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed)."""
+
+    def __init__(self, text: str, data: str, heads: list[tuple[str, str]]):
+        self.text, self.data, self.heads = text, data, heads
+        self.offset = len(text) - len(data)
+        self.kind = dict(heads)
+        # statement i + 1 of the section is record i, unless a ';' inside a string or comment shifts them:
+        # each use checks the statement's head and falls back to an exact index once
+        self.statements = data.split(";")
+        self._position: dict[str, int] | None = None
+        self.exact: dict[str, tuple[int, int]] | None = None
+
+    @property
+    def position(self) -> dict[str, int]:
+        """``{id: index in heads}`` (built on first use)."""
+        if self._position is None:
+            self._position = dict(zip(map(itemgetter(0), self.heads), range(len(self.heads))))
+        return self._position
+
+    def body(self, ident: str) -> str:
+        """The record's text after ``#ident =``."""
+        i = self.position[ident]
+        statement = self.statements[i + 1] if i + 1 < len(self.statements) else ""
+        head, sep, body = statement.partition("=")
+        if sep and head.strip() == "#" + ident and not body.count("'") % 2 and "/*" not in body:
+            return body  # the whole record (a ';' inside a string or comment would have cut it short)
+        found = self._exact().get(ident)
+        if found is None:  # not a well-formed record (an unbalanced quote): up to the next ';'
+            head = re.search(r"(?:^|;)\s*#" + ident + r"\s*=", self.data)
+            if head is None:
+                return ""
+            end = self.data.find(";", head.end())
+            found = head.end(), len(self.data) if end < 0 else end
+        return self.data[found[0]:found[1]]
+
+    def statement(self, ident: str) -> str:
+        """The statement ``#ident = ...`` as split at ``;`` (may be another one: :meth:`body` is exact)."""
+        return self.statement_at(self.position[ident])
+
+    def statement_at(self, i: int) -> str:
+        """The statement of record ``heads[i]`` as split at ``;`` (see :meth:`statement`)."""
+        i += 1
+        return self.statements[i] if i < len(self.statements) else ""
+
+    def _exact(self) -> dict[str, tuple[int, int]]:
+        """``{id: (start, end) of the body}`` from the statement ends outside strings and comments (one linear
+        pass; a regex that also had to end each record at a ';' could backtrack exponentially on '' runs)."""
+        if self.exact is None:
+            self.exact = {}
+            start = 0
+            for m in _STATEMENT_TOKENS.finditer(self.data):
+                if m.group(0) != ";":
+                    continue
+                head = _STATEMENT_HEAD.match(self.data, start, m.start())
+                if head is not None:
+                    self.exact.setdefault(head.group(1), (head.end(), m.start()))
+                start = m.end()
+        return self.exact
+
+    def line(self, ident: str) -> int | None:
+        """The 1-based line of ``#ident =`` in the file."""
+        found = re.search(r"(?:^|;)\s*(#" + ident + r"\s*=)", self.data)
+        return None if found is None else self.text.count("\n", 0, self.offset + found.start(1)) + 1
+
+    def names(self, ident: str) -> list[str]:
+        """The keyword of a simple instance, the part keywords of a complex one."""
+        kind = self.kind[ident]
+        if kind != "(":
+            return [kind]
+        return re.findall(r"([A-Za-z_][A-Za-z_0-9]*)\s*\(", _STRINGS_AND_COMMENTS.sub("''", self.body(ident)))
+
+    def label(self, ident: str) -> str:
+        """``KEYWORD #id (line n)``."""
+        kind = self.kind[ident]
+        name = "complex instance" if kind == "(" else kind
+        line = self.line(ident)
+        return f"{name} #{ident}" + (f" (line {line})" if line else "")
+
+
+def reference_problem(records: _Records, target: str, role: str, allowed, owner: str) -> str | None:
+    """What is wrong with ``#target`` standing as ``role`` in ``#owner``, or None."""
+    kind = records.kind.get(target)
+    if kind is None:
+        return f"#{target} is referenced by {records.label(owner)} as {role}, and is not in the file"
+    if kind in allowed:
+        return None
+    names = records.names(target)
+    if not any(name in allowed for name in names):
+        where = f"#{target} is referenced by {records.label(owner)} as {role}, and"
+        what = " ".join(names) if kind == "(" else kind
+        line = records.line(target)
+        what = f"the {what} itself" if target == owner else what + (f" (line {line})" if line else "")
+        expected = " or ".join(sorted(allowed)) if len(allowed) <= 4 else f"one of {len(allowed)} {_family(role)}"
+        return f"{where} is {what}, which cannot stand there (expected {expected})"
+    return None
+
+
+def _family(role: str) -> str:
+    return {"its surface": "surface types", "its curve": "curve types"}.get(role, "types")
+
+
+def _slow_refs(records: _Records, ident: str, slots: tuple) -> list[tuple[str, tuple]] | str:
+    """The references of a record the fast pattern did not accept, or what is wrong with it."""
+    keyword = records.kind[ident]
+    try:
+        parts = parse_parameters(records.body(ident))
+    except (ValueError, RecursionError) as exc:
+        return f"{records.label(ident)} is malformed ({exc})"
+    args = parts[0][1]
+    if len(args) != len(slots):
+        return f"{records.label(ident)} has {len(args)} parameters, the schema gives {keyword} {len(slots)}"
+    out = []
+    for k, (value, slot) in enumerate(zip(args, slots), start=1):
+        if slot is None:
+            continue
+        role, allowed, many = slot
+        values = value if many and isinstance(value, list) else [value]
+        if not all(isinstance(v, str) and v.startswith("#") for v in values) or (many and not isinstance(value, list)):
+            return (f"{records.label(ident)}: parameter {k} ({role}) is "
+                    f"{'not a list of references' if many else 'not a reference'}")
+        out.extend((v[1:], slot) for v in values)
+    return out
+
+
+def _chain_problem(records: _Records) -> str | None:
+    """The first broken link of the chains that make the faces (by entity type, then file order), or None."""
+    by_keyword: dict[str, list[int]] = {}  # keyword -> indices in heads
+    for i, (_, keyword) in enumerate(records.heads):
+        if keyword in SCHEMA or keyword in SURFACE_ARITY or keyword == "(":
+            by_keyword.setdefault(keyword, []).append(i)
+    for keyword, slots in SCHEMA.items():
+        problem = _records_problem(records, keyword, slots, by_keyword.get(keyword, []))
+        if problem:
+            return problem
+    heads = records.heads
+    surfaces = [heads[i][0] for keyword, indices in by_keyword.items() if keyword != "(" and keyword not in SCHEMA
+                for i in indices]
+    surfaces += [heads[i][0] for i in by_keyword.get("(", []) if "B_SPLINE_SURFACE" in records.statement_at(i)]
+    return _surfaces_problem(records, surfaces)
+
+
+def _records_problem(records: _Records, keyword: str, slots: tuple, indices: list[int]) -> str | None:
+    """The first problem of the ``keyword`` records (``indices`` in heads): their parameters, then their references.
+
+    All the well-formed records are matched by one regex over their statements joined (one C call);
+    the others are parsed one by one.
+    """
+    if not indices:
+        return None
+    idents = [records.heads[i][0] for i in indices]
+    joined = ";".join(map(records.statement_at, indices))
+    matched = _BATCH[keyword].findall(joined)
+    groups = [slot for slot in slots if slot is not None]
+    if len(groups) == 1:
+        matched = [(owner, group) for owner, group in matched]
+    owners = [m[0] for m in matched]
+    # per reference slot, the targets (a list slot's references joined, split by one findall)
+    targets = [_DIGITS.findall(",".join(m[k + 1] for m in matched)) if slot[2] else [m[k + 1] for m in matched]
+               for k, slot in enumerate(groups)]
+    late: list[tuple[str, str, tuple]] = []  # (owner, target, slot) of the records parsed one by one
+    if owners != idents:  # some record is not well-formed (or not its own statement: found exactly below)
+        well_formed = set(owners)
+        for ident in idents:
+            if ident not in well_formed:
+                slow = _slow_refs(records, ident, slots)
+                if isinstance(slow, str):
+                    return slow
+                late.extend((ident, target, slot) for target, slot in slow)
+    kind = records.kind
+    for k, (role, allowed, many) in enumerate(groups):
+        for target in targets[k]:
+            if kind.get(target) not in allowed:
+                owner = next(m[0] for m in matched if target in (_DIGITS.findall(m[k + 1]) if many else [m[k + 1]]))
+                problem = reference_problem(records, target, role, allowed, owner)
+                if problem:
+                    return problem
+    for owner, target, (role, allowed, _) in late:
+        problem = reference_problem(records, target, role, allowed, owner)
+        if problem:
+            return problem
+    return None
+
+
+def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
+    """B-spline surfaces: the parameter count of a simple instance, and every pole a three-coordinate
+    CARTESIAN_POINT (the poles' statements checked by one regex, as :func:`_records_problem` does)."""
+    for ident in surfaces:
+        keyword = records.kind[ident]
+        if keyword not in SURFACE_ARITY:
+            continue
+        try:
+            args = parse_parameters(collapse_grids(_STRINGS_AND_COMMENTS.sub("''", records.body(ident))))[0][1]
+        except (ValueError, RecursionError) as exc:
+            return f"{records.label(ident)} is malformed ({exc})"
+        if len(args) != SURFACE_ARITY[keyword]:
+            return (f"{records.label(ident)} has {len(args)} parameters, the schema gives {keyword} "
+                    f"{SURFACE_ARITY[keyword]}")
+    kind = records.kind
+    bodies = [records.body(ident) for ident in surfaces]
+    bodies = [_STRINGS_AND_COMMENTS.sub("''", b) if "'" in b or "/*" in b else b for b in bodies]
+    poles = list(dict.fromkeys(_REFS_ANYWHERE.findall(";".join(bodies))))  # each once, in file order
+
+    def owner(pole: str) -> str:
+        """The first surface that names ``pole`` (for the message)."""
+        return next(i for i, b in zip(surfaces, bodies) if re.search("#" + pole + r"(?!\d)", b))
+
+    for pole in [p for p in poles if kind.get(p) != "CARTESIAN_POINT"]:
+        problem = reference_problem(records, pole, "a pole", {"CARTESIAN_POINT"}, owner(pole))
+        if problem:
+            return problem
+    position, statements, last = records.position, records.statements, len(records.statements) - 1
+    joined = ";".join([statements[min(position[p] + 1, last)] for p in poles])
+    if _BATCH_POINT.findall(joined) == poles:  # every pole's own statement, a well-formed 3D point
+        return None
+    for pole in poles:
+        if not _POINT3.fullmatch(records.body(pole)):
+            return (f"#{pole} is referenced by {records.label(owner(pole))} as a pole, and "
+                    + _point_problem(records, pole))
+    return None
+
+
+def _point_problem(records: _Records, ident: str) -> str:
+    """Why a CARTESIAN_POINT is not a point with three coordinates."""
+    where = f"its record (line {records.line(ident)})"
+    try:
+        args = parse_parameters(records.body(ident))[0][1]
+    except (ValueError, RecursionError) as exc:
+        return f"{where} is malformed ({exc})"
+    coordinates = args[1] if len(args) == 2 and isinstance(args[1], list) else None
+    if coordinates is None:
+        return f"{where} has no list of coordinates"
+    if len(coordinates) != 3:
+        return f"{where} has {len(coordinates)} coordinates, not 3"
+    return f"{where} has coordinates that are not numbers"
+
+
+def _missing_reference(records: _Records) -> str | None:
+    """A reference anywhere in the DATA section to an entity that is not in the file, or None."""
+    missing = set(_REFS_ANYWHERE.findall(records.data))
+    missing.difference_update(records.kind)
+    for target in sorted(missing, key=int):
+        for m in re.finditer(r"#" + target + r"(?!\d)", records.data):
+            statement_start = records.data.rfind(";", 0, m.start()) + 1
+            head = re.match(r"\s*#(\d+)\s*=", records.data[statement_start:])
+            if head is None or head.group(1) not in records.kind:
+                continue
+            owner = head.group(1)
+            if re.search(r"#" + target + r"(?!\d)", _STRINGS_AND_COMMENTS.sub("''", records.body(owner))):
+                return f"#{target} is referenced by {records.label(owner)}, and is not in the file"
+    return None
+
+
+def check_references(path, text: str, heads: list[tuple[str, str]] | None = None) -> None:
+    """Raise :class:`FileFormatError` for the first broken reference of a STEP text (see the module notes).
+
+    Parameters
+    ----------
+    path : path-like
+        For the message.
+    text : str
+        The STEP file's text (latin-1 decoded).
+    heads : list of (str, str), optional
+        :func:`~.step_scan.record_heads` of its DATA section, if known.
+
+    Raises
+    ------
+    FileFormatError
+        ``"PATH: #ID is referenced by KEYWORD #OWNER (line N) as ROLE, and ..."``.
+    """
+    data = data_section(text)
+    if not re.search(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z", data):
+        return  # a truncated file: OCCT's parser says so (every reference past the cut would be "missing")
+    records = _Records(text, data, record_heads(data) if heads is None else heads)
+    problem = _chain_problem(records) or _missing_reference(records)
+    if problem:
+        raise FileFormatError(path, problem)
