@@ -82,6 +82,11 @@ class AxisIntent:
     frame : AxisFrame
     degree : int
         Trend degree along this direction.
+    fmax : float
+        Band limit (cycles per control point, open directions; default :data:`F_MAX`).
+    ridge : float
+        Weight of the Sobolev ridge (default :data:`RIDGE`); other values give the admissible
+        reconstructions of :mod:`cadartifact.analysis.uncertainty`.
 
     Attributes
     ----------
@@ -91,15 +96,16 @@ class AxisIntent:
         Residual samples -> Fourier coefficients (weighted minimum-norm interpolation).
     """
 
-    def __init__(self, frame: AxisFrame, degree: int):
+    def __init__(self, frame: AxisFrame, degree: int, fmax: float = F_MAX, ridge: float = RIDGE):
         self.frame, self.degree = frame, degree
+        self.fmax, self.ridge = fmax, ridge
         self.T = frame.period
         n = frame.n
         if frame.periodic:
             kmax = (self.T - 1) // 2
             nyquist = self.T % 2 == 0
         else:
-            kmax = max(int(np.ceil(F_MAX * self.T)) - 1, 0)
+            kmax = max(int(np.ceil(fmax * self.T)) - 1, 0)
             nyquist = False
         self.k = np.arange(1, kmax + 1)
         self.nyquist = nyquist
@@ -114,7 +120,7 @@ class AxisIntent:
             # min c' G c subject to A c = r, c = G^-1 A' (A G^-1 A')^-1 r
             outside = np.linspace(frame.spans, self.T, 8 * int(round(self.T - frame.spans)) + 1)[1:-1]
             Bo = self.basis(outside)
-            G = Bo.T @ Bo / len(outside) + RIDGE * np.diag(self.weights ** 2)
+            G = Bo.T @ Bo / len(outside) + ridge * np.diag(self.weights ** 2)
             GiAt = np.linalg.solve(G, A.T)
             self.coef = GiAt @ np.linalg.pinv(A @ GiAt, rcond=1e-13)
         self.V = _legendre(frame.xs, frame.spans, degree)  # (n, d+1)
@@ -156,11 +162,11 @@ class AxisIntent:
 _CACHE = OperatorCache(1024)
 
 
-def axis_intent(frame: AxisFrame, degree: int) -> AxisIntent:
+def axis_intent(frame: AxisFrame, degree: int, fmax: float = F_MAX, ridge: float = RIDGE) -> AxisIntent:
     """The cached :class:`AxisIntent` of a frame (keyed by its geometry, not its levels)."""
     key = (frame.n, frame.periodic, frame.spans, round(frame.offset, 12), frame.xs.round(12).tobytes(),
-           frame.period, degree)
-    return _CACHE.get(key, lambda: AxisIntent(frame, degree))
+           frame.period, degree, fmax, ridge)
+    return _CACHE.get(key, lambda: AxisIntent(frame, degree, fmax, ridge))
 
 
 def trend_terms(scheme, frames) -> tuple[list, tuple[int, int]]:
