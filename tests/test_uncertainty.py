@@ -106,12 +106,20 @@ def test_an_honest_no_when_U_alone_reaches_the_tolerance():
     assert a.shape == net.shape  # no number advised
 
 
-def _calibration():
+#: The calibration's check grid: K = 4 per span (``levels=2``; the default is 8). A coarser check grid reads
+#: a candidate's peak less exactly, so its claims are the riskier ones; it keeps 600 advice runs affordable.
+LEVELS = 2
+
+#: The 500 cases run as five seeded chunks (xdist spreads them over the cores); each asserts on its own.
+CHUNKS = 5
+
+
+def _calibration(seed, count, **family):
     rows = []
     u, v = np.linspace(0, 1, 161), np.linspace(0, 1, 157)
-    for net, truth, info in calibration_family(SEED, CASES):
+    for net, truth, info in calibration_family(seed, count, **family):
         t = info["tolerance"]
-        a = advise(net, t, intent="net", compare=False, verify=False)
+        a = advise(net, t, intent="net", compare=False, verify=False, levels=LEVELS)
         it = design_intent(net, bspline(*net.degrees), 3)
         fu, fv = it.frames
         intent_error = float(np.linalg.norm(it.evaluate(fu.x, fv.x) - truth(fu.param(fu.x), fv.param(fv.x)),
@@ -126,23 +134,36 @@ def _calibration():
     return rows
 
 
+def _summary(rows) -> str:
+    claims = [r for r in rows if r["claim"]]
+    return (f"cases {len(rows)}, claims {len(claims)}, false claims "
+            f"{sum(r['true'] > 1.1 * r['t'] for r in claims)}, coverage of U "
+            f"{np.mean([r['intent_error'] <= r['U'] + 1e-9 for r in rows]):.4f}, today's net decided "
+            f"{np.mean([r['today'] != UNDECIDED for r in rows]):.3f}, worst claimed true/t "
+            f"{max((r['true'] / r['t'] for r in claims), default=0):.3f}")
+
+
 @pytest.mark.slow
-def test_calibration_on_known_shape_families():
-    """Issue 22, item 3, on 500 seeded cases: no false claim (true whole-face distance > 1.1 t while claimed),
-    U covers the intent's true error in at least 95 % of the cases, and where the net supports it (nets of 16
-    points or more, content up to 0.3 cycles per point, t >= 2 % of the amplitude, an independent fit of the
-    true shape meeting t/2 at the advised density) conformance is claimed in at least 80 % of the cases."""
-    rows = _calibration()
+@pytest.mark.parametrize("chunk", range(CHUNKS))
+def test_calibration_on_known_shape_families(chunk):
+    """Issue 22, item 3 (500 seeded cases in five chunks of 100): no false claim (true whole-face distance of the
+    advised net > 1.1 t while conformance is claimed), and U covers the intent's true whole-face error in at
+    least 95 % of the cases (of each chunk, so of the whole)."""
+    rows = _calibration(SEED + chunk, CASES // CHUNKS)
+    print("\n" + _summary(rows))
     false = [r["info"]["text"] + f" true/t={r['true'] / r['t']:.3f}" for r in rows if r["claim"] and r["true"] > 1.1 * r["t"]]
-    covered = np.mean([r["intent_error"] <= r["U"] + 1e-9 for r in rows])
+    assert not false, false
+    assert np.mean([r["intent_error"] <= r["U"] + 1e-9 for r in rows]) >= 0.95
+
+
+@pytest.mark.slow
+def test_claims_are_not_refused_where_the_net_supports_them():
+    """Issue 22, item 3: on nets of 16 points or more, content up to 0.3 cycles per point and tolerances of at
+    least 2 % of the amplitude, wherever an independent least-squares fit of the true shape meets t/2 at the
+    advised density, conformance is claimed in at least 80 % of the cases (100 seeded cases of that kind)."""
+    rows = _calibration(SEED + 100, 100, nmin=16, fmax=0.3, tol_range=(0.02, 0.1))
     eligible = [r for r in rows if r["eligible"]]
     claimed = np.mean([r["claim"] for r in eligible])
-    decided = np.mean([r["today"] != UNDECIDED for r in rows])
-    print(f"\ncases {len(rows)}, claims {sum(r['claim'] for r in rows)}, false claims {len(false)}, "
-          f"coverage of U {covered:.4f}, eligible {len(eligible)}, claimed among them {claimed:.3f}, "
-          f"today's net decided {decided:.3f}, worst claimed true/t "
-          f"{max((r['true'] / r['t'] for r in rows if r['claim']), default=0):.3f}")
-    assert len(rows) >= 500
-    assert not false, false
-    assert covered >= 0.95
-    assert len(eligible) >= 20 and claimed >= 0.8
+    print(f"\n{_summary(rows)}; eligible {len(eligible)}, claimed among them {claimed:.3f}")
+    assert len(eligible) >= 25 and claimed >= 0.8  # 35 of the 100 are eligible (the fit must meet t/2)
+    assert not [r for r in rows if r["claim"] and r["true"] > 1.1 * r["t"]]

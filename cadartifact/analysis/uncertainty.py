@@ -6,8 +6,10 @@ estimated as the spread of **admissible reconstructions**: the intent of :mod:`c
 rebuilt with other choices that fit the same samples equally well,
 
 * band limit ``F_MAX`` = 0.35 and 0.45 cycles per control point (the band edge),
-* ridge weight ``RIDGE`` x 10 and / 10 (how smooth the continuation is),
-* trend degree - 1 and + 1 (what the polynomial takes, what the extension takes),
+* ridge weight ``RIDGE`` x 10 (how smooth the continuation is; / 10 moved the intent least of all and was
+  dropped for its cost),
+* trend degree - 1 (never below a line: a face's coordinates are ramps hundreds of times the shape, which no
+  scheme leaves to the extension) and + 1 (what the polynomial takes, what the extension takes),
 * the period of the extension 3 x the span instead of 2 x (the border continuation),
 
 one direction at a time. Per direction ``d`` and check-grid point ``z`` the spread is
@@ -56,7 +58,6 @@ ALTERNATES = (
     ("band 0.35", 0.35, RIDGE, 0, None),
     ("band 0.45", 0.45, RIDGE, 0, None),
     ("ridge x10", F_MAX, RIDGE * 10, 0, None),
-    ("ridge /10", F_MAX, RIDGE / 10, 0, None),
     ("trend -1", F_MAX, RIDGE, -1, None),
     ("trend +1", F_MAX, RIDGE, +1, None),
     ("period 3L", F_MAX, RIDGE, 0, 3),
@@ -112,10 +113,10 @@ def _alternates(intent: Intent, axis: int):
     frame, ax = intent.frames[axis], intent.axes[axis]
     for _name, fmax, ridge, ddeg, ext in ALTERNATES:
         deg = ax.degree + ddeg
-        if deg < 0 or deg > frame.n - 1:
+        if deg < min(1, ax.degree) or deg > frame.n - 1:  # every scheme reproduces lines: never below a line
             continue
         f = frame if ext is None else dataclasses.replace(frame, extension=ext)
-        alt = axis_intent(f, deg, fmax, ridge)
+        alt = axis_intent(f, deg, fmax, ridge, like=ax)  # a trend alternate reuses the Fourier part
         if alt is ax:
             continue
         frames = tuple(f if k == axis else intent.frames[k] for k in (0, 1))
