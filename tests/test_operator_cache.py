@@ -61,13 +61,14 @@ def test_cached_synthesis_is_read_only():
 def test_scorer_fit_with_kept_halves_equals_fit_points():
     """The search keeps the fit's u half per candidate count: the same bits as fitting from scratch."""
     from cadartifact.advice.advise import _make_scorer
-    from cadartifact.analysis.budget import analysis_net, default_scheme
+    from cadartifact.analysis.budget import analysis_net
     from cadartifact.analysis.fitting import fit_points
+    from cadartifact.analysis.settings import RunSettings, resolve_scheme
 
     i, j = np.meshgrid(np.arange(14.0), np.arange(11.0), indexing="ij")
     net = ca.ControlNet.from_points(np.stack([i, j, np.sin(0.7 * i) * np.cos(0.4 * j)], -1), degrees=(3, 3))
-    sch = default_scheme(net)
-    sc = _make_scorer(net, analysis_net(net, sch), sch, "surface", 2, "peak", "normal")
+    sch = resolve_scheme(net)
+    sc = _make_scorer(net, analysis_net(net, sch), sch, RunSettings(scheme=sch, intent="surface", levels=2))
     for a, b in [(6, 5), (6, 7), (9, 5), (6, 5), (13, 11), (9, 8)]:
         Q, S, I, *_ , (cu, cv) = sc.fit(a, b)
         Q0, S0 = fit_points(I, cu, cv)

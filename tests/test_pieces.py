@@ -123,9 +123,11 @@ def test_a_crease_is_not_ripple_the_halves_are_analysed_as_nets_of_their_own(p, 
     expect = max(h.stats["total"].peak for h in halves)
     assert b.stats["total"].peak == pytest.approx(expect, rel=1e-6, abs=1e-12)
     from cadartifact.analysis.pieces import MAX_PIECES  # noqa: F401  (the whole-face reading, for scale)
-    from cadartifact.analysis.budget import _budget_of, default_scheme
+    from cadartifact.analysis.budget import _budget_of
+    from cadartifact.analysis.settings import RunSettings, resolve_scheme
 
-    whole = _budget_of(face, face, default_scheme(face), None, "peak", "auto", 3, "normal", "auto", "surface", False)
+    sch = resolve_scheme(face)
+    whole = _budget_of(face, face, sch, RunSettings(scheme=sch), False)
     assert whole.stats["total"].peak > 3 * b.stats["total"].peak
 
 
