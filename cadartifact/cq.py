@@ -59,11 +59,11 @@ def _nets(obj, convert: bool, name):
     return nets
 
 
-def _record(net, b, include_signal_error: bool) -> dict:
+def _record(net, b, include_signal_error: bool, uncertainty=None) -> dict:
     """A face entry shaped as :func:`cadartifact.runs.records.face_record`, from a budget (no advice yet)."""
     from .runs.records import budget_record
 
-    return budget_record(net, b, include_signal_error)
+    return budget_record(net, b, include_signal_error, uncertainty)
 
 
 def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak", scheme=None,
@@ -141,8 +141,11 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
         Tolerance in model units (mm), compared with each face's ripple (SPEC §4 budget) under
         ``metric``.
     mode : {"raise", "warn"}
-        ``raise``: :class:`~cadartifact.errors.ArtifactToleranceError` naming the worst face;
-        ``warn``: :class:`ArtifactToleranceWarning` with the same message, and the chain goes on.
+        ``raise``: :class:`~cadartifact.errors.ArtifactToleranceError` naming the worst face that does not
+        conform (``value - U > tol``, ISO 14253-1 with the intent's uncertainty ``U``,
+        :mod:`cadartifact.advice.decision`); ``warn``: :class:`ArtifactToleranceWarning` with the same message,
+        and the chain goes on. A face the rule leaves undecided (``value - U <= tol < value + U``) only
+        warns, in both modes.
     metric : {"peak", "rms"}
     scheme : str or Scheme, optional
         Default: each face's own B-spline degrees.
@@ -175,11 +178,23 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
         from .advice.advise import advise_for
         from .analysis.budget import budget_for
 
-        rows = []
+        from .advice.decision import NONCONFORMING, UNDECIDED, face_uncertainty
+
+        rows, undecided = [], []
         for net in _nets(workplane, convert, None):
-            b = budget_for(net, settings)
-            if not b.meets(include_signal_error):
-                rows.append((b.stats[settings.compared].get(metric), net, _record(net, b, include_signal_error)))
+            b = budget_for(net, settings, keep_fields=settings.reading == "surface")
+            rec = _record(net, b, include_signal_error, face_uncertainty(net, settings, b))
+            value = b.stats[settings.compared].get(metric)
+            if rec["decision"] == NONCONFORMING:
+                rows.append((value, net, rec))
+            elif rec["decision"] == UNDECIDED:
+                undecided.append(rec)
+        for rec in undecided:  # the rule cannot decide: never an error, always said (ISO 14253-1)
+            u = rec["uncertainty"]["peak"]
+            label = f"face {rec['face']}" + (f" ({rec['name']})" if rec["name"] else "")
+            warnings.warn(f"{label}: {settings.compared} {metric} {rec['budget'][settings.compared][metric]:.4g} "
+                          f"+/- {u:.2g} is undecided against tolerance {settings.tolerance:g} (the intent's "
+                          "uncertainty U straddles it)", ArtifactToleranceWarning, stacklevel=3)
         if not rows:
             return workplane
         rows.sort(key=lambda r: -r[0])

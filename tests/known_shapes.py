@@ -29,6 +29,13 @@ def shape_function(kind: str, f: float, theta: float, phase: float, spans: tuple
         cx, cy = (rng.uniform(0.35, 0.65) * L for L in spans)
         w = 1.0 / (2.0 * f)
         return lambda X, Y: np.exp(-((c * (X - cx) + s * (Y - cy)) / w) ** 2)
+    if kind == "polynomial":  # a random polynomial of degree 2-4 in the rotated coordinate, peak 1 on the face
+        deg = int(rng.integers(2, 5))
+        coef = rng.normal(size=deg + 1)
+        Lx = abs(c) * spans[0] + abs(s) * spans[1] or 1.0
+        t = np.linspace(-1, 1, 201)
+        scale = float(np.abs(np.polynomial.legendre.legval(t, coef)).max()) or 1.0
+        return lambda X, Y: np.polynomial.legendre.legval(2 * (c * X + s * Y) / Lx - 1, coef) / scale
     raise ValueError(kind)
 
 
@@ -69,4 +76,36 @@ def family(seed: int, count: int, *, fmax=0.35, nmin=14, nmax=40, kinds=("cosine
         g = shape_function(kind, f, DIRECTIONS[dname], float(rng.uniform(0, 2 * np.pi)), (nu - p, nv - q), rng)
         net, truth = known_face((p, q), (nu, nv), g)
         out.append((net, truth, f"{kind} f={f:.3f} {dname} degrees=({p},{q}) net={nu}x{nv}"))
+    return out
+
+
+CALIBRATION_KINDS = ("cosine", "sum", "bump", "polynomial")
+
+
+def calibration_family(seed: int, count: int, *, nmin=6, nmax=40, fmin=0.05, fmax=0.45, degrees=(1, 5),
+                       tol_range=(0.002, 0.1)):
+    """``count`` random known faces of issue 22's calibration: nets of ``nmin``-``nmax`` points per
+    direction, degrees ``degrees`` (inclusive), content ``fmin``-``fmax`` cycles per point in any of
+    four directions, random phases, cosines, sums of cosines, bumps and polynomials; a tolerance drawn
+    log-uniformly in ``tol_range`` of the amplitude (1).
+
+    Returns
+    -------
+    list of (net, truth, info)
+        ``info``: ``{"kind", "f", "direction", "degrees", "shape", "tolerance", "text"}``.
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        p, q = (int(d) for d in rng.integers(degrees[0], degrees[1] + 1, 2))
+        nu, nv = (int(rng.integers(max(nmin, d + 2), nmax + 1)) for d in (p, q))
+        f = float(rng.uniform(fmin, fmax))
+        dname = str(rng.choice(list(DIRECTIONS)))
+        kind = str(rng.choice(CALIBRATION_KINDS))
+        g = shape_function(kind, f, DIRECTIONS[dname], float(rng.uniform(0, 2 * np.pi)), (nu - p, nv - q), rng)
+        net, truth = known_face((p, q), (nu, nv), g)
+        t = float(np.exp(rng.uniform(np.log(tol_range[0]), np.log(tol_range[1]))))
+        info = {"kind": kind, "f": f, "direction": dname, "degrees": (p, q), "shape": (nu, nv), "tolerance": t,
+                "text": f"{kind} f={f:.3f} {dname} degrees=({p},{q}) net={nu}x{nv} t={t:.4g}"}
+        out.append((net, truth, info))
     return out

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cadartifact as ca
-from cadartifact.advice.advise import INTENT_MARGIN, advise, resample
+from cadartifact.advice.advise import advise, resample
 from cadartifact.advice.density_search import frontier as _frontier, gallop as _gallop
 from cadartifact.net import ControlNet, clamped_uniform_knots
 from cadartifact.numerics.splines import basis_matrix
@@ -55,7 +55,8 @@ def _brute_force_fewest(net, truth, t, limit=60):
 @pytest.mark.parametrize("seed,t", [(21, 0.1), (22, 0.02), (23, 0.05)])
 def test_advised_net_holds_against_the_known_shape(seed, t):
     """Faces sampling a known shape (amplitude 1): the advised net, evaluated by OCCT, is within t of the
-    shape itself on the whole face, and has at most 1.3x the points of the brute-force fewest net."""
+    shape itself on the whole face, and has at most 1.4x the points of the brute-force fewest net (the advice keeps room for the intent's
+    uncertainty U, issue 22: it claims conformance only at value + U <= t)."""
     from cadartifact.exchange.load import evaluate_grid
 
     for net, truth, what in family(seed, 3, nmax=24):
@@ -65,7 +66,7 @@ def test_advised_net_holds_against_the_known_shape(seed, t):
         assert err <= t, (what, a.shape, err)
         best = _brute_force_fewest(net, truth, t)
         assert best is not None
-        assert a.points <= 1.3 * best[0] * best[1], (what, a.shape, best)
+        assert a.points <= 1.4 * best[0] * best[1], (what, a.shape, best)
         assert a.verification["meets"] and a.verification["samples"] <= t
 
 
@@ -117,13 +118,19 @@ def test_verification_agrees_with_the_search_on_occt_and_coarser_fails():
     assert ver["method"] == "occt" and ver["meets"]
     assert ver["value"] == pytest.approx(a.stats["deviation"].peak, rel=1e-6, abs=1e-9)
     if a.binding:
-        assert not ver["coarser"]["meets"]
+        # one step coarser breaks the tolerance: on OCCT's surface, or (surface reading, no reserve since
+        # issue 22) through its own ripple, which the search's value counts besides the deviation
+        coarser = a.reasons[a.binding]["coarser_value"]
+        assert coarser > 0.05
+        assert not ver["coarser"]["meets"] or ver["coarser"]["value"] <= coarser * (1 + 1e-6)
 
 
-def test_the_margin_keeps_room_for_the_intent():
+def test_the_advice_keeps_room_for_the_intents_uncertainty():
+    """A claimed net's value plus the intent's uncertainty U is within the tolerance (ISO 14253-1)."""
     net, truth, _ = family(5, 1, nmax=20)[0]
     a = advise(net, 0.05, intent="net", compare=False, verify=False)
-    assert a.stats["deviation"].peak <= 0.05 * (1 - INTENT_MARGIN) + 1e-12
+    assert a.meets_tolerance and a.decision == "conforms" and a.uncertainty.peak > 0
+    assert a.stats["deviation"].peak + a.uncertainty.peak <= 0.05 + 1e-12
 
 
 def test_resample_fits_instead_of_sampling():

@@ -117,9 +117,11 @@ def test_check_within_tolerance_is_silent_and_chains(face_wp, peak):
 def test_include_signal_error_and_rms_metric(face_wp, rows):
     r = rows[0]["budget"]
     dev, rms = r["deviation"]["peak"], r["total"]["rms"]
-    face_wp.invoke(plugin.check(tol=dev * 1.01, include_signal_error=True))
-    with pytest.raises(ArtifactToleranceError, match="deviation peak"):
-        face_wp.invoke(plugin.check(tol=dev * 0.99, include_signal_error=True))
+    # the whole deviation is read against the net reading's intent, known only to +/-U (issue 22): a tolerance
+    # either side of the value by 1 % is undecided, which warns and never raises
+    for tol in (dev * 1.01, dev * 0.99):
+        with pytest.warns(plugin.ArtifactToleranceWarning, match="undecided"):
+            face_wp.invoke(plugin.check(tol=tol, include_signal_error=True))
     face_wp.invoke(plugin.check(tol=rms * 1.01, metric="rms"))
     with pytest.raises(ArtifactToleranceError, match="ripple rms"):
         face_wp.invoke(plugin.check(tol=rms * 0.99, metric="rms"))

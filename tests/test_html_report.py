@@ -124,10 +124,11 @@ def test_tables_list_worst_first_with_the_document_numbers(doc, tmp_path):
             x1 = row[4]
             pct = f["share"]["x1"] * 100
             assert (f"{pct:.0f}" if pct >= 100 else f"{pct:.1f}") in x1
-            assert row[9].startswith("×".join(map(str, f["advice"]["net"])))
-            assert row[10] == ("within" if f["meets_tolerance"] else "exceeds")
+            assert row[10].startswith("×".join(map(str, f["advice"]["net"])))
+            assert row[10 + 1] == ("within" if f["meets_tolerance"] else
+                                   "undecided" if f.get("decision") == "undecided" else "exceeds")
     # the sharp ridge exceeds, the mild one does not: both verdicts are on the page
-    verdicts = {row[10] for t in page.tables for row in t}
+    verdicts = {row[11] for t in page.tables for row in t}
     assert verdicts == {"within", "exceeds"}
 
 
@@ -151,7 +152,7 @@ def test_gate_document_with_verdicts_and_an_error_file(files, tmp_path):
     page, text = parse(report)
     assert len(page.tables) == 1 and len([i for i in page.imgs if i.get("class") == "heatmap"]) == 1
     face_verdicts = sorted(f["verdict"] for f in gate_doc["files"][0]["faces"])
-    assert sorted(row[10] for row in page.tables[0]) == face_verdicts
+    assert sorted(row[11] for row in page.tables[0]) == face_verdicts
     assert "not a readable STEP file" in text and 'class="error"' in text
     assert "quality gate" in text and "b-error" in text
 

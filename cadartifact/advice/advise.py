@@ -22,7 +22,7 @@ import numpy as np
 
 from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
 from ..analysis.baseband import baseband_at, release
-from .density_search import frontier, gallop
+from .density_search import GROWTH, MAX_POINTS, _limits, _straight, frontier, gallop  # noqa: F401 (_straight: face_instances)
 from ..errors import OptionError, check_option
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
@@ -30,6 +30,7 @@ from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
+from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
@@ -38,9 +39,6 @@ __all__ = ["Advice", "advise", "advise_for", "resample", "clear_caches", "OBJECT
 
 #: What the tolerance bounds: the candidate's whole error against the intent, or its ripple only.
 OBJECTIVES = ("deviation", "ripple")
-
-#: Largest advised density per direction, as a multiple of today's (and an absolute cap).
-GROWTH, MAX_POINTS = 8, 2000
 
 #: Check grid of the search (K = 4 per span); the answer is confirmed and walked at the requested levels.
 SEARCH_LEVELS = 2
@@ -53,11 +51,6 @@ GREEDY_STEPS = 4
 
 #: A face within the tolerance today keeps its net unless the advice saves at least this share of points.
 MIN_REDUCTION = 0.1
-
-#: Share of the tolerance a candidate keeps in reserve for the intent's own uncertainty (at most
-#: 1 % of a known shape's amplitude on the interior, 3 % on the face: tests/test_intent.py), so that
-#: the advised net meets the tolerance against the shape itself, not only against the intent.
-INTENT_MARGIN = 0.1
 
 
 class _Scorer:
@@ -240,6 +233,12 @@ class Advice:
     comparison: dict = field(default_factory=dict)
     comparison_note: str | None = None
     notes: list = field(default_factory=list)
+    #: The intent's expanded uncertainty (:class:`~cadartifact.analysis.uncertainty.Uncertainty`), the decision
+    #: for the advised net and for today's (:mod:`cadartifact.advice.decision`), and whether any net can conform.
+    uncertainty: object = None
+    decision: str | None = None
+    today_decision: str | None = None
+    verifiable: bool = True
     #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
     pending: object = field(default=None, repr=False, compare=False)
 
@@ -272,6 +271,11 @@ class Advice:
             "share": {k: _f(s.get(self.metric) / t) for k, s in self.stats.items()},
             "today": {k: _f(v) for k, v in self.today.items()},
             "meets_tolerance": bool(self.meets_tolerance),
+            "uncertainty": None if self.uncertainty is None else {k: _f(v) if isinstance(v, float) else v
+                                                                  for k, v in self.uncertainty.to_dict().items()},
+            "decision": self.decision,
+            "today_decision": self.today_decision,
+            "verifiable": bool(self.verifiable),
             "binding": self.binding,
             "reasons": self.reasons,
             "kept_today": bool(self.kept_today),
@@ -286,29 +290,6 @@ class Advice:
 
 def _f(x):
     return None if x is None or not math.isfinite(x) else float(x)
-
-
-def _limits(work: ControlNet, degrees) -> tuple[tuple[int, int], tuple[int, int]]:
-    """Search bounds per direction; a straight degree-1 direction is never advised more points than today's
-    (it carries no ripple and more points cannot make it straighter)."""
-    low = tuple(d + 1 for d in degrees)
-    high = [max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape)]
-    for k in (0, 1):
-        if work.degrees is not None and work.degrees[k] == 1 and _straight(work.points, k):
-            high[k] = max(low[k], work.shape[k])
-    return low, tuple(high)
-
-
-def _straight(points: np.ndarray, axis: int, rtol: float = 1e-9) -> bool:
-    """Whether every row of control points along ``axis`` lies on one line (relative to the net's size)."""
-    P = np.moveaxis(np.asarray(points, float), axis, 0)  # (n, m, 3)
-    d = P[-1] - P[0]  # (m, 3)
-    rel = P - P[0]
-    norm = np.linalg.norm(d, axis=-1)
-    size = float(np.ptp(P.reshape(-1, 3), axis=0).max())
-    unit = np.where(norm[:, None] > 0, d / np.where(norm > 0, norm, 1.0)[:, None], 0.0)
-    off = rel - (rel * unit).sum(-1, keepdims=True) * unit
-    return bool(np.linalg.norm(off, axis=-1).max() <= rtol * size)
 
 
 def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "peak", intent: str = "surface",
@@ -354,7 +335,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     -----
     Candidate ``n'u x n'v``: ``Q = pinv(Bu) I pinv(Bv)^T`` (least squares on the check grid), error
     ``E = Bu Q Bv^T - I``, value ``max |E . n|`` (or RMS) over the trimmed face, feasible when it is
-    ``<= (1 - INTENT_MARGIN) t`` (the reserve covers the intent's own uncertainty) and the candidate's
+    ``<= t - U`` (``U`` the intent's expanded uncertainty, :mod:`cadartifact.analysis.uncertainty`; the
+    decision rule of ISO 14253-1, :mod:`cadartifact.advice.decision`) and the candidate's
     own ripple, as its budget (and so the gate) reads it, is ``<= t``; the boundary curves' distance
     from today's is reported. The search walks the frontier
     ``n'v(n'u)`` (galloping from today's density) at ``K = 4``, then confirms at ``K = 2**levels``,
@@ -393,44 +375,50 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     coarse = scorers[min(SEARCH_LEVELS, levels)]
     low, high = _limits(work, fine.degrees)
     t = tolerance
-    reserve = 1.0 / (1.0 - INTENT_MARGIN)
+    unc = scorer_uncertainty(fine)  # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
+    hopeless = unverifiable(unc.peak, t)
+    margin = unc.peak
 
     def value(sc, a, b, own_ripple=True):
-        """The candidate's value against the tolerance: its error against the intent (with the intent's
-        reserve) and, for the surface reading, its own ripple as the gate will read it (so the advice
-        passes the gate; a budget per candidate, so only where the fine grid confirms)."""
+        """The candidate's value plus the intent's uncertainty, against the tolerance: its error against the
+        intent and, for the surface reading, its own ripple as the gate will read it (so the advice passes the
+        gate; a budget per candidate, so only where the fine grid confirms)."""
         if objective == "ripple":
-            return _ripple_of(sc, a, b, settings)
-        dev = sc.value(a, b) * reserve
+            return _ripple_of(sc, a, b, settings) + margin
+        dev = sc.value(a, b) + margin
         if dev > t or intent == "net" or not own_ripple:  # the net reading bounds the deviation from the shape
             return dev
-        return max(dev, _ripple_of(sc, a, b, settings))
+        return max(dev, _ripple_of(sc, a, b, settings) + margin)
 
-    shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
-    a, b = shape
-    # confirm on the fine grid: grow until it agrees (a few greedy steps, then the frontier of the fine grid's
-    # own test from there: the own ripple need not fall at every step, and a greedy walk along the direction
-    # that does not bind can climb to the search's bound), then shrink each direction while it holds
-    steps = 0
-    while value(fine, a, b) > t and (a < high[0] or b < high[1]):
-        if steps == GREEDY_STEPS:
-            (a, b), _ = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b))
-            break
-        grow_u = a < high[0] and (b >= high[1] or value(fine, a + 1, b) <= value(fine, a, min(b + 1, high[1])))
-        a, b = (a + 1, b) if grow_u else (a, b + 1)
-        steps += 1
-    changed = value(fine, a, b) <= t
-    while changed:
-        changed = False
-        if a > low[0] and value(fine, a - 1, b) <= t:
-            a, changed = gallop(lambda x, y=b: value(fine, x, y) <= t, low[0], a - 1, a - 1), True
-        if b > low[1] and value(fine, a, b - 1) <= t:
-            b, changed = gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
-    meets = value(fine, a, b) <= t
+    if hopeless:  # no density can conform (SPEC §5 "an honest no"): no search, today's density stands
+        a, b = work.shape
+    else:
+        shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
+        a, b = shape
+        # confirm on the fine grid: grow until it agrees (a few greedy steps, then the frontier of the fine grid's
+        # own test from there: the own ripple need not fall at every step, and a greedy walk along the direction
+        # that does not bind can climb to the search's bound), then shrink each direction while it holds
+        steps = 0
+        while value(fine, a, b) > t and (a < high[0] or b < high[1]):
+            if steps == GREEDY_STEPS:
+                (a, b), _ = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b))
+                break
+            grow_u = a < high[0] and (b >= high[1] or value(fine, a + 1, b) <= value(fine, a, min(b + 1, high[1])))
+            a, b = (a + 1, b) if grow_u else (a, b + 1)
+            steps += 1
+        changed = value(fine, a, b) <= t
+        while changed:
+            changed = False
+            if a > low[0] and value(fine, a - 1, b) <= t:
+                a, changed = gallop(lambda x, y=b: value(fine, x, y) <= t, low[0], a - 1, a - 1), True
+            if b > low[1] and value(fine, a, b - 1) <= t:
+                b, changed = gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
+    meets = value(fine, a, b) <= t and not hopeless
 
     today = fine.today()
     notes = list(current.notes)
-    today_ok = today[metric] <= tolerance
+    today_decision = decide(today[metric], unc.peak, t)
+    today_ok = today_decision == CONFORMS
     kept = False
     if today_ok and (not meets or a * b > (1.0 - MIN_REDUCTION) * work.shape[0] * work.shape[1]):
         # a face within the tolerance today is never advised more points, nor a net barely smaller
@@ -467,7 +455,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         def check():
             try:
-                return verify_advice(fine, shape, binding, tolerance, advised, tolerance / reserve)
+                return verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin)
             finally:
                 release(fine.fields)
 
@@ -485,7 +473,12 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                                      max_points=MAX_POINTS)
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
+    if hopeless:
+        notes.insert(0, unverifiable_note(unc.peak, t, net.unit or "model units"))
+    raw = stats["deviation" if objective == "deviation" else "total"].get(metric)
     return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
+                  uncertainty=unc, decision=CONFORMS if meets else decide(raw, unc.peak, t),
+                  today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
                   verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,

@@ -7,6 +7,8 @@ the hint costs a few evaluations. Property tests check it against brute force (`
 
 from __future__ import annotations
 
+import numpy as np
+
 __all__ = ["frontier", "gallop", "first_true"]
 
 
@@ -69,3 +71,29 @@ def frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int
             return best, True
         a += 1
 
+
+#: Largest advised density per direction, as a multiple of today's (and an absolute cap).
+GROWTH, MAX_POINTS = 8, 2000
+
+
+def _limits(work: ControlNet, degrees) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Search bounds per direction; a straight degree-1 direction is never advised more points than today's
+    (it carries no ripple and more points cannot make it straighter)."""
+    low = tuple(d + 1 for d in degrees)
+    high = [max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape)]
+    for k in (0, 1):
+        if work.degrees is not None and work.degrees[k] == 1 and _straight(work.points, k):
+            high[k] = max(low[k], work.shape[k])
+    return low, tuple(high)
+
+
+def _straight(points: np.ndarray, axis: int, rtol: float = 1e-9) -> bool:
+    """Whether every row of control points along ``axis`` lies on one line (relative to the net's size)."""
+    P = np.moveaxis(np.asarray(points, float), axis, 0)  # (n, m, 3)
+    d = P[-1] - P[0]  # (m, 3)
+    rel = P - P[0]
+    norm = np.linalg.norm(d, axis=-1)
+    size = float(np.ptp(P.reshape(-1, 3), axis=0).max())
+    unit = np.where(norm[:, None] > 0, d / np.where(norm > 0, norm, 1.0)[:, None], 0.0)
+    off = rel - (rel * unit).sum(-1, keepdims=True) * unit
+    return bool(np.linalg.norm(off, axis=-1).max() <= rtol * size)

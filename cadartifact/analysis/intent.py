@@ -82,6 +82,14 @@ class AxisIntent:
     frame : AxisFrame
     degree : int
         Trend degree along this direction.
+    fmax : float
+        Band limit (cycles per control point, open directions; default :data:`F_MAX`).
+    ridge : float
+        Weight of the Sobolev ridge (default :data:`RIDGE`); other values give the admissible
+        reconstructions of :mod:`cadartifact.analysis.uncertainty`.
+    fourier : AxisIntent, optional
+        An intent of the same frame, band limit and ridge: its Fourier part is reused (it does not depend on
+        the trend degree).
 
     Attributes
     ----------
@@ -91,15 +99,29 @@ class AxisIntent:
         Residual samples -> Fourier coefficients (weighted minimum-norm interpolation).
     """
 
-    def __init__(self, frame: AxisFrame, degree: int):
+    def __init__(self, frame: AxisFrame, degree: int, fmax: float = F_MAX, ridge: float = RIDGE, fourier=None):
         self.frame, self.degree = frame, degree
+        self.fmax, self.ridge = fmax, ridge
         self.T = frame.period
         n = frame.n
+        if fourier is not None:  # another trend degree of the same extension (its Fourier part is the degree's own)
+            self.k, self.nyquist, self.freqs, self.weights, self.coef = (fourier.k, fourier.nyquist, fourier.freqs,
+                                                                        fourier.weights, fourier.coef)
+        else:
+            self._fourier(frame, fmax, ridge)
+        self.V = _legendre(frame.xs, frame.spans, degree)  # (n, d+1)
+        self.Vp = np.linalg.pinv(self.V)
+        self.rest = np.eye(n) - self.V @ self.Vp  # samples -> what this direction's polynomial leaves
+        self._lattice = None
+
+    def _fourier(self, frame: AxisFrame, fmax: float, ridge: float) -> None:
+        """The Fourier extension's frequencies, weights and coefficients (independent of the trend degree)."""
+        self.T = frame.period
         if frame.periodic:
             kmax = (self.T - 1) // 2
             nyquist = self.T % 2 == 0
         else:
-            kmax = max(int(np.ceil(F_MAX * self.T)) - 1, 0)
+            kmax = max(int(np.ceil(fmax * self.T)) - 1, 0)
             nyquist = False
         self.k = np.arange(1, kmax + 1)
         self.nyquist = nyquist
@@ -114,13 +136,9 @@ class AxisIntent:
             # min c' G c subject to A c = r, c = G^-1 A' (A G^-1 A')^-1 r
             outside = np.linspace(frame.spans, self.T, 8 * int(round(self.T - frame.spans)) + 1)[1:-1]
             Bo = self.basis(outside)
-            G = Bo.T @ Bo / len(outside) + RIDGE * np.diag(self.weights ** 2)
+            G = Bo.T @ Bo / len(outside) + ridge * np.diag(self.weights ** 2)
             GiAt = np.linalg.solve(G, A.T)
             self.coef = GiAt @ np.linalg.pinv(A @ GiAt, rcond=1e-13)
-        self.V = _legendre(frame.xs, frame.spans, degree)  # (n, d+1)
-        self.Vp = np.linalg.pinv(self.V)
-        self.rest = np.eye(n) - self.V @ self.Vp  # samples -> what this direction's polynomial leaves
-        self._lattice = None
 
     def basis(self, x: np.ndarray) -> np.ndarray:
         """``(len(x), M)``: ``[1, cos(2 pi k x / T), sin(2 pi k x / T), (cos pi x)]``."""
@@ -156,11 +174,14 @@ class AxisIntent:
 _CACHE = OperatorCache(1024)
 
 
-def axis_intent(frame: AxisFrame, degree: int) -> AxisIntent:
-    """The cached :class:`AxisIntent` of a frame (keyed by its geometry, not its levels)."""
+def axis_intent(frame: AxisFrame, degree: int, fmax: float = F_MAX, ridge: float = RIDGE,
+                like: AxisIntent | None = None) -> AxisIntent:
+    """The cached :class:`AxisIntent` of a frame (keyed by its geometry, not its levels); ``like``: an intent of
+    the same frame, band limit and ridge whose Fourier part is reused (another trend degree)."""
     key = (frame.n, frame.periodic, frame.spans, round(frame.offset, 12), frame.xs.round(12).tobytes(),
-           frame.period, degree)
-    return _CACHE.get(key, lambda: AxisIntent(frame, degree))
+           frame.period, degree, fmax, ridge)
+    same = like is not None and (like.T, like.fmax, like.ridge) == (frame.period, fmax, ridge) and like.frame is frame
+    return _CACHE.get(key, lambda: AxisIntent(frame, degree, fmax, ridge, like if same else None))
 
 
 def trend_terms(scheme, frames) -> tuple[list, tuple[int, int]]:

@@ -40,6 +40,10 @@ def gate_cmd(
     advise: Optional[str] = typer.Option(None, "--advise",
                                          help="Density advice for: failing (faces that warn or fail; default), all "
                                               "or none. The verdict needs today's budget only (policy: advise)."),
+    undecided: Optional[str] = typer.Option(None, "--undecided",
+                                            help="Verdict of a face whose value +/- the intent's uncertainty U "
+                                                 "straddles the tolerance: warn (default), fail or pass (policy: "
+                                                 "undecided)."),
     convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
                                            help="Convert revolution/extrusion/offset faces to B-splines and gate "
                                                 "them (overrides the policy's convert; default: skip them)."),
@@ -63,6 +67,8 @@ def gate_cmd(
     """Quality gate for CI: pass / warn / fail per face against a tolerance policy.
 
     Exit 0 when every face passes (warnings allowed), 1 when a face fails, 2 on usage errors or unreadable files.
+    A face is judged with the intent's uncertainty U (ISO 14253-1): it fails only when value - U > t; an
+    undecided face (value - U <= t < value + U) warns, or fails or passes with --undecided / policy undecided.
 
     An unreadable file is reported as an error and the other files are still analysed (fail closed).
 
@@ -81,7 +87,7 @@ def gate_cmd(
     if read_timeout is not None and not (0 < read_timeout < float("inf")):
         raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
     cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
-                     "intent": intent, "convert": convert, "advise": advise})
+                     "intent": intent, "convert": convert, "advise": advise, "undecided": undecided})
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
     settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis

@@ -11,6 +11,7 @@ table is passed over), or given with ``--policy FILE``::
     intent = "surface"            # or "net": the shape the control points sample (SPEC §4)
     scheme = "bicubic"            # default: each face's own B-spline degrees (Catmull-Clark for OBJ)
     measured = "fail"             # or "warn": see below
+    undecided = "warn"            # faces whose value +/- U straddles the tolerance: "warn", "fail" or "pass"
     convert = false               # convert revolution/extrusion/offset faces to B-splines and gate them
     min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
     cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
@@ -32,6 +33,11 @@ split at those junctions, and canonical faces (plane, cylinder, cone, sphere, to
 circular or straight directions) carry no artifact there. They are gated like any other face
 (``"fail"``, the default). ``"warn"`` caps faces with non-uniform knots at warn, for users who
 want the older, lenient gate.
+
+``undecided``: a face's value is known to within the intent's uncertainty ``U``
+(:mod:`cadartifact.analysis.uncertainty`); by the rule of ISO 14253-1 it conforms when ``value + U <= t``
+(pass, or warn above ``warn_fraction``), does not conform when ``value - U > t`` (fail), and is undecided in
+between: its verdict is this key's (``"warn"`` by default; ``"fail"`` fails the gate, exit code 1).
 """
 
 from __future__ import annotations
@@ -67,17 +73,19 @@ CAD_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp", ".obj")
 
 POLICY_FILE = "cadartifact.toml"
 MEASURED = ("warn", "fail")
+#: The verdict of a face the decision rule leaves undecided (ISO 14253-1).
+UNDECIDED = ("warn", "fail", "pass")
 #: Which faces get the (costly) density advice: the verdict needs today's budget only.
 ADVISE = ("all", "failing", "none")
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
-TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "convert",
-            "min_analysed_share", "cache", "advise", "override")
+TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "undecided",
+            "convert", "min_analysed_share", "cache", "advise", "override")
 OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
-                 "convert", "min_analysed_share", "advise", "ignore_faces")
+                 "undecided", "convert", "min_analysed_share", "advise", "ignore_faces")
 
 DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
-            "scheme": None, "measured": "fail", "convert": False, "min_analysed_share": 0.0, "advise": "failing",
+            "scheme": None, "measured": "fail", "undecided": "warn", "convert": False, "min_analysed_share": 0.0, "advise": "failing",
             "ignore_faces": ()}
 
 
@@ -110,6 +118,8 @@ class FileSettings:
     scheme : str or None
         None: each face's own degrees (Catmull-Clark for cages).
     measured : {"warn", "fail"}
+    undecided : {"warn", "fail", "pass"}
+        The verdict of a face the decision rule leaves undecided (``value - U <= t < value + U``).
     convert : bool
         Convert revolution/extrusion/offset faces to B-splines (and gate them) instead of skipping them.
     min_analysed_share : float
@@ -128,6 +138,7 @@ class FileSettings:
     include_signal_error: bool = False
     scheme: str | None = None
     measured: str = "fail"
+    undecided: str = "warn"
     intent: str = "surface"
     convert: bool = False
     min_analysed_share: float = 0.0
@@ -232,6 +243,10 @@ def _check_value(source: str, key: str, value):
     if key == "measured":
         if value not in MEASURED:
             raise PolicyError(source, key, f"expected one of 'warn', 'fail', received {value!r}")
+        return value
+    if key == "undecided":
+        if value not in UNDECIDED:
+            raise PolicyError(source, key, f"expected one of {', '.join(map(repr, UNDECIDED))}, received {value!r}")
         return value
     if key == "advise":
         if value not in ADVISE:
@@ -479,7 +494,7 @@ def check_cli(values: dict) -> dict:
     """Validate gate options given on the command line (same rules as the policy keys)."""
     out = {}
     names = {"tolerance": "--tol", "metric": "--metric", "warn_fraction": "--warn-fraction", "scheme": "--scheme",
-             "intent": "--intent", "advise": "--advise"}
+             "intent": "--intent", "advise": "--advise", "undecided": "--undecided"}
     for key, value in values.items():
         if value is None:
             continue

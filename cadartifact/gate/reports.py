@@ -45,7 +45,8 @@ RULES = (
     ("CA001", "ripple-exceeds-tolerance", "error",
      "A face's control-net ripple (artifact) exceeds the tolerance"),
     ("CA002", "ripple-near-tolerance", "warning",
-     "A face's ripple is within the tolerance but above the warn fraction of it, or has non-uniform "
+     "A face's ripple is within the tolerance but above the warn fraction of it, is undecided (its value "
+     "+/- the intent's uncertainty U straddles the tolerance; policy undecided = 'warn'), or has non-uniform "
      "knots and is capped at warn by policy (measured = 'warn')"),
     ("CA003", "unreadable-file", "error",
      "A file could not be read or analysed; the gate fails closed"),
@@ -72,6 +73,8 @@ def _advice_text(face: dict) -> str:
     adv = face["advice"]
     if adv is None:  # gate --advise: the verdict needs today's budget only
         return f"advice {face.get('advice_skipped') or 'not computed'}"
+    if adv.get("verifiable") is False:
+        return "no density can be shown to conform (the intent's uncertainty is near the tolerance)"
     if not adv["meets_tolerance"]:
         return f"no density up to {_net(adv['net'])} meets the tolerance"
     ver = adv.get("verification")
@@ -102,7 +105,10 @@ def face_numbers(doc: dict, entry: dict, face: dict) -> str:
     peaks = ", ".join(f"{k} {_num(face['budget'][k]['peak'])}" for k in _DIRECTIONS[:4])
     where = where_text(face, units)
     what = f"canonical {face['canonical']}; " if face.get("canonical") else ""
-    return (f"{what}{face['verdict_reason']}; peaks {peaks} {units}; net {_net(face['net'])}, "
+    unc = face.get("uncertainty")
+    u = (f"; uncertainty U {_num(unc['peak'])} {units} (u {_num(unc['u'])}, v {_num(unc['v'])}), "
+         f"decision: {face.get('decision')}") if unc else ""
+    return (f"{what}{face['verdict_reason']}; peaks {peaks} {units}{u}; net {_net(face['net'])}, "
             f"scheme {face['scheme']}, {face['method']}; {_advice_text(face)}; metric {pol['metric']}, "
             f"warn at {pol['warn_fraction']:g} of tolerance" + (f"; {where}" if where else ""))
 
@@ -111,7 +117,15 @@ def face_numbers(doc: dict, entry: dict, face: dict) -> str:
 def _advised_cell(adv: dict | None) -> str:
     if adv is None:  # skipped (gate --advise): the reason is in the JSON's advice_skipped
         return "-"
+    if adv.get("verifiable") is False:
+        return "unverifiable"
     return _net(adv["net"]) if adv["meets_tolerance"] else "out of reach"
+
+
+def _u_cell(face: dict) -> str:
+    """The intent's uncertainty U of a face (``-`` without one)."""
+    unc = face.get("uncertainty")
+    return "-" if not unc else f"{unc['peak']:.2g}"
 
 
 def _share(x) -> str:
@@ -152,8 +166,8 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                  f"{units}, {pol['metric']}, warn at {pol['warn_fraction']:g})")
         if entry["faces"]:
             table = Table(header_style="bold")
-            cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "advised", "verdict")
-                    if wide else ("face", "net", "value", "share", "worst", "advised", "verdict"))
+            cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "+/-U", "advised",
+                     "verdict") if wide else ("face", "net", "value", "+/-U", "share", "worst", "advised", "verdict"))
             for col in cols:
                 # only the face label may fold; numbers never wrap or shrink
                 table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
@@ -164,10 +178,10 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 if wide:
                     table.add_row(face_cell(f, limit), _net(f["net"]), f["scheme"], f["method"], _share(sh["x1"]),
                                   _share(sh["x2"]), _share(sh["diagonal"]), _share(sh["lateral"]),
-                                  f"{f['value']:.4g}", advised, verdict)
+                                  f"{f['value']:.4g}", _u_cell(f), advised, verdict)
                 else:
                     key = "deviation" if pol["include_signal_error"] else "total"
-                    table.add_row(face_cell(f, limit), _net(f["net"]), f"{f['value']:.4g}", _share(sh[key]),
+                    table.add_row(face_cell(f, limit), _net(f["net"]), f"{f['value']:.4g}", _u_cell(f), _share(sh[key]),
                                   worst_direction(sh), advised, verdict)
             print_table(console, table, title)
             if not wide:
@@ -211,6 +225,9 @@ def summary_line(doc: dict) -> str:
     v = doc["verdict"]
     text = (f"[bold]gate [{_COLOURS[v]}]{v.upper()}[/][/]: {s['files']} file(s), {s['faces']} face(s): "
             f"{faces['pass']} pass, {faces['warn']} warn, {faces['fail']} fail")
+    if s.get("undecided"):
+        text += f" ({s['undecided']} undecided: value +/- U straddles the tolerance, policy undecided = " \
+                f"{doc.get('undecided', 'warn')!r})"
     if s["errors"]:
         text += f"; {s['errors']} file(s) could not be read or analysed"
     return text + f" (exit {doc['exit_code']})"
@@ -246,8 +263,8 @@ def to_junit(doc: dict) -> str:
         pol = entry.get("policy")
         if pol:
             props = ET.SubElement(suite, "properties")
-            for k in ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured"):
-                ET.SubElement(props, "property", name=k, value="default" if pol[k] is None else str(pol[k]))
+            for k in ("tolerance", "metric", "warn_fraction", "include_signal_error", "scheme", "measured", "undecided"):
+                ET.SubElement(props, "property", name=k, value="default" if pol.get(k) is None else str(pol[k]))
             ET.SubElement(props, "property", name="units", value=file_units(doc, entry))
             ET.SubElement(props, "property", name="verdict", value=entry["verdict"])
         if entry["verdict"] == "error":
@@ -273,7 +290,10 @@ def to_junit(doc: dict) -> str:
         for f in entry["faces"]:
             case = ET.SubElement(suite, "testcase", name=face_label(entry["path"], f), classname="cadartifact.gate.run")
             props = ET.SubElement(case, "properties")
+            unc = f.get("uncertainty") or {}
             for name, value in (("verdict", f["verdict"]), ("value", f"{f['value']:.9g}"),
+                                ("uncertainty", "" if unc.get("peak") is None else f"{unc['peak']:.9g}"),
+                                ("decision", f.get("decision") or ""),
                                 ("tolerance", f"{pol['tolerance']:.9g}"), ("units", file_units(doc, entry)),
                                 ("advised_net", _net(f["advice"]["net"]) if f["advice"] else "")):
                 ET.SubElement(props, "property", name=name, value=value)

@@ -9,9 +9,11 @@ The verdict needs today's budget only; the density advice (the costly search) is
 faces the policy's ``advise`` selects (``--advise failing``, the default: those that warn or fail;
 ``all``; ``none``). A face without it keeps the schema: ``advice: null`` and ``advice_skipped``, the reason.
 
-Per face: ``fail`` when the value (ripple, or whole deviation with ``include_signal_error``, under
-the metric) exceeds the tolerance, ``warn`` when it is within it but ``>= warn_fraction *
-tolerance``, else ``pass``; faces with non-uniform knots are capped at ``warn`` only when the
+Per face, by the decision rule of ISO 14253-1 with the intent's uncertainty ``U``
+(:mod:`cadartifact.advice.decision`): ``fail`` when the value (ripple, or whole deviation with
+``include_signal_error``, under the metric) does not conform (``value - U > t``), ``warn`` when it conforms
+(``value + U <= t``) but ``value >= warn_fraction * tolerance``, else ``pass``; an undecided face gets the
+policy's ``undecided`` verdict (``warn`` by default, ``fail`` makes the exit code 1); faces with non-uniform knots are capped at ``warn`` only when the
 policy says ``measured = "warn"`` (the default gates them: :mod:`cadartifact.gate.policy`). Per file: the worst face;
 ``pass`` with a note when the file has no analysable face; ``error`` when it cannot be read or
 analysed. Fail closed: an ``error`` file never passes, every readable file is still analysed and
@@ -29,7 +31,7 @@ from .policy import FileSettings, Policy
 __all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
            "merge_parts", "run_gate"]
 
-GATE_SCHEMA = "cadartifact.gate/1"
+GATE_SCHEMA = "cadartifact.gate/2"
 
 def file_verdict(entry: dict) -> str:
     """The worst face verdict; ``error`` for an entry with an error; ``pass`` without faces."""
@@ -360,22 +362,24 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     Returns
     -------
     dict
-        ``{"schema": "cadartifact.advise/1", "gate": "cadartifact.gate/1", "tolerance", "units",
-        "metric", "include_signal_error", "warn_fraction", "measured", "policy": source | None,
-        "files": [...], "summary": {..., "verdicts": {"files": {...}, "faces": {...}}},
+        ``{"schema": "cadartifact.advise/2", "gate": "cadartifact.gate/2", "tolerance", "units",
+        "metric", "include_signal_error", "warn_fraction", "measured", "undecided", "policy": source | None,
+        "files": [...], "summary": {..., "undecided": faces the decision rule left undecided,
+        "verdicts": {"files": {...}, "faces": {...}}},
         "verdict", "exit_code"}``
     """
     from ..runs.records import SCHEMA
 
     face_counts = {v: 0 for v in VERDICTS[:3]}
     file_counts = {v: 0 for v in VERDICTS}
-    summary = {"files": len(entries), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+    summary = {"files": len(entries), "faces": 0, "within": 0, "exceeding": 0, "undecided": 0, "unreachable": 0}
     for e in entries:
         file_counts[e["verdict"]] += 1
         for f in e["faces"]:
             face_counts[f["verdict"]] += 1
             summary["faces"] += 1
-            summary["within" if f["meets_tolerance"] else "exceeding"] += 1
+            summary["within" if f["meets_tolerance"] else
+                    "undecided" if f.get("decision") == "undecided" else "exceeding"] += 1
             # a face without advice (skipped by --advise) is not counted as out of reach
             summary["unreachable"] += 0 if (f["advice"] or {}).get("meets_tolerance", True) else 1
     summary["errors"] = file_counts["error"]
@@ -389,6 +393,7 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
         tolerance = next((e["policy"]["tolerance"] for e in entries if e.get("policy")), None)
     return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": tolerance, "units": units,
             "metric": base["metric"], "include_signal_error": base["include_signal_error"],
-            "intent": base.get("intent", "surface"), "warn_fraction": base["warn_fraction"], "measured": base["measured"], "scheme": base["scheme"],
+            "intent": base.get("intent", "surface"), "warn_fraction": base["warn_fraction"], "measured": base["measured"],
+            "undecided": base.get("undecided", "warn"), "scheme": base["scheme"],
             "policy": policy.source[len("policy "):] if policy.source else None,
             "files": entries, "summary": summary, "verdict": verdict, "exit_code": exit_code}

@@ -81,7 +81,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         if progress:
             progress("files", total_faces, "")
         doc_files = []
-        summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "unreachable": 0}
+        summary = {"files": len(paths), "faces": 0, "within": 0, "exceeding": 0, "undecided": 0, "unreachable": 0}
         from ..exchange.step_text import entity_line
         from .face_sharing import advise_faces, one_blas_thread
 
@@ -108,7 +108,7 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
                 if keep is not None:
                     keep.append((path, net, adv))
                 summary["faces"] += 1
-                summary["within" if rec["meets_tolerance"] else "exceeding"] += 1
+                summary[_summary_key(rec)] += 1
                 summary["unreachable"] += 0 if rec["advice"]["meets_tolerance"] else 1
             if progress:
                 progress("file", len(entries), str(path))
@@ -120,6 +120,13 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         return {"schema": SCHEMA, "tolerance": settings.tolerance, "units": units, "metric": settings.metric,
                 "intent": settings.reading, "include_signal_error": settings.include_signal_error,
                 "files": doc_files, "summary": summary}
+
+
+def _summary_key(rec: dict) -> str:
+    """Where a face counts in the summary: ``within`` (conforms), ``undecided`` or ``exceeding``."""
+    if rec["meets_tolerance"]:
+        return "within"
+    return "undecided" if rec.get("decision") == "undecided" else "exceeding"
 
 
 def resampled_nets(kept) -> list:

@@ -1,9 +1,10 @@
 """The advise document's records: one face's budget, advice and peak, and the schema they make.
 
-The document (``cadartifact advise --json``) has this schema (version 1)::
+The document (``cadartifact advise --json``) has this schema (version 2: issue 22 added ``uncertainty`` and
+``decision``, and ``meets_tolerance`` is true only for what conforms, ``value + U <= t``)::
 
     {
-      "schema": "cadartifact.advise/1",
+      "schema": "cadartifact.advise/2",
       "tolerance": float, "units": "mm", "metric": "peak" | "rms",
       "intent": "surface" | "net", "include_signal_error": bool,
       "files": [{
@@ -23,12 +24,18 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
           "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
                      {"peak": float, "rms": float}},
           "share": {same keys: value / tolerance under the metric},
-          "meets_tolerance": bool,
+          "meets_tolerance": bool (conforms: value + U <= t),
+          "uncertainty": {"peak", "u", "v" (the intent's expanded uncertainty U, model units), "reading",
+                          "coverage_factor", "estimated" (false: the surface reading, U = 0)} | null,
+          "decision": "conforms" | "undecided" | "does not conform" (ISO 14253-1, today's net) | null,
           "advice": {"net": [n'u, n'v], "points": int, "intent": str, "objective": "deviation" | "ripple",
                      "budget": {"deviation" (the advised net against the intent), "boundary" (its borders
                                 against today's), its own "x1" ... "total": {"peak", "rms"}},
                      "share": {...}, "today": {"peak", "rms", "boundary"} (today's net, scored the same way),
-                     "meets_tolerance": bool, "binding": "u" | "v" | null, "kept_today": bool,
+                     "meets_tolerance": bool (the advised net conforms), "uncertainty": {...} (as above),
+                     "decision": str (the advised net's), "today_decision": str, "verifiable": bool (false:
+                     U alone is near t, no net can conform; a note says so),
+                     "binding": "u" | "v" | null, "kept_today": bool,
                      "reasons": {"u" | "v": {"today", "advised", "change", "coarser_value", "binding", "reason"}},
                      "verification": {"method": "occt" | "today", "levels", "region": "face", "value", "rms",
                                       "meets", "coarser": {"shape", "value", "meets"},
@@ -37,7 +44,8 @@ The document (``cadartifact advise --json``) has this schema (version 1)::
                      "notes": [str]}
         }]
       }],
-      "summary": {"files": int, "faces": int, "within": int, "exceeding": int, "unreachable": int},
+      "summary": {"files": int, "faces": int, "within": int (conform), "exceeding": int (do not conform),
+                  "undecided": int, "unreachable": int},
       "written": {...}  (only with --write-resampled: see :func:`write_advised`)
     }
 
@@ -50,10 +58,10 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "peak_location", "face_record", "analysed_share",
+__all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "uncertainty_record", "peak_location", "face_record", "analysed_share",
            "kind_count", "plural", "unit_name"]
 
-SCHEMA = "cadartifact.advise/1"
+SCHEMA = "cadartifact.advise/2"
 
 
 DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total", "signal_error", "deviation")
@@ -64,10 +72,19 @@ def json_number(x):
     return None if x is None or not math.isfinite(x) else round(float(x), 9)
 
 
-def budget_record(net, budget, include_signal_error: bool = False) -> dict:
-    """One face's entry of the document from its :class:`~cadartifact.budget.Budget` (``advice`` None)."""
+def budget_record(net, budget, include_signal_error: bool = False, uncertainty=None) -> dict:
+    """One face's entry of the document from its :class:`~cadartifact.budget.Budget` (``advice`` None).
+
+    ``uncertainty`` (:class:`~cadartifact.analysis.uncertainty.Uncertainty`, optional): the intent's ``U``;
+    ``decision`` is then the ISO 14253-1 rule on today's value (:func:`cadartifact.advice.decision.decide`)
+    and ``meets_tolerance`` is true only for a face that conforms (``value + U <= t``).
+    """
+    from ..advice.decision import CONFORMS, decide
+
     t = budget.tolerance
     key = "deviation" if include_signal_error else "total"
+    U = 0.0 if uncertainty is None else uncertainty.peak
+    decision = None if t is None else decide(budget.stats[key].get(budget.metric), U, t)
     return {
         "face": net.origin.face,
         "name": net.origin.name,
@@ -87,7 +104,9 @@ def budget_record(net, budget, include_signal_error: bool = False) -> dict:
         "notes": budget.notes,
         "budget": {k: {"peak": json_number(s.peak), "rms": json_number(s.rms)} for k, s in budget.stats.items()},
         "share": None if t is None else {k: json_number(s.get(budget.metric) / t) for k, s in budget.stats.items()},
-        "meets_tolerance": None if t is None else bool(budget.stats[key].get(budget.metric) <= t),
+        "meets_tolerance": None if t is None else decision == CONFORMS,
+        "uncertainty": None if uncertainty is None else uncertainty_record(uncertainty),
+        "decision": decision,
         "advice": None,
     }
 
@@ -136,9 +155,16 @@ def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
             "uv": None if uv is None else [round(t, 9) for t in uv], "xyz": [json_number(c) for c in xyz]}
 
 
+def uncertainty_record(u) -> dict:
+    """``{"peak", "u", "v", "reading", "coverage_factor"}`` of an :class:`~cadartifact.analysis.uncertainty.Uncertainty`
+    (numbers rounded as every number of the document)."""
+    return {"peak": json_number(u.peak), "u": json_number(u.u), "v": json_number(u.v), "reading": u.reading,
+            "coverage_factor": json_number(u.factor), "estimated": bool(u.estimated)}
+
+
 def face_record(net, advice) -> dict:
     """One face's entry of the document from its :class:`~cadartifact.advice.advise.Advice`."""
-    rec = budget_record(net, advice.current, advice.include_signal_error)
+    rec = budget_record(net, advice.current, advice.include_signal_error, advice.uncertainty)
     rec["advice"] = advice.to_dict()
     return rec
 

@@ -129,8 +129,8 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
                    f"scheme {', '.join(schemes) or '-'}; {'; '.join(methods) or 'no face analysed'}")
         table = Table(caption=caption, box=box.SIMPLE_HEAD, header_style="bold", caption_justify="left",
                       pad_edge=False)
-        cols = (("face", "net", "road", "X1 (u)", "X2 (v)", "diagonal", "lateral", value_name, "advised", "verdict")
-                if wide else ("face", "net", value_name, "worst", "advised", "verdict"))
+        cols = (("face", "net", "road", "X1 (u)", "X2 (v)", "diagonal", "lateral", value_name, "+/-U", "advised",
+                 "verdict") if wide else ("face", "net", value_name, "+/-U", "worst", "advised", "verdict"))
         for col in cols:
             # the face label may fold (it is the only free text); numbers never wrap or shrink
             table.add_column(col, no_wrap=col != "face", overflow="fold" if col == "face" else "ellipsis")
@@ -142,11 +142,14 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
                 verdict = "[green]within[/]"
                 if wide and adv["points"] < r["net"][0] * r["net"][1]:
                     verdict += " [dim](coarser ok)[/]"
+            elif r.get("decision") == "undecided":
+                verdict = "[yellow]undecided[/]"
             elif adv["meets_tolerance"]:
                 verdict = "[red]exceeds[/]"
             else:
                 verdict = "[red]exceeds[/] [dim](out of reach)[/]" if wide else "[red]unreachable[/]"
-            advised = "x".join(map(str, adv["net"]))
+            advised = "x".join(map(str, adv["net"])) if adv.get("verifiable", True) else "[yellow]unverifiable[/]"
+            unc = f"{r['uncertainty']['peak']:.2g}" if r.get("uncertainty") else "-"
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
                 advised += " [yellow]?[/]"
@@ -155,13 +158,17 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
                 road = f"{'pred' if r['method'] == 'predicted' else 'meas'}/{r.get('intent', 'surface')}"
                 table.add_row(face_cell(r, limit), "x".join(map(str, r["net"])), road,
                               *(_mm_pct(mm[k][doc["metric"]], sh[k]) for k in ("x1", "x2", "diagonal", "lateral", key)),
-                              advised, verdict)
+                              unc, advised, verdict)
             else:
                 table.add_row(face_cell(r, limit), "x".join(map(str, r["net"])),
-                              _mm_pct(mm[key][doc["metric"]], sh[key]), worst_direction(sh), advised, verdict)
+                              _mm_pct(mm[key][doc["metric"]], sh[key]), unc, worst_direction(sh), advised, verdict)
         print_table(console, table, f"[bold]{escape(f['path'])}[/]")
         for line in canonical_lines(f["faces"]):  # no ripple along their exact directions
             console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+        for r in rows:  # the advice's honest no (SPEC §5): the intent's uncertainty leaves no room
+            for n in (r.get("advice") or {}).get("notes") or []:
+                if n.startswith("the net determines its shape only"):
+                    console.print(f"  face {r['face']}: {n}", markup=False, highlight=False)
         for r in rows:  # why each direction of a changed net has its count
             reasons = (r.get("advice") or {}).get("reasons") or {}
             if reasons and not (r.get("advice") or {}).get("kept_today", True):
@@ -177,7 +184,8 @@ def render(doc: dict, console, wide: bool | None = None) -> None:
             console.print(f"  [yellow]warning:[/] {escape(w)}")
     s = doc["summary"]
     console.print(f"[bold]{plural(s['faces'], 'face')} in {plural(s['files'], 'file')}: {s['within']} within tolerance, "
-                  f"{s['exceeding']} exceeding[/]" + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
+                  f"{s['exceeding']} exceeding[/]" + (f", {s['undecided']} undecided" if s.get("undecided") else "")
+                  + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
     if any((ff["advice"].get("verification") or {}).get("meets") is False for fl in doc["files"] for ff in fl["faces"]):
         console.print("[yellow]?[/] the advised net did not verify on the real surface's interior "
                       "(clamped ends of strongly curved faces): see the JSON 'verification'.")

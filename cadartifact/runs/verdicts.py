@@ -35,10 +35,13 @@ def face_verdict(record: dict, settings) -> tuple[str, str, float]:
 
     Notes
     -----
-    ``fail`` if ``value > t``; ``warn`` if ``warn_fraction * t <= value <= t``; else ``pass``. A
-    face with non-uniform knots is capped at ``warn`` when the policy says ``measured = "warn"``
-    (default ``"fail"``: gated like any other face).
+    The decision rule of ISO 14253-1 with the record's uncertainty ``U`` (``record["uncertainty"]["peak"]``,
+    0 without one; :func:`cadartifact.advice.decision.decide`): ``fail`` if ``value - U > t``; undecided if
+    ``value - U <= t < value + U``: the policy's ``undecided`` verdict (default ``warn``); otherwise
+    (conforms) ``warn`` if ``value >= warn_fraction * t``, else ``pass``. A face with non-uniform knots is
+    capped at ``warn`` when the policy says ``measured = "warn"`` (default ``"fail"``: gated like any other face).
     """
+    from ..advice.decision import NONCONFORMING, UNDECIDED, decide
     from .records import unit_name
 
     key = "deviation" if settings.include_signal_error else "total"
@@ -46,13 +49,20 @@ def face_verdict(record: dict, settings) -> tuple[str, str, float]:
     t = settings.tolerance
     what = "deviation" if settings.include_signal_error else "ripple"
     u = unit_name(record.get("units"))  # the face's own unit, next to its numbers
-    if value > t:
-        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g} {u} exceeds tolerance {t:g} {u}"
+    U = float((record.get("uncertainty") or {}).get("peak") or 0.0)
+    decision = decide(value, U, t)
+    pm = f" +/- {U:.2g}" if U > 0 else ""
+    if decision == NONCONFORMING:
+        verdict, reason = "fail", f"{what} {settings.metric} {value:.4g}{pm} {u} exceeds tolerance {t:g} {u}"
+    elif decision == UNDECIDED:
+        verdict = getattr(settings, "undecided", "warn")
+        reason = (f"{what} {settings.metric} {value:.4g}{pm} {u} is undecided against tolerance {t:g} {u} (the "
+                  f"intent's uncertainty straddles it; policy undecided = {verdict!r})")
     elif value >= settings.warn_fraction * t:
-        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g} {u} is within tolerance {t:g} {u} but "
+        verdict, reason = "warn", (f"{what} {settings.metric} {value:.4g}{pm} {u} is within tolerance {t:g} {u} but "
                                    f"above {settings.warn_fraction:g} of it")
     else:
-        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g} {u} within tolerance {t:g} {u}"
+        verdict, reason = "pass", f"{what} {settings.metric} {value:.4g}{pm} {u} within tolerance {t:g} {u}"
     if verdict == "fail" and not record.get("uniform", True) and settings.measured == "warn":
         verdict = "warn"
         reason += " (non-uniform knots: capped at warn by policy measured = 'warn')"
@@ -93,7 +103,10 @@ def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
             raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
         return rec
 
-    rec = finite(budget_record(net, current, reading == "net"))
+    from ..advice.decision import face_uncertainty
+
+    unc = face_uncertainty(net, scored, current)  # the same U the advice's rule uses (SPEC §4)
+    rec = finite(budget_record(net, current, reading == "net", unc))
     verdict, reason, value = face_verdict(rec, settings)
     skipped = advice_wanted(settings, verdict)
     if skipped is None:

@@ -123,6 +123,8 @@ def _verdict(face: dict) -> tuple[str, str, str]:
     if face["meets_tolerance"]:
         coarser = adv.get("points") is not None and adv["points"] < face["net"][0] * face["net"][1]
         return "within", "within", "within the tolerance" + ("; the advised net is coarser" if coarser else "")
+    if face.get("decision") == "undecided":
+        return "warn", "undecided", "the value +/- the intent's uncertainty U straddles the tolerance"
     return "exceeds", "exceeds", ("resample at the advised net" if adv.get("meets_tolerance")
                                   else "no density up to the search limit meets the tolerance")
 
@@ -135,7 +137,9 @@ def _advised(face: dict) -> str:
     others = ", ".join(f"{k} {'×'.join(map(str, v['net']))}" for k, v in comp.items() if v.get("net"))
     tip = f' title="other schemes: {_e(others)}"' if others else ""
     text = f'<span{tip}>{"×".join(str(n) for n in adv["net"])}</span>'
-    if not adv.get("meets_tolerance", True):
+    if adv.get("verifiable") is False:
+        text += '<div class="small">unverifiable: the net determines its shape only to ±U</div>'
+    elif not adv.get("meets_tolerance", True):
         text += '<div class="small">out of reach</div>'
     else:
         ver = adv.get("verification")
@@ -157,7 +161,11 @@ def _face_rows(faces: list, doc: dict, unit: str, warn_fraction: float) -> str:
         cells = [label, "×".join(map(str, f.get("net", []))), _e(f.get("scheme")),
                  f'<span title="{_e(f.get("reason", ""))}">{_e(f.get("method"))}</span>']
         cells += [_bar(share.get(k), (budget.get(k) or {}).get(metric), unit, warn_fraction) for k, _ in _DIRECTIONS]
-        cells += [_bar(share.get(key), (budget.get(key) or {}).get(metric), unit, warn_fraction), _advised(f), badge]
+        unc = f.get("uncertainty") or {}
+        u = ("–" if unc.get("peak") is None else
+             f'<span title="the intent\'s expanded uncertainty U (u {_num(unc.get("u"))}, v {_num(unc.get("v"))} '
+             f'{_e(unit)}); decision: {_e(f.get("decision"))}">{_num(unc["peak"])}</span>')
+        cells += [_bar(share.get(key), (budget.get(key) or {}).get(metric), unit, warn_fraction), u, _advised(f), badge]
         rows.append("<tr>" + "".join(f'<td class="num">{c}</td>' for c in cells) + "</tr>")
     return "\n".join(rows)
 
@@ -356,7 +364,7 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     parts.append(_contents(doc))
 
     heads = ["face", "net", "scheme", "method"] + [h for _, h in _DIRECTIONS] + [
-        "deviation" if doc.get("include_signal_error") else "ripple", "advised", "verdict"]
+        "deviation" if doc.get("include_signal_error") else "ripple", "±U", "advised", "verdict"]
     pictures = 0
     for k, entry in enumerate(doc["files"]):
         unit = unit_text(entry.get("units")) if entry.get("units") else unit_text(doc.get("units") or "mm")

@@ -1,0 +1,99 @@
+"""The decision rule: conforms, does not conform, or undecided (SPEC §4 "Uncertainty and decisions", §5).
+
+A value ``v`` (a face's error against its intent, model units) known to within an expanded uncertainty ``U``
+(:mod:`cadartifact.analysis.uncertainty`) is judged against a tolerance ``t`` by the rule of
+ISO 14253-1 (conformance zone reduced by ``U``, non-conformance zone enlarged by it):
+
+* ``v + U <= t``: **conforms** (proven within the tolerance);
+* ``v - U > t``: **does not conform** (proven beyond it);
+* otherwise **undecided**.
+
+No claim of conformance is made that the net cannot support: the advice claims ``meets_tolerance`` only for
+a net that conforms, and where ``U`` alone is near ``t`` (``U >= UNVERIFIABLE_SHARE * t``) no density can
+conform and the advice says so instead of giving a number.
+
+References
+----------
+ISO 14253-1:2017, *Geometrical product specifications (GPS) - Inspection by measurement of workpieces and
+measuring equipment - Part 1: Decision rules for verifying conformity or nonconformity with specifications*.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["DECISIONS", "CONFORMS", "UNDECIDED", "NONCONFORMING", "UNVERIFIABLE_SHARE", "decide", "unverifiable",
+           "unverifiable_note", "scorer_uncertainty", "face_uncertainty"]
+
+CONFORMS, UNDECIDED, NONCONFORMING = "conforms", "undecided", "does not conform"
+#: The three outcomes of the rule, best first.
+DECISIONS = (CONFORMS, UNDECIDED, NONCONFORMING)
+
+#: Share of the tolerance from which the intent's uncertainty alone leaves no room for a conforming net.
+UNVERIFIABLE_SHARE = 0.9
+
+
+def decide(value: float, uncertainty: float, tolerance: float) -> str:
+    """The ISO 14253-1 decision for a value with expanded uncertainty ``U`` against a tolerance ``t``.
+
+    ``"conforms"`` when ``value + U <= t``, ``"does not conform"`` when ``value - U > t``, else
+    ``"undecided"``; a value that is not finite does not conform.
+    """
+    if value is None or not math.isfinite(value):
+        return NONCONFORMING
+    if value + uncertainty <= tolerance:
+        return CONFORMS
+    if value - uncertainty > tolerance:
+        return NONCONFORMING
+    return UNDECIDED
+
+
+def unverifiable(uncertainty: float, tolerance: float) -> bool:
+    """Whether ``U`` alone is near ``t`` (``U >= UNVERIFIABLE_SHARE t``): no net can be shown to conform."""
+    return uncertainty >= UNVERIFIABLE_SHARE * tolerance
+
+
+def unverifiable_note(uncertainty: float, tolerance: float, unit: str = "mm") -> str:
+    """The advice's honest no when the intent's uncertainty leaves no room (SPEC §5)."""
+    return (f"the net determines its shape only to +/-{uncertainty:.3g} {unit}: a tolerance of {tolerance:g} {unit} "
+            "cannot be verified from these control points")
+
+
+def scorer_uncertainty(scorer):
+    """The :class:`~cadartifact.analysis.uncertainty.Uncertainty` of a density search's intent (its reading,
+    over the trimmed face)."""
+    from ..analysis.budget import trim_mask
+    from ..analysis.uncertainty import intent_uncertainty
+
+    it = scorer.intent
+    keep = None
+    if getattr(it, "pieces", None) is None:
+        keep = lambda x, y: trim_mask(scorer.work, it.frames, x, y)  # noqa: E731
+    return intent_uncertainty(it, scorer.scheme, scorer.reading, keep)
+
+
+def face_uncertainty(net, settings, current=None):
+    """Today's net's :class:`~cadartifact.analysis.uncertainty.Uncertainty` under a run's reading
+    (``settings.reading``): the intent of today's budget's fields when it kept them, else built here."""
+    from ..analysis.budget import analysis_net, trim_mask
+    from ..analysis.intent import design_intent
+    from ..analysis.settings import resolve_scheme
+    from ..analysis.uncertainty import intent_uncertainty
+
+    sch = resolve_scheme(net, settings.scheme)
+    work = analysis_net(net, sch)
+    fields = getattr(current, "fields", None)
+    it = (fields.baseband or {}).get("intent") if fields is not None and fields.baseband else None
+    if it is None:
+        from types import SimpleNamespace
+
+        from ..analysis.pieces import split_net
+
+        pieces = split_net(work)
+        split = len(pieces) > 1 or pieces[0].net is not work
+        it = SimpleNamespace(pieces=pieces, levels=settings.levels) if split else design_intent(work, sch,
+                                                                                                settings.levels)
+    keep = None
+    if getattr(it, "pieces", None) is None:
+        keep = lambda x, y: trim_mask(work, it.frames, x, y)  # noqa: E731
+    return intent_uncertainty(it, sch, settings.reading, keep)
