@@ -51,7 +51,7 @@ from dataclasses import asdict, dataclass, field
 from functools import cached_property
 from pathlib import Path
 
-from ..analysis.settings import METRICS, RunSettings
+from ..analysis.settings import METRICS, READINGS, RunSettings
 from ..errors import CadArtifactError, InputError, OptionError
 
 __all__ = [
@@ -77,6 +77,8 @@ MEASURED = ("warn", "fail")
 UNDECIDED = ("warn", "fail", "pass")
 #: Which faces get the (costly) density advice: the verdict needs today's budget only.
 ADVISE = ("all", "failing", "none")
+#: Keys whose value is one of a fixed set (the error lists the set).
+CHOICES = {"metric": METRICS, "measured": MEASURED, "undecided": UNDECIDED, "advise": ADVISE, "intent": READINGS}
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
 TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "undecided",
@@ -236,25 +238,10 @@ def _check_value(source: str, key: str, value):
         if not _is_number(value) or not (0 < value <= 1):
             raise PolicyError(source, key, f"expected a number with 0 < f <= 1, received {value!r}")
         return float(value)
-    if key == "metric":
-        if value not in METRICS:
-            raise PolicyError(source, key, f"expected one of 'peak', 'rms', received {value!r}")
-        return value
-    if key == "measured":
-        if value not in MEASURED:
-            raise PolicyError(source, key, f"expected one of 'warn', 'fail', received {value!r}")
-        return value
-    if key == "undecided":
-        if value not in UNDECIDED:
-            raise PolicyError(source, key, f"expected one of {', '.join(map(repr, UNDECIDED))}, received {value!r}")
-        return value
-    if key == "advise":
-        if value not in ADVISE:
-            raise PolicyError(source, key, f"expected one of {', '.join(map(repr, ADVISE))}, received {value!r}")
-        return value
-    if key == "intent":
-        if value not in ("surface", "net"):
-            raise PolicyError(source, key, f"expected one of 'surface', 'net', received {value!r}")
+    if key in CHOICES:
+        if value not in CHOICES[key]:
+            listed = ", ".join(map(repr, CHOICES[key]))
+            raise PolicyError(source, key, f"expected one of {listed}, received {value!r}")
         return value
     if key == "min_analysed_share":
         if not _is_number(value) or not (0 <= value <= 1):
