@@ -62,24 +62,19 @@ def unverifiable_note(uncertainty: float, tolerance: float, unit: str = "mm") ->
 def scorer_uncertainty(scorer):
     """The :class:`~cadartifact.analysis.uncertainty.Uncertainty` of a density search's intent (its reading,
     over the trimmed face)."""
-    from ..analysis.budget import trim_mask
-    from ..analysis.uncertainty import intent_uncertainty
-
-    it = scorer.intent
-    keep = None
-    if getattr(it, "pieces", None) is None:
-        keep = lambda x, y: trim_mask(scorer.work, it.frames, x, y)  # noqa: E731
-    return intent_uncertainty(it, scorer.scheme, scorer.reading, keep)
+    return _of_intent(scorer.intent, scorer.work, scorer.scheme, scorer.reading)
 
 
 def face_uncertainty(net, settings, current=None):
     """Today's net's :class:`~cadartifact.analysis.uncertainty.Uncertainty` under a run's reading
     (``settings.reading``): the intent of today's budget's fields when it kept them, else built here."""
-    from ..analysis.budget import analysis_net, trim_mask
+    from ..analysis.budget import analysis_net
     from ..analysis.intent import design_intent
     from ..analysis.settings import resolve_scheme
     from ..analysis.uncertainty import intent_uncertainty
 
+    if settings.reading == "surface":  # answered without an intent: do not build one for it
+        return intent_uncertainty(None, None, "surface")
     sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch)
     fields = getattr(current, "fields", None)
@@ -93,7 +88,16 @@ def face_uncertainty(net, settings, current=None):
         split = len(pieces) > 1 or pieces[0].net is not work
         it = SimpleNamespace(pieces=pieces, levels=settings.levels) if split else design_intent(work, sch,
                                                                                                 settings.levels)
+    return _of_intent(it, work, sch, settings.reading)
+
+
+def _of_intent(it, work, scheme, reading: str):
+    """:func:`~cadartifact.analysis.uncertainty.intent_uncertainty` of an intent over the trimmed face (a split
+    face's pieces carry their own region)."""
+    from ..analysis.budget import trim_mask
+    from ..analysis.uncertainty import intent_uncertainty
+
     keep = None
     if getattr(it, "pieces", None) is None:
         keep = lambda x, y: trim_mask(work, it.frames, x, y)  # noqa: E731
-    return intent_uncertainty(it, sch, settings.reading, keep)
+    return intent_uncertainty(it, scheme, reading, keep)
