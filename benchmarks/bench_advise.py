@@ -76,8 +76,13 @@ def main():
 
     import cadartifact as ca
     from cadartifact.advice.advise import clear_caches
+    from cadartifact.runs.face_sharing import one_blas_thread
 
-    print(f"\nper-face advice (no comparison, no verification), cold, best of {max(repeat, 2)}; "
+    # one core, as the CLI runs a file (runs.face_sharing.one_blas_thread): on a loaded machine a
+    # multi-threaded BLAS spins against the other processes (an SVD of 157x157 took 150 ms instead of 6)
+    blas = one_blas_thread()
+    blas.__enter__()
+    print(f"\nper-face advice (no comparison, no verification), cold, best of {max(repeat, 2)}, one BLAS thread; "
           f"load average now {os.getloadavg()[0]:.2f}")
     print(f"{'net':>9s} {'cage (predicted)':>17s} {'face (measured)':>16s}")
     per_face = {}

@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import check_option
 from .frames import AxisFrame
+from .bands import _baseband, _fine_freqs, _one_piece, band_split, lateral_factors, lateral_of
 from .baseband import baseband_at
 from .settings import COMPONENTS, READINGS
 from .intent import Intent, _legendre, design_intent, from_homogeneous
@@ -81,110 +82,6 @@ class ArtifactFields:
     levels: int = 3
     reading: str = "surface"
     baseband: object = None
-
-
-# ---------------------------------------------------------------- band split on the periodic fine grid
-def _fine_freqs(frame: AxisFrame) -> np.ndarray:
-    return np.fft.fftfreq(frame.K * frame.period, d=1.0 / frame.K)
-
-
-def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """SPEC §3 lateral factors ``(sin phi1, sin phi2, sin phid1 sin phid2)``, each ``(a, b)``, of the
-    frequency each bin aliases (folded into the base band: ``w = f - round(f)``)."""
-    wu = (fu - np.round(fu))[:, None]
-    wv = (fv - np.round(fv))[None, :]
-    r2 = wu ** 2 + wv ** 2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s1 = np.where(r2 > 0, np.abs(wv) / np.sqrt(r2), 0.0)
-        s2 = np.where(r2 > 0, np.abs(wu) / np.sqrt(r2), 0.0)
-        sd = np.where(r2 > 0, np.abs(wu ** 2 - wv ** 2) / (2 * r2), 0.0)
-    return s1, s2, sd
-
-
-def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False)) -> dict:
-    """Band masks and lateral weights; a direction in ``smooth`` has no ripple band (one polynomial piece)."""
-    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None] & (not smooth[0])
-    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :] & (not smooth[1])
-    x1, x2, dg = hu & ~hv, ~hu & hv, hu & hv
-    s1, s2, sd = lateral_factors(fu, fv)
-    return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": x1 * s1 + x2 * s2 + dg * sd}
-
-
-def _one_piece(*frames) -> tuple:
-    """Per frame, whether its direction has no ripple band (:attr:`AxisFrame.ripple_free`: one polynomial
-    piece, or exactly a line or circle)."""
-    return tuple(bool(f.ripple_free) for f in frames)
-
-
-def _crop(a: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
-    """The domain part of a periodic fine-grid array (``x = 0`` first)."""
-    iu = (fu.shift + np.arange(fu.fine_count)) % a.shape[0]
-    iv = (fv.shift + np.arange(fv.fine_count)) % a.shape[1]
-    return a[np.ix_(iu, iv)]
-
-
-def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool = True) -> dict:
-    """Split a periodic fine-grid deviation, given by its half spectrum, into bands over the domain.
-
-    Parameters
-    ----------
-    spectrum : (K Tu, K Tv // 2 + 1, 3) complex
-        ``rfft2`` of the deviation on the lattice-aligned periodic fine grid.
-    fu, fv : AxisFrame
-
-    Returns
-    -------
-    dict str -> (fu.fine_count, fv.fine_count, 3) float
-        ``signal_error, x1, x2, diagonal, lateral, total``.
-    """
-    A, B = fu.K * fu.period, fv.K * fv.period
-    fa, fb = _fine_freqs(fu), np.abs(_fine_freqs(fv)[: B // 2 + 1])
-    smooth = _one_piece(fu, fv)
-    # the four bands are tensor products of a u mask and a v mask: invert along u per u mask, keep the
-    # domain's rows, then along v per v mask, keep its columns (no full-size inverse per band)
-    hu = (np.abs(fa) >= 0.5 - 1e-12) & (not smooth[0])
-    hv = (fb >= 0.5 - 1e-12) & (not smooth[1])
-    iu = (fu.shift + np.arange(fu.fine_count)) % A
-    iv = (fv.shift + np.arange(fv.fine_count)) % B
-    rows = {}
-    for name_u, mu in (("lo", ~hu), ("hi", hu)):
-        rows[name_u] = np.fft.ifft(spectrum * mu[:, None, None], axis=0)[iu] if mu.any() else None
-    pick = {"signal_error": ("lo", ~hv), "x1": ("hi", ~hv), "x2": ("lo", hv), "diagonal": ("hi", hv)}
-    out = {}
-    for name, (name_u, mv) in pick.items():
-        r = rows[name_u]
-        if r is None or not mv.any():
-            out[name] = np.zeros((fu.fine_count, fv.fine_count) + spectrum.shape[2:])
-        else:
-            out[name] = np.fft.irfft(r * mv[None, :, None], n=B, axis=1)[:, iv]
-    if lateral:
-        m = _band_masks(fa, fb, smooth)["lateral"]
-        out["lateral"] = _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
-    out["total"] = out["x1"] + out["x2"] + out["diagonal"]
-    return out
-
-
-def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:
-    """The base-band bins of a half fine-grid spectrum, with a polynomial, for :func:`baseband_at`.
-
-    The full spectrum's bins are read off the half spectrum (``X[k, l] = conj(X[-k, -l])`` for the
-    columns ``rfft2`` leaves out): no transform of the whole grid.
-    """
-    A, B = fu.K * fu.period, fv.K * fv.period
-    idx, freqs = [], []
-    for frame in (fu, fv):
-        f = _fine_freqs(frame)
-        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
-        idx.append(k)
-        freqs.append(f[k])
-    ku, kv = idx
-    direct = kv <= B // 2
-    out = np.empty((len(ku), len(kv)) + half_spec.shape[2:], complex)
-    out[:, direct] = half_spec[np.ix_(ku, kv[direct])]
-    mirrored = ~direct
-    if mirrored.any():
-        out[:, mirrored] = np.conj(half_spec[np.ix_((-ku) % A, (B - kv[mirrored]) % B)])
-    return {"spec": out, "freqs": freqs, "frames": (fu, fv), "poly": poly}
 
 
 def _coef_matrix(intent: Intent, coef: np.ndarray) -> np.ndarray:
@@ -336,7 +233,7 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
     bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
     bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
     if lateral:
-        bands["lateral"] = _lateral_of(bands["total"], fu, fv)
+        bands["lateral"] = lateral_of(bands["total"], fu, fv)
     return _assemble(intent, bands, smooth, smooth + bands["total"], "predicted", reading,
                      {"separable": (lu, lv), "points": P})
 
@@ -388,6 +285,11 @@ def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> t
     A tensor Legendre polynomial (:func:`_poly_fit`) is fitted and kept out of the split; the rest is
     continued past each open border by :func:`_bridge` and band-split by FFT.
 
+    The bridge, the band masks and the crop to the domain are each a tensor product of one operator per
+    direction, so the split is done one direction at a time: along ``u`` on the bridged columns, keeping
+    the domain's rows, then along ``v`` on those rows only. The numbers are those of one 2-D transform of
+    the bridged period (to rounding); the work is about a third, and no ``K Tu x K Tv`` array is made.
+
     Returns
     -------
     (bands, smooth, baseband) : (dict, (a, b, 3) float, dict)
@@ -398,31 +300,56 @@ def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> t
     own = scheme.degrees or (int(scheme.reproduction_degree),) * 2
     V, poly = _poly_fit(field, frames, own)
     rest = field - sandwich(V[0], poly, V[1])
-    ext = _bridge(_bridge(rest, fu, 0, own[0]), fv, 1, own[1])
-    ext = np.roll(ext, (fu.shift, fv.shift), axis=(0, 1))  # x = 0 at fine index `shift`
-    spec = np.fft.rfft2(ext, axes=(0, 1))
-    bands = band_split(spec, fu, fv, lateral=False)
+    one = _one_piece(fu, fv)
+    # along u: the bridged period's half spectrum per column (x = 0 at fine index `shift`)
+    Eu = np.roll(_bridge(rest, fu, 0, own[0]), fu.shift, axis=0)
+    A = Eu.shape[0]
+    Su = np.fft.rfft(Eu, axis=0)
+    hu = (np.fft.rfftfreq(A, d=1.0 / fu.K) >= 0.5 - 1e-12) & (not one[0])
+    iu = (fu.shift + np.arange(fu.fine_count)) % A
+    hi_u = np.fft.irfft(Su * hu[:, None, None], n=A, axis=0)[iu] if hu.any() else np.zeros_like(rest)
+    lo_u = rest - hi_u
+
+    def v_high(X: np.ndarray) -> np.ndarray:
+        """The part of domain rows above half a cycle per span along ``v`` (bridged the same way)."""
+        Ev = np.roll(_bridge(X, fv, 1, own[1]), fv.shift, axis=1)
+        B = Ev.shape[1]
+        hv = (np.fft.rfftfreq(B, d=1.0 / fv.K) >= 0.5 - 1e-12) & (not one[1])
+        if not hv.any():
+            return np.zeros_like(X)
+        iv = (fv.shift + np.arange(fv.fine_count)) % B
+        return np.fft.irfft(np.fft.rfft(Ev, axis=1) * hv[None, :, None], n=B, axis=1)[:, iv]
+
+    diagonal, x2 = v_high(hi_u), v_high(lo_u)
+    bands = {"x1": hi_u - diagonal, "x2": x2, "diagonal": diagonal}
+    bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
     # the lateral weights are not a band: they would weigh what the continuation leaves far outside the
     # face; weigh the face's own ripple instead, extended by even reflection (it has no smooth part)
     if lateral:
-        bands["lateral"] = _lateral_of(bands["total"], fu, fv)
-    smooth = bands["signal_error"] + sandwich(V[0], poly, V[1])
+        bands["lateral"] = lateral_of(bands["total"], fu, fv)
+    smooth = (lo_u - x2) + sandwich(V[0], poly, V[1])
     bands["signal_error"] = np.zeros_like(smooth)
-    return bands, smooth, _baseband(spec, fu, fv, poly)
+    return bands, smooth, _baseband_of_rows(Su, fu, fv, own[1], poly)
 
 
-def _lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
-    """The lateral part of a domain ripple field (SPEC §3 weights per alias band), by one 2-D FFT of its
-    even-reflection (open) or periodic extension."""
-    ext = ripple
-    for axis, frame in enumerate((fu, fv)):
-        if not frame.periodic and ext.shape[axis] > 2:
-            inner = np.take(ext, np.arange(ext.shape[axis] - 2, 0, -1), axis=axis)
-            ext = np.concatenate([ext, inner], axis=axis)
-    A, B = ext.shape[:2]
-    w = _band_masks(np.fft.fftfreq(A, d=1.0 / fu.K), np.fft.rfftfreq(B, d=1.0 / fv.K), _one_piece(fu, fv))["lateral"]
-    out = np.fft.irfft2(np.fft.rfft2(ext, axes=(0, 1)) * w[:, :, None], s=(A, B), axes=(0, 1))
-    return out[: ripple.shape[0], : ripple.shape[1]]
+def _baseband_of_rows(Su: np.ndarray, fu: AxisFrame, fv: AxisFrame, degree_v: int, poly: np.ndarray) -> dict:
+    """:func:`_baseband` from the ``u`` half spectrum of the ``u``-bridged columns: the base-band rows
+    (full spectrum, ``X[-k] = conj(X[k])`` for real columns), bridged and transformed along ``v``."""
+    A = fu.K * fu.period
+    idx, freqs = [], []
+    for frame in (fu, fv):
+        f = _fine_freqs(frame)
+        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        idx.append(k)
+        freqs.append(f[k])
+    ku, kv = idx
+    direct = ku <= A // 2
+    rows = np.empty((len(ku),) + Su.shape[1:], complex)
+    rows[direct] = Su[ku[direct]]
+    rows[~direct] = np.conj(Su[(A - ku[~direct]) % A])
+    Ev = np.roll(_bridge(rows, fv, 1, degree_v), fv.shift, axis=1)
+    spec = np.fft.fft(Ev, axis=1)[:, kv]
+    return {"spec": spec, "freqs": freqs, "frames": (fu, fv), "poly": poly}
 
 
 def _poly_fit(field: np.ndarray, frames, degrees) -> tuple[list, np.ndarray]:
@@ -557,13 +484,22 @@ def intent_normals(intent_fine: np.ndarray, K: float = 1.0, spacing: tuple[float
 
     ``n = du x dv / |du x dv|`` with central differences (``numpy.gradient``; grid spacing
     ``1/K`` or ``spacing``); points where ``|du x dv| <= 1e-9 |du| |dv|`` (a collapsed edge or
-    pole) get ``0``.
+    pole) get ``0``. The cross product and the norms are written out per component (``np.cross``
+    and ``np.linalg.norm`` cost three times as much on these shapes).
     """
     su, sv = spacing if spacing is not None else (1.0 / K, 1.0 / K)
     du = np.gradient(intent_fine, su, axis=0) if intent_fine.shape[0] > 1 else np.zeros_like(intent_fine)
     dv = np.gradient(intent_fine, sv, axis=1) if intent_fine.shape[1] > 1 else np.zeros_like(intent_fine)
-    n = np.cross(du, dv)
-    norm = np.linalg.norm(n, axis=-1)
-    scale = np.linalg.norm(du, axis=-1) * np.linalg.norm(dv, axis=-1)
+    ux, uy, uz = du[..., 0], du[..., 1], du[..., 2]
+    vx, vy, vz = dv[..., 0], dv[..., 1], dv[..., 2]
+    n = np.empty(np.broadcast_shapes(du.shape, dv.shape))
+    n[..., 0] = uy * vz - uz * vy
+    n[..., 1] = uz * vx - ux * vz
+    n[..., 2] = ux * vy - uy * vx
+    norm = np.sqrt(np.einsum("...k,...k->...", n, n))
+    scale = np.sqrt(np.einsum("...k,...k->...", du, du) * np.einsum("...k,...k->...", dv, dv))
     ok = norm > 1e-9 * np.maximum(scale, 1e-300)
+    if ok.all():
+        n /= norm[..., None]
+        return n
     return np.where(ok[..., None], n / np.where(ok, norm, 1.0)[..., None], 0.0)
