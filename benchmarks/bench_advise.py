@@ -6,7 +6,7 @@ Rows of issue 11 (each ratio against a baseline measured in this same run):
 
 - ``advise FILE --tol 0.05 --json`` with the default options (scheme comparison and OCCT verification
   on) vs a bare OCCT read+transfer process of the same file (``python -c`` importing OCP,
-  ``STEPControl_Reader.ReadFile`` + ``TransferRoots``), per real STEP file of ../shared/realdata/step:
+  ``STEPControl_Reader.ReadFile`` + ``TransferRoots``), per STEP file of ../shared/realdata/step and of benchmarks/synthetic_faces.py (extended and jointed faces, a 40-face non-uniform shell, a 45x12 quintic):
   median and worst ratio (target: median <= 1.5x, worst <= 3x). The advise runs (``--repeat``, default
   one: they take 5-100 s each) are interleaved with the baseline's (best of at least three).
 - Per-face advice in this process (``cadartifact.advise``, no comparison, no verification; cold:
@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 from timing import (REALDATA, best_of, best_process, cli_argv, machine, median_worst, occt_argv,  # noqa: E402
-                    print_targets, real_step_files)
+                    print_targets, bench_step_files)
 
 
 def face_nets(n: int):
@@ -54,7 +54,7 @@ def main():
     args = ap.parse_args()
     repeat = 1 if args.quick else args.repeat
     base_runs = 1 if args.quick else max(3, repeat)
-    files = real_step_files()
+    files = bench_step_files()
     if not files:
         raise SystemExit(f"no real STEP files in {REALDATA / 'step'}")
     print(f"{time.strftime('%Y-%m-%d %H:%M')}, {machine()}, advise best of {repeat}, OCCT read best of {base_runs}")

@@ -6,7 +6,7 @@ Rows (each a ratio against a baseline measured in this same run):
 
 - ``gate FILE --tol 0.05`` (the console script, text report to a pipe) vs a bare OCCT read+transfer
   process of the same file (``python -c`` importing OCP, ``STEPControl_Reader.ReadFile`` +
-  ``TransferRoots``), per real STEP file of ../shared/realdata/step: median and worst ratio of the best
+  ``TransferRoots``), per STEP file of ../shared/realdata/step and of benchmarks/synthetic_faces.py (extended and jointed faces, a 40-face non-uniform shell, a 45x12 quintic): median and worst ratio of the best
   of ``--repeat`` runs each, interleaved (target: median <= 1.2x, worst <= 1.5x).
 - ``gate --jobs 2`` vs ``gate --jobs 1`` over every real file (STEP and OBJ): speed-up (target
   >= 1.7x), and the two JSON documents must be identical (results do not depend on ``--jobs``).
@@ -21,7 +21,7 @@ import json
 import time
 
 from timing import (REALDATA, best_process, cli_argv, machine, median_worst, occt_argv, print_targets,  # noqa: E402
-                    real_step_files)
+                    bench_step_files)
 
 
 def main():
@@ -31,7 +31,7 @@ def main():
     ap.add_argument("--tol", type=float, default=0.05)
     args = ap.parse_args()
     repeat = 1 if args.quick else args.repeat
-    files = real_step_files()
+    files = bench_step_files()
     if not files:
         raise SystemExit(f"no real STEP files in {REALDATA / 'step'}")
     print(f"{time.strftime('%Y-%m-%d %H:%M')}, {machine()}, best of {repeat}")

@@ -77,6 +77,20 @@ def real_step_files() -> list:
     return sorted(p for p in folder.iterdir() if p.is_file()) if folder.is_dir() else []
 
 
+def bench_step_files() -> list:
+    """The real STEP files and the synthetic ones of :mod:`synthetic_faces` (extended and jointed faces, a
+    non-uniform shell of 40 faces, a 45x12 quintic), written once per run into a temporary folder."""
+    import atexit
+    import shutil
+    import tempfile
+
+    from synthetic_faces import write_all
+
+    folder = tempfile.mkdtemp(prefix="cadartifact-bench-")
+    atexit.register(shutil.rmtree, folder, True)
+    return real_step_files() + write_all(folder)
+
+
 def median_worst(ratios) -> tuple[float, float]:
     return statistics.median(ratios), max(ratios)
 
