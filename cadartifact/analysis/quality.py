@@ -11,7 +11,7 @@ curvature) says so with a reason: none is skipped silently. docs/quality-criteri
 and where its figures come from.
 
 The surface is evaluated here in numpy (B-spline basis functions and their derivatives from
-:class:`scipy.interpolate.BSpline`, rational faces through their homogeneous form), never with OCCT: the tests
+:func:`cadartifact.numerics.splines.basis_derivatives`, rational faces through their homogeneous form), never with OCCT: the tests
 check every number against OCCT's ``GeomLProp_SLProps`` / ``Geom_BSplineSurface.D2`` / ``BRepGProp``.
 
 Sampling (per direction): the trim box ``[lo, hi]`` is cut at the distinct knots into pieces; each piece gets
@@ -184,33 +184,6 @@ def _num(x):
 
 
 # ---------------------------------------------------------------- evaluation
-def _basis(knots: np.ndarray, p: int, n: int, periodic: bool, x: np.ndarray) -> list[np.ndarray]:
-    """Values and first two derivatives of the ``n`` basis functions at ``x``: three ``(len(x), n)`` arrays.
-
-    Notes
-    -----
-    ``B^(k)[a, i] = d^k N_{i,p}(x_a) / dx^k`` (:class:`scipy.interpolate.BSpline` on the identity coefficients;
-    a periodic direction folds flat function ``i + n`` onto pole ``i``). Derivatives of order above ``p`` are 0.
-    """
-    from scipy.interpolate import BSpline
-
-    t = np.asarray(knots, float)
-    nb = len(t) - p - 1
-    lo, hi = float(t[p]), float(t[nb])
-    x = np.asarray(x, float)
-    x = lo + np.mod(x - lo, hi - lo) if periodic else np.clip(x, lo, hi)
-    spl = BSpline(t, np.eye(nb), p, extrapolate=True)
-    out = []
-    for k in range(3):
-        B = spl(x, nu=k) if k <= p else np.zeros((len(x), nb))
-        if periodic:
-            folded = np.zeros((len(x), n))
-            np.add.at(folded.T, np.arange(nb) % n, B.T)
-            B = folded
-        out.append(B)
-    return out
-
-
 @dataclass(frozen=True)
 class FaceSamples:
     """A face sampled on the grid ``u x v`` (:func:`sample_face`).
@@ -253,11 +226,13 @@ def _breaks(t: np.ndarray, p: int, n: int, periodic: bool, lo: float, hi: float)
     return distinct[(distinct > lo + tol) & (distinct < hi - tol)]
 
 
+_GAUSS = {m: np.polynomial.legendre.leggauss(m) for m in range(2, 7)}
+
+
 def _nodes(lo: float, hi: float, inner: np.ndarray, cap: int = 240) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Legendre nodes and weights per piece of ``[lo, hi]`` cut at ``inner``, with the ends (weight 0)."""
     edges = np.concatenate([[lo], inner, [hi]])
-    m = int(np.clip(cap // (len(edges) - 1), 2, 6))
-    g, w = np.polynomial.legendre.leggauss(m)
+    g, w = _GAUSS[int(np.clip(cap // (len(edges) - 1), 2, 6))]
     a, b = edges[:-1, None], edges[1:, None]
     x = (a + (b - a) * (g[None, :] + 1) / 2).ravel()
     wx = ((b - a) / 2 * w[None, :]).ravel()
@@ -304,17 +279,16 @@ def sample_face(net, u: np.ndarray | None = None, v: np.ndarray | None = None) -
         u, wu = _nodes(u0, u1, _breaks(np.asarray(ku, float), p, nu, pu, u0, u1))
     if v is None:
         v, wv = _nodes(v0, v1, _breaks(np.asarray(kv, float), q, nv, pv, v0, v1))
+    from ..numerics.splines import basis_derivatives
+
     u, v = np.asarray(u, float), np.asarray(v, float)
-    Bu = _basis(ku, p, nu, pu, u)
-    Bv = _basis(kv, q, nv, pv, v)
+    Bu = basis_derivatives(ku, p, u, nu, pu)
+    Bv = basis_derivatives(kv, q, v, nv, pv)
     P = np.asarray(net.points, float)
     w = np.ones(P.shape[:2]) if net.weights is None else np.asarray(net.weights, float)
-    H = np.concatenate([P * w[:, :, None], w[:, :, None]], axis=-1)  # (nu, nv, 4)
-
-    def grid(a, b):
-        return np.einsum("ai,ijc,bj->abc", Bu[a], H, Bv[b], optimize=True)
-
-    A = {ab: grid(*ab) for ab in ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))}
+    H = np.concatenate([P * w[:, :, None], w[:, :, None]], axis=-1).reshape(nu, nv * 4)  # (w P, w)
+    T = [(Bu[a] @ H).reshape(len(u), nv, 4).transpose(0, 2, 1) for a in range(3)]  # (a, 4, nv)
+    A = {(a, b): (T[a] @ Bv[b].T).transpose(0, 2, 1) for a, b in ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))}
     W = {ab: A[ab][..., 3:] for ab in A}
     X = {ab: A[ab][..., :3] for ab in A}
     w0 = W[0, 0]
@@ -456,6 +430,12 @@ def criteria(net, profile: Profile = DEFAULT_PROFILE) -> list[Criterion]:
     return [out[k] for k in CRITERIA]
 
 
+def _points(net, u, v) -> np.ndarray:
+    from ..numerics.splines import evaluate
+
+    return evaluate(net, u, v)
+
+
 def _at(fs: FaceSamples, i: int, j: int) -> tuple:
     return (fs.u[i], fs.v[j]), fs.S[i, j]
 
@@ -472,11 +452,14 @@ def _curvature(fs: FaceSamples, cv: dict, profile: Profile, put) -> None:
     floor = 1.0 / profile.flat_radius
     best = (0, 0.0, 0, 0, "u")  # count, amplitude, i, j, along
     ku, kv = cv["ku"], cv["kv"]
-    for j in range(ku.shape[1]):  # u lines (v fixed)
+    with np.errstate(invalid="ignore"):  # only lines with both signs can inflect
+        both_u = ((ku > floor).any(axis=0) & (ku < -floor).any(axis=0))
+        both_v = ((kv > floor).any(axis=1) & (kv < -floor).any(axis=1))
+    for j in np.flatnonzero(both_u):  # u lines (v fixed)
         n, amp, at = inflections(ku[:, j], floor)
         if (n, amp) > best[:2]:
             best = (n, amp, at, j, "u")
-    for i in range(kv.shape[0]):  # v lines (u fixed)
+    for i in np.flatnonzero(both_v):  # v lines (u fixed)
         n, amp, at = inflections(kv[i, :], floor)
         if (n, amp) > best[:2]:
             best = (n, amp, i, at, "v")
@@ -544,7 +527,7 @@ def _unused(net, put) -> None:
     if share > 0:  # where: the centre of the first unused patch
         i, j = np.argwhere(~inside)[0]
         uv = (cells[0][i].mean(), cells[1][j].mean())
-        xyz = sample_face(net, np.array([uv[0]]), np.array([uv[1]])).S[0, 0]
+        xyz = _points(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
         put("unused", share, uv, xyz, detail=detail)
     else:
         put("unused", 0.0, detail=detail)
@@ -589,8 +572,7 @@ def _span_length(net, fs: FaceSamples, k: int, span) -> tuple[float, tuple, np.n
     other = fs.v if k == 0 else fs.u
     if len(other) > 25:
         other = other[np.linspace(0, len(other) - 1, 25).round().astype(int)]
-    g = sample_face(net, x, other) if k == 0 else sample_face(net, other, x)
-    S = g.S if k == 0 else np.swapaxes(g.S, 0, 1)  # (5, m, 3)
+    S = _points(net, x, other) if k == 0 else np.swapaxes(_points(net, other, x), 0, 1)  # (5, m, 3)
     lengths = np.linalg.norm(np.diff(S, axis=0), axis=-1).sum(axis=0)
     j = int(np.argmax(lengths))
     uv = (x[2], other[j]) if k == 0 else (other[j], x[2])
