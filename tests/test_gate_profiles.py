@@ -218,3 +218,37 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
     gate(*args, "--report", tmp_path / "r.html")
     html = (tmp_path / "r.html").read_text()
     assert "PDQ criteria" in html and all(f"{k} (" in html for k in CRITERIA)
+
+
+# ---------------------------------------------------------------- real files, read in place
+REALDATA = __import__("pathlib").Path(__file__).resolve().parents[2] / "shared" / "realdata" / "step"
+
+
+@pytest.mark.parametrize("name,exit_code", [("boxed_sphere.step", 1), ("nist_ftc_07_asme1_rd.stp", 0)])
+def test_real_files_criteria_equal_each_faces_own(name, exit_code):
+    """Every face's criteria equal those computed on its own net (repeated faces reuse their first face's
+    analysis, moved rigidly); places: a first face's equal its own computation, and a repeat's moved place is on
+    its own surface (its uv evaluated on the face's net gives its xyz: a tie between symmetric worst places may
+    pick another of them). boxed_sphere.step fails on its 0.29 mm spheres' radius."""
+    from cadartifact.numerics.splines import evaluate
+    path = REALDATA / name
+    if not path.is_file():
+        pytest.skip(f"{path} is absent")
+    result, doc = gate_json(path, "--tol", "0.05", "--profile", "default")
+    assert result.exit_code == exit_code
+    nets = {n.origin.face: n for n in read(str(path)).nets}
+    for face in doc["files"][0]["faces"]:
+        direct = {c.key: c for c in criteria(nets[face["face"]], DEFAULT_PROFILE)}
+        size = float(np.ptp(nets[face["face"]].points.reshape(-1, 3), axis=0).max())
+        for c in face["criteria"]:
+            d = direct[c["criterion"]]
+            assert c["verdict"] == d.verdict, (face["face"], c["criterion"])
+            if d.value is not None and np.isfinite(d.value):
+                assert c["value"] == pytest.approx(d.value, rel=1e-6, abs=1e-9)
+            if d.xyz is None:
+                continue
+            repeat = any(n.startswith("the same shape as face ") for n in face["notes"])
+            if not repeat:
+                assert np.allclose(c["at"]["xyz"], d.xyz, atol=1e-6 * max(size, 1.0))
+            at = evaluate(nets[face["face"]], np.array([c["at"]["uv"][0]]), np.array([c["at"]["uv"][1]]))[0, 0]
+            assert np.allclose(c["at"]["xyz"], at, atol=1e-6 * max(size, 1.0))
