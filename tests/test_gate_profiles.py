@@ -252,3 +252,19 @@ def test_real_files_criteria_equal_each_faces_own(name, exit_code):
                 assert np.allclose(c["at"]["xyz"], d.xyz, atol=1e-6 * max(size, 1.0))
             at = evaluate(nets[face["face"]], np.array([c["at"]["uv"][0]]), np.array([c["at"]["uv"][1]]))[0, 0]
             assert np.allclose(c["at"]["xyz"], at, atol=1e-6 * max(size, 1.0))
+
+
+def test_criteria_that_raise_are_reported_not_evaluated(monkeypatch):
+    """A face on which the criteria cannot be computed keeps its ripple verdict and lists every criterion as not
+    evaluated with the reason (never silent, never a crash of the gate)."""
+    import cadartifact.analysis.quality as quality
+    from cadartifact.runs.verdicts import add_criteria
+
+    def boom(net, profile):
+        raise ValueError("bad knots")
+
+    monkeypatch.setattr(quality, "criteria", boom)
+    settings = type("S", (), {"profile": DEFAULT_PROFILE})()
+    rec = add_criteria({"verdict": "pass", "verdict_reason": "ripple ok", "units": "mm"}, None, settings)
+    assert rec["verdict"] == "pass" and len(rec["criteria"]) == len(CRITERIA)
+    assert all(not c["evaluated"] and "ValueError: bad knots" in c["reason"] for c in rec["criteria"])

@@ -133,7 +133,17 @@ def add_criteria(rec: dict, net, settings) -> dict:
 
     rec["ripple_verdict"] = rec["verdict"]
     profile = getattr(settings, "profile", None)
-    rec["criteria"] = None if profile is None else [c.to_dict() for c in criteria(net, profile)]
+    if profile is None:
+        rec["criteria"] = None
+    else:
+        try:
+            rec["criteria"] = [c.to_dict() for c in criteria(net, profile)]
+        except Exception as exc:  # noqa: BLE001 - never silent: every criterion says it was not evaluated
+            from ..analysis.quality import Criterion
+            from ..errors import one_line
+
+            why = one_line(f"the criteria could not be computed ({type(exc).__name__}: {exc})")
+            rec["criteria"] = [Criterion(k, False, limit=profile.limit(k), reason=why).to_dict() for k in CRITERIA]
     if not rec["criteria"]:
         return rec
     for c in rec["criteria"]:  # the face's own unit
