@@ -249,7 +249,7 @@ def test_unused_patches_count_the_spans_outside_the_trim_box(seed):
     """Brute force: a patch is used when any of its points (1999 per direction, interior) lies inside the box."""
     rng = np.random.default_rng(400 + seed)
     net = random_net(rng, nonuniform=seed % 2 == 0)
-    (ku, kv), (p, q) = net.knots, net.degrees
+    ku, kv = net.knots
     u0, u1 = sorted(rng.uniform(ku[0], ku[-1], 2))
     v0, v1 = (kv[0], kv[-1]) if seed % 3 == 0 else sorted(rng.uniform(kv[0], kv[-1], 2))
     trimmed = net.replace(uv_bounds=(u0, u1, v0, v1))
