@@ -192,8 +192,11 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
         assert f" {key} " in body.split("pdq: ")[1]  # each criterion's value on the face's pdq line
     assert "pdq fail:" in body and "G-SU-WV: waviness" in body and "(fail: warn > 1, fail > 3) at uv (" in body
     assert "PDQ profile default: waviness warn > 1, fail > 3" in body
+    assert "; PDQ: waviness 1 fail" in body.splitlines()[-1]  # the summary line counts the faces per criterion
 
     _, doc = gate_json(*args)
+    assert doc["summary"]["criteria"]["waviness"] == {"warn": 0, "fail": 1, "not_evaluated": 0}
+    assert "criteria" not in gate_json(*args[:-2])[1]["summary"]  # without a profile: gate/2's summary
     for entry in doc["files"]:
         for c in entry["faces"][0]["criteria"]:
             assert {"value", "threshold", "at", "verdict", "unit", "code"} <= set(c)

@@ -320,6 +320,10 @@ def summary_line(doc: dict) -> str:
     if s.get("undecided"):
         text += f" ({s['undecided']} undecided: value +/- U straddles the tolerance, policy undecided = " \
                 f"{doc.get('undecided', 'warn')!r})"
+    crit = {k: n for k, n in (s.get("criteria") or {}).items() if n["warn"] or n["fail"]}
+    if crit:
+        text += "; PDQ: " + ", ".join(f"{k} " + " ".join(f"{n[v]} {v}" for v in ("fail", "warn") if n[v])
+                                      for k, n in crit.items())
     if s["errors"]:
         text += f"; {s['errors']} file(s) could not be read or analysed"
     return text + f" (exit {doc['exit_code']})"

@@ -367,6 +367,7 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
         "profile": the PDQ profile's thresholds (:func:`cadartifact.gate.profiles.profile_dict`) | None,
         "policy": source | None,
         "files": [...], "summary": {..., "undecided": faces the decision rule left undecided,
+        "criteria": {criterion: {"warn", "fail", "not_evaluated"}: faces} (only with a profile),
         "verdicts": {"files": {...}, "faces": {...}}},
         "verdict", "exit_code"}``
     """
@@ -384,6 +385,17 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
                     "undecided" if f.get("decision") == "undecided" else "exceeding"] += 1
             # a face without advice (skipped by --advise) is not counted as out of reach
             summary["unreachable"] += 0 if (f["advice"] or {}).get("meets_tolerance", True) else 1
+    if base.get("profile") not in (None, "none"):  # the PDQ criteria's counts (only with a profile)
+        crit: dict = {}
+        for e in entries:
+            for f in e["faces"]:
+                for c in f.get("criteria") or []:
+                    n = crit.setdefault(c["criterion"], {"warn": 0, "fail": 0, "not_evaluated": 0})
+                    if not c["evaluated"]:
+                        n["not_evaluated"] += 1
+                    elif c["verdict"] in ("warn", "fail"):
+                        n[c["verdict"]] += 1
+        summary["criteria"] = crit
     summary["errors"] = file_counts["error"]
     summary["verdicts"] = {"files": file_counts, "faces": face_counts}
     verdict = worst_verdict(e["verdict"] for e in entries)
