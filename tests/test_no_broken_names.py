@@ -114,6 +114,16 @@ def test_gate_text(long_files, columns, tmp_path):
 
 
 @COLUMNS
+def test_gate_text_with_pdq_criteria(long_files, columns):
+    """The PDQ lines (``gate --profile default``, issue 25) name paths and faces whole too."""
+    paths = [str(p) for p in long_files.values()]
+    res = cadartifact("gate", *paths, "--tol", "0.05", "--jobs", "1", "--profile", "default", columns=columns)
+    assert res.returncode == 1, res.stderr
+    assert "pdq: " in res.stdout
+    assert_whole(res.stdout, paths + list(long_files))
+
+
+@COLUMNS
 def test_advise_tables(long_files, columns):
     paths = [str(p) for p in long_files.values()]
     res = cadartifact("advise", *paths, "--tol", "0.05", "--no-verify", "--no-compare", columns=columns)

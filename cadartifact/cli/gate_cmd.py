@@ -23,6 +23,11 @@ def gate_cmd(
     policy: Optional[Path] = typer.Option(None, "--policy",
                                           help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
+    profile: Optional[str] = typer.Option(None, "--profile",
+                                          help="PDQ criteria beside the ripple (waviness, degree, control points, "
+                                               "indistinct knots, unused patches, area, width, curvature radius): "
+                                               "'default', a profile TOML file, or 'none' (policy: profile; "
+                                               "default none)."),
     fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
     report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
@@ -88,6 +93,16 @@ def gate_cmd(
         raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
     cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
                      "intent": intent, "convert": convert, "advise": advise, "undecided": undecided})
+    if profile is not None:
+        from ..gate.policy import PolicyError
+        from ..gate.profiles import resolve_profile
+
+        try:
+            cli["profile"] = resolve_profile(profile, Path.cwd(), "--profile")
+        except PolicyError as exc:
+            if exc.key != "profile":  # the profile file's own error names its file and key
+                raise
+            raise PolicyError("--profile", None, exc.problem) from None
     pol = load_policy(policy) if policy is not None else find_policy()
     files = expand_paths(paths)
     settings = [pol.settings_for(f, cli) for f in files]  # every usage error before any analysis

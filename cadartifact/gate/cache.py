@@ -65,8 +65,8 @@ def file_digest(path) -> str:
 
 #: Revision of the analysis a cached record came from: raised when the numbers a file gets change while the
 #: version does not (development builds), so an older build's records are not served.
-ANALYSIS_REVISION = 4  # 2: homogeneous rational faces, junctions, canonical faces (issue 10); 3: repeated faces;
-#                        4: the intent's uncertainty and the decision rule (issue 22)
+ANALYSIS_REVISION = 5  # 2: homogeneous rational faces, junctions, canonical faces (issue 10); 3: repeated faces;
+#                        4: the intent's uncertainty and the decision rule (issue 22); 5: PDQ criteria (issue 25)
 
 
 def cache_key(digest: str, settings, verify: bool) -> str:

@@ -16,6 +16,7 @@ table is passed over), or given with ``--policy FILE``::
     min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
     cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
     advise = "failing"            # density advice for faces that warn or fail; "all" or "none": --advise
+    profile = "none"              # PDQ criteria beside the ripple: "default" or a profile TOML: --profile
 
     [[override]]                  # applied in order to files matching glob; later ones win
     glob = "legacy/**"
@@ -52,7 +53,8 @@ from functools import cached_property
 from pathlib import Path
 
 from ..analysis.settings import METRICS, READINGS, RunSettings
-from ..errors import CadArtifactError, InputError, OptionError
+from ..errors import InputError, OptionError
+from .policy_error import PolicyError
 
 __all__ = [
     "CAD_SUFFIXES",
@@ -82,25 +84,13 @@ CHOICES = {"metric": METRICS, "measured": MEASURED, "undecided": UNDECIDED, "adv
 
 #: Keys of a policy's top level and of its ``[[override]]`` tables.
 TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "undecided",
-            "convert", "min_analysed_share", "cache", "advise", "override")
+            "convert", "min_analysed_share", "cache", "advise", "profile", "override")
 OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
-                 "undecided", "convert", "min_analysed_share", "advise", "ignore_faces")
+                 "undecided", "convert", "min_analysed_share", "advise", "profile", "ignore_faces")
 
 DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
             "scheme": None, "measured": "fail", "undecided": "warn", "convert": False, "min_analysed_share": 0.0, "advise": "failing",
-            "ignore_faces": ()}
-
-
-class PolicyError(CadArtifactError):
-    """A policy file (or a gate option) with an unknown key or a bad value; names the file and the key."""
-
-    def __init__(self, source: str, key: str | None, problem: str):
-        self.source, self.key, self.problem = source, key, problem
-        if key is None:
-            text = f"{source}: {problem}"
-        else:  # "key 'k' is unknown ..." reads as a sentence; "key 'k': expected ..." for a bad value
-            text = f"{source}: key {key!r}{' ' if problem.startswith('is ') else ': '}{problem}"
-        super().__init__(text)
+            "profile": None, "ignore_faces": ()}
 
 
 @dataclass(frozen=True)
@@ -132,6 +122,9 @@ class FileSettings:
         or fail, every face, or none; a face without advice has ``advice: null`` and a reason in
         ``advice_skipped``.
     ignore_faces : tuple of int
+    profile : Profile or None
+        The PDQ criteria's thresholds (:mod:`cadartifact.gate.profiles`); None: no criteria, the verdict is the
+        ripple's alone.
     """
 
     tolerance: float
@@ -146,6 +139,7 @@ class FileSettings:
     min_analysed_share: float = 0.0
     advise: str = "failing"
     ignore_faces: tuple = ()
+    profile: object = None
 
     @cached_property
     def run(self) -> RunSettings:
@@ -154,8 +148,11 @@ class FileSettings:
                            include_signal_error=self.include_signal_error)
 
     def to_dict(self) -> dict:
+        from .profiles import profile_dict
+
         d = asdict(self)
         d["ignore_faces"] = list(self.ignore_faces)
+        d["profile"] = profile_dict(self.profile)
         return d
 
 
@@ -204,6 +201,8 @@ class Policy:
                                                      "cadartifact.toml or [tool.cadartifact] in pyproject.toml "
                                                      "(none found from the working directory upward)")
         merged["ignore_faces"] = tuple(merged["ignore_faces"])
+        if merged["profile"] == "none":
+            merged["profile"] = None
         return FileSettings(**merged)
 
 
@@ -298,6 +297,8 @@ def parse_policy(table: dict, source: str, root: Path) -> Policy:
             if not isinstance(value, str) or not value:
                 raise PolicyError(source, key, f"expected a folder path, received {value!r}")
             cache = root / value
+        elif key == "profile":
+            values[key] = _profile(value, source, root, key)
         elif key == "override":
             if not isinstance(value, list) or not all(isinstance(t, dict) for t in value):
                 raise PolicyError(source, key, f"expected [[override]] tables, received {value!r}")
@@ -307,13 +308,26 @@ def parse_policy(table: dict, source: str, root: Path) -> Policy:
                 for k, v in tbl.items():
                     if k not in OVERRIDE_KEYS:
                         raise _unknown(source, f"{where}.{k}", OVERRIDE_KEYS)
-                    vals[k] = _check_value_named(source, where, k, v)
+                    vals[k] = _profile(v, source, root, f"{where}.{k}") if k == "profile" else \
+                        _check_value_named(source, where, k, v)
                 if "glob" not in vals:
                     raise PolicyError(source, f"{where}.glob", "is missing (each [[override]] needs a glob)")
                 overrides.append((vals.pop("glob"), vals))
         else:
             values[key] = _check_value(source, key, value)
     return Policy(source=source, root=root, values=values, overrides=tuple(overrides), cache=cache)
+
+
+def _profile(value, source: str, root: Path, key: str):
+    """A policy's ``profile`` value (a file relative to the policy's folder) resolved, errors naming the key."""
+    from .profiles import resolve_profile
+
+    try:
+        return resolve_profile(value, root, source)
+    except PolicyError as exc:
+        if exc.key != "profile":  # the profile file's own error: it names its file and key
+            raise
+        raise PolicyError(source, key, exc.problem) from None
 
 
 def _check_value_named(source: str, where: str, key: str, value):

@@ -17,6 +17,11 @@ What goes where:
   for OBJ and files without one), and the face (with its ``#id``) as a logical location; the
   properties carry the entity, its line and the peak's ``uv`` and ``xyz`` (``peak_at``);
   ``partialFingerprints`` keep alerts stable across runs.
+- PDQ criteria (``--profile``, :mod:`cadartifact.gate.profiles`): every report lists them per face with value,
+  threshold and the worst place (text: a ``pdq`` line per face and one per criterion that warns or fails;
+  JUnit: a ``pdq.<criterion>`` property each, a failing criterion is the testcase's ``<failure>`` when the
+  ripple passes; SARIF: one rule per criterion, CA101-CA109, a result per criterion that warns or fails, and a
+  CA110 note per face naming the criteria that could not be evaluated).
 """
 
 from __future__ import annotations
@@ -33,8 +38,8 @@ from ..errors import InputError
 from ..runs.face_instances import NOTE as REPEAT_NOTE
 from ..runs.records import plural, unit_name
 
-__all__ = ["FORMATS", "RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit", "to_sarif",
-           "write_atomic", "face_label"]
+__all__ = ["FORMATS", "RULES", "CRITERION_RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit",
+           "to_sarif", "write_atomic", "face_label", "criterion_text", "criteria_lines", "profile_line"]
 
 FORMATS = ("text", "json", "junit", "sarif")
 
@@ -54,7 +59,24 @@ RULES = (
      "A file has no B-spline face or quad chart to analyse"),
     ("CA005", "analysed-share-too-small", "error",
      "An OBJ cage's analysed charts cover less of its area than the policy's min_analysed_share"),
+    ("CA101", "pdq-wavy-surface", "warning", "G-SU-WV: too many inflections of the normal curvature along an "
+                                             "isoparametric line"),
+    ("CA102", "pdq-high-degree", "warning", "G-SU-HD: the face's polynomial degree is above the profile's limit"),
+    ("CA103", "pdq-control-points", "warning", "Too many control points in one direction"),
+    ("CA104", "pdq-control-points-total", "warning", "Too many control points in total"),
+    ("CA105", "pdq-indistinct-knots", "warning", "G-SU-IK: neighbouring knots closer than the profile's limit in "
+                                                 "parameter and in model units"),
+    ("CA106", "pdq-unused-patches", "warning", "Knot-span patches of the surface lie wholly outside the trimmed face"),
+    ("CA107", "pdq-tiny-face", "warning", "G-FA-TI: the face's area is below the profile's limit"),
+    ("CA108", "pdq-narrow-face", "warning", "The face is narrower than the profile's limit"),
+    ("CA109", "pdq-tiny-curvature-radius", "warning", "The face's smallest principal curvature radius is below the "
+                                                      "profile's limit"),
+    ("CA110", "pdq-not-evaluated", "note", "A PDQ criterion could not be evaluated on a face (the reason is given)"),
 )
+
+#: SARIF rule of each PDQ criterion (:data:`cadartifact.analysis.quality.CRITERIA`, in order).
+CRITERION_RULES = {"waviness": "CA101", "degree": "CA102", "points": "CA103", "points_total": "CA104",
+                   "knots": "CA105", "unused": "CA106", "area": "CA107", "width": "CA108", "radius": "CA109"}
 
 _COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red"}
 _DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total")
@@ -96,6 +118,71 @@ def where_text(face: dict, units: str) -> str:
         at = f"uv ({', '.join(_num(t) for t in peak['uv'])}), " if peak.get("uv") else ""
         parts.append(f"peak at {at}xyz ({', '.join(_num(c) for c in peak['xyz'])}) {units}")
     return "; ".join(parts)
+
+
+def _at_text(at: dict | None, units: str) -> str:
+    if not at:
+        return ""
+    xyz = f", xyz ({', '.join(_num(c) for c in at['xyz'])}) {units}" if at.get("xyz") else ""
+    return f" at uv ({', '.join(_num(t) for t in at['uv'])}){xyz}"
+
+
+def criterion_text(c: dict, units: str, where: bool = True) -> str:
+    """``"waviness 5 inflections (fail: warn > 1, fail > 3) at uv (0.2, 0.5), xyz (1, 2, 3) mm"``, or
+    ``"knots not evaluated (a subdivision cage has no knots ...)"``."""
+    if not c["evaluated"]:
+        return f"{c['criterion']} not evaluated ({c['reason']})"
+    th = c["threshold"] or {}
+    sign = ">" if th.get("sense") == "above" else "<"
+    limits = ", ".join(f"{k} {sign} {th[k]:g}" for k in ("warn", "fail") if th.get(k) is not None) or "no threshold"
+    value = "n/a" if c["value"] is None else f"{c['value']:.4g}"
+    return (f"{c['criterion']} {value} {c['unit']} ({c['verdict']}: {limits})"
+            + (_at_text(c.get("at"), units) if where else ""))
+
+
+def criteria_summary(face: dict) -> str:
+    """One line with every criterion's value of a face: ``waviness 2 W, degree 3, ..., knots n/e``."""
+    mark = {"warn": " W", "fail": " F", "pass": ""}
+    return ", ".join(f"{c['criterion']} " + ("n/e" if not c["evaluated"] else
+                                             f"{'n/a' if c['value'] is None else format(c['value'], '.4g')}"
+                                             f"{mark[c['verdict']]}") for c in face["criteria"])
+
+
+def criteria_lines(entry: dict, units: str) -> list[str]:
+    """The text report's PDQ lines of one file: per face its criteria, then each criterion that warns or fails
+    with threshold and place, then what could not be evaluated and why (never silent)."""
+    lines = []
+    for f in entry["faces"]:
+        if not f.get("criteria"):
+            continue
+        label = face_label(entry["path"], f)
+        lines.append(f"pdq: {label}: {criteria_summary(f)}")
+        for c in f["criteria"]:
+            if c["evaluated"] and c["verdict"] in ("warn", "fail"):
+                lines.append(f"pdq {c['verdict']}: {label}: {c['code']}: {criterion_text(c, units)}")
+        missing = [c for c in f["criteria"] if not c["evaluated"]]
+        for reason in dict.fromkeys(c["reason"] for c in missing):
+            names = ", ".join(c["criterion"] for c in missing if c["reason"] == reason)
+            lines.append(f"pdq not evaluated: {label}: {names}: {reason}")
+    return lines
+
+
+def profile_line(doc: dict) -> str | None:
+    """``"PDQ profile default: waviness warn > 1, fail > 3; ..."`` (None without a profile)."""
+    prof = doc.get("profile")
+    if not prof:
+        return None
+    parts = []
+    for key in CRITERION_RULES:
+        th = prof.get(key)
+        if th is None:
+            parts.append(f"{key} off")
+            continue
+        sign = ">" if th["sense"] == "above" else "<"
+        parts.append(f"{key} " + (", ".join(f"{k} {sign} {th[k]:g}" for k in ("warn", "fail") if th[k] is not None)
+                                  or "no threshold"))
+    src = f" ({prof['source']})" if prof.get("source") else ""
+    return f"PDQ profile {prof['name']}{src}: " + "; ".join(parts)
 
 
 def face_numbers(doc: dict, entry: dict, face: dict) -> str:
@@ -198,6 +285,8 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
                 console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
                               + (f"; {where}" if where else ""), soft_wrap=True, markup=False, highlight=False)
+        for line in criteria_lines(entry, units):
+            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         repeats = 0
         for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
             for note in f.get("notes") or []:
@@ -215,6 +304,9 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
                           highlight=False)
         for note in entry["notes"] + entry["warnings"]:
             console.print(f"  note: {note}", soft_wrap=True, markup=False, highlight=False)
+    prof = profile_line(doc)
+    if prof:
+        console.print(prof, soft_wrap=True, markup=False, highlight=False)
     console.print(summary_line(doc))
 
 
@@ -228,6 +320,10 @@ def summary_line(doc: dict) -> str:
     if s.get("undecided"):
         text += f" ({s['undecided']} undecided: value +/- U straddles the tolerance, policy undecided = " \
                 f"{doc.get('undecided', 'warn')!r})"
+    crit = {k: n for k, n in (s.get("criteria") or {}).items() if n["warn"] or n["fail"]}
+    if crit:
+        text += "; PDQ: " + ", ".join(f"{k} " + " ".join(f"{n[v]} {v}" for v in ("fail", "warn") if n[v])
+                                      for k, n in crit.items())
     if s["errors"]:
         text += f"; {s['errors']} file(s) could not be read or analysed"
     return text + f" (exit {doc['exit_code']})"
@@ -306,11 +402,18 @@ def to_junit(doc: dict) -> str:
                 if peak.get("uv"):
                     ET.SubElement(props, "property", name="peak_uv", value=" ".join(f"{t:.9g}" for t in peak["uv"]))
                 ET.SubElement(props, "property", name="peak_xyz", value=" ".join(f"{c:.9g}" for c in peak["xyz"]))
+            for c in f.get("criteria") or []:
+                ET.SubElement(props, "property", name=f"pdq.{c['criterion']}",
+                              value=criterion_text(c, file_units(doc, entry)))
             counts["tests"] += 1
             numbers = face_numbers(doc, entry, f)
             if f["verdict"] == "fail":
-                fail = ET.SubElement(case, "failure", message=f["verdict_reason"],
-                                     type="CA001 ripple-exceeds-tolerance")
+                kind = "CA001 ripple-exceeds-tolerance"
+                if f.get("ripple_verdict", "fail") != "fail":  # a PDQ criterion fails the face
+                    c = next(c for c in f["criteria"] if c["verdict"] == "fail")
+                    rid = CRITERION_RULES[c["criterion"]]
+                    kind = f"{rid} {next(r[1] for r in RULES if r[0] == rid)}"
+                fail = ET.SubElement(case, "failure", message=f["verdict_reason"], type=kind)
                 fail.text = numbers
                 counts["failures"] += 1
             elif f["verdict"] == "warn":
@@ -376,9 +479,11 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
             add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
                 {"verdict": entry["verdict"]})
         for f in entry["faces"]:
-            if f["verdict"] == "pass":
+            _criteria_results(add, f, path, file_units(doc, entry))
+            ripple = f.get("ripple_verdict", f["verdict"])
+            if ripple == "pass":
                 continue
-            rule_id, level = ("CA001", "error") if f["verdict"] == "fail" else ("CA002", "warning")
+            rule_id, level = ("CA001", "error") if ripple == "fail" else ("CA002", "warning")
             props = {"verdict": f["verdict"], "face": f["face"], "value": f["value"],
                      "tolerance": entry["policy"]["tolerance"], "metric": entry["policy"]["metric"],
                      "peaks": {k: f["budget"][k]["peak"] for k in _DIRECTIONS}, "net": f["net"],
@@ -398,6 +503,23 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
         }],
     }
     return json.dumps(log, indent=2, allow_nan=False) + "\n"
+
+
+def _criteria_results(add, f: dict, path: str, units: str) -> None:
+    """SARIF results of a face's PDQ criteria: one per criterion that warns or fails, one note for those not
+    evaluated."""
+    crit = f.get("criteria") or []
+    for c in crit:
+        if c["evaluated"] and c["verdict"] in ("warn", "fail"):
+            add(CRITERION_RULES[c["criterion"]], "error" if c["verdict"] == "fail" else "warning",
+                f"{face_label(path, f)}: {c['code']}: {criterion_text(c, units)}", path, f,
+                {"verdict": c["verdict"], "face": f["face"], "criterion": c["criterion"], "code": c["code"],
+                 "value": c["value"], "unit": c["unit"], "threshold": c["threshold"], "at": c.get("at"),
+                 "detail": c["detail"], "entity": None if f.get("entity") is None else f"#{f['entity']}"})
+    missing = [c for c in crit if not c["evaluated"]]
+    if missing:
+        add("CA110", "note", f"{face_label(path, f)}: " + "; ".join(criterion_text(c, units) for c in missing),
+            path, f, {"face": f["face"], "criteria": {c["criterion"]: c["reason"] for c in missing}})
 
 
 # ---------------------------------------------------------------- files

@@ -31,7 +31,7 @@ from .policy import FileSettings, Policy
 __all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
            "merge_parts", "run_gate"]
 
-GATE_SCHEMA = "cadartifact.gate/2"
+GATE_SCHEMA = "cadartifact.gate/3"  # 3: PDQ criteria (issue 25): "profile", per face "criteria", "ripple_verdict"
 
 def file_verdict(entry: dict) -> str:
     """The worst face verdict; ``error`` for an entry with an error; ``pass`` without faces."""
@@ -362,9 +362,12 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     Returns
     -------
     dict
-        ``{"schema": "cadartifact.advise/2", "gate": "cadartifact.gate/2", "tolerance", "units",
-        "metric", "include_signal_error", "warn_fraction", "measured", "undecided", "policy": source | None,
+        ``{"schema": "cadartifact.advise/2", "gate": "cadartifact.gate/3", "tolerance", "units",
+        "metric", "include_signal_error", "warn_fraction", "measured", "undecided",
+        "profile": the PDQ profile's thresholds (:func:`cadartifact.gate.profiles.profile_dict`) | None,
+        "policy": source | None,
         "files": [...], "summary": {..., "undecided": faces the decision rule left undecided,
+        "criteria": {criterion: {"warn", "fail", "not_evaluated"}: faces} (only with a profile),
         "verdicts": {"files": {...}, "faces": {...}}},
         "verdict", "exit_code"}``
     """
@@ -382,6 +385,17 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
                     "undecided" if f.get("decision") == "undecided" else "exceeding"] += 1
             # a face without advice (skipped by --advise) is not counted as out of reach
             summary["unreachable"] += 0 if (f["advice"] or {}).get("meets_tolerance", True) else 1
+    if base.get("profile") not in (None, "none"):  # the PDQ criteria's counts (only with a profile)
+        crit: dict = {}
+        for e in entries:
+            for f in e["faces"]:
+                for c in f.get("criteria") or []:
+                    n = crit.setdefault(c["criterion"], {"warn": 0, "fail": 0, "not_evaluated": 0})
+                    if not c["evaluated"]:
+                        n["not_evaluated"] += 1
+                    elif c["verdict"] in ("warn", "fail"):
+                        n[c["verdict"]] += 1
+        summary["criteria"] = crit
     summary["errors"] = file_counts["error"]
     summary["verdicts"] = {"files": file_counts, "faces": face_counts}
     verdict = worst_verdict(e["verdict"] for e in entries)
@@ -391,9 +405,13 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     tolerance = base["tolerance"]
     if tolerance is None:
         tolerance = next((e["policy"]["tolerance"] for e in entries if e.get("policy")), None)
+    from .profiles import profile_dict
+
+    profile = base.get("profile")
     return {"schema": SCHEMA, "gate": GATE_SCHEMA, "tolerance": tolerance, "units": units,
             "metric": base["metric"], "include_signal_error": base["include_signal_error"],
             "intent": base.get("intent", "surface"), "warn_fraction": base["warn_fraction"], "measured": base["measured"],
             "undecided": base.get("undecided", "warn"), "scheme": base["scheme"],
+            "profile": profile_dict(None if profile == "none" else profile),
             "policy": policy.source[len("policy "):] if policy.source else None,
             "files": entries, "summary": summary, "verdict": verdict, "exit_code": exit_code}

@@ -21,7 +21,7 @@ if TYPE_CHECKING:  # the data model sits above this wing: a type only, never imp
     from ..net import ControlNet
 
 
-__all__ = ["basis_matrix", "evaluate", "index_to_param", "param_range", "periodic_greville"]
+__all__ = ["basis_derivatives", "basis_matrix", "evaluate", "index_to_param", "param_range", "periodic_greville"]
 
 
 def param_range(knots: np.ndarray, degree: int) -> tuple[float, float]:
@@ -98,6 +98,99 @@ def basis_matrix(knots: np.ndarray, degree: int, x: np.ndarray, n: int | None = 
         raise OptionError("n", f"{nb} poles for {len(t)} knots of degree {p}", n)
     np.add.at(B, (rows, cols), N.ravel())
     return B
+
+
+def basis_derivatives(knots: np.ndarray, degree: int, x: np.ndarray, n: int | None = None, periodic: bool = False,
+                      order: int = 2) -> np.ndarray:
+    """B-spline basis functions and their derivatives up to ``order`` at parameters ``x``.
+
+    Parameters
+    ----------
+    knots, degree, x, n, periodic
+        As :func:`basis_matrix`.
+    order : int
+        Highest derivative wanted (derivatives above the degree are 0).
+
+    Returns
+    -------
+    D : (order + 1, k, n) float
+        ``D[d, a, i] = d^d N_{i,p}(x_a) / dx^d``; at a knot, the derivative of the span on its right (the last
+        span's at the range's end). ``D[0]`` equals :func:`basis_matrix`.
+
+    Notes
+    -----
+    The NURBS Book's algorithm A2.3 (``DersBasisFuns``), vectorised over ``x``: the triangular table of the
+    basis functions and knot differences, then ``N^(k)_{r,p} = p!/(p-k)! sum_j a_{k,j} N_{r+j,p-k}`` with the
+    coefficients ``a`` of eq. 2.10 built by recurrence.
+    """
+    t = np.asarray(knots, dtype=float)
+    p = int(degree)
+    x = np.asarray(x, dtype=float).ravel()
+    lo, hi = param_range(t, p)
+    if periodic:
+        x = lo + np.mod(x - lo, hi - lo)
+        x = np.where(np.isclose(x, hi, rtol=0, atol=1e-14 * max(1.0, abs(hi))), lo, x)
+    else:
+        x = np.clip(x, lo, hi)
+    nb = len(t) - p - 1
+    s = np.clip(np.searchsorted(t, x, side="right") - 1, p, nb - 1)
+    k = len(x)
+    ndu = np.zeros((k, p + 1, p + 1))
+    ndu[:, 0, 0] = 1.0
+    left, right = np.zeros((k, p + 1)), np.zeros((k, p + 1))
+
+    def div(a, b):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(b != 0, a / np.where(b != 0, b, 1.0), 0.0)
+
+    for j in range(1, p + 1):
+        left[:, j] = x - t[s + 1 - j]
+        right[:, j] = t[s + j] - x
+        saved = np.zeros(k)
+        for r in range(j):
+            ndu[:, j, r] = right[:, r + 1] + left[:, j - r]  # knot differences (lower triangle)
+            temp = div(ndu[:, r, j - 1], ndu[:, j, r])
+            ndu[:, r, j] = saved + right[:, r + 1] * temp
+            saved = left[:, j - r] * temp
+        ndu[:, j, j] = saved
+    ders = np.zeros((order + 1, k, p + 1))
+    ders[0] = ndu[:, :, p]
+    for r in range(p + 1):
+        a = np.zeros((2, k, p + 1))
+        a[0, :, 0] = 1.0
+        s1, s2 = 0, 1
+        for kk in range(1, min(order, p) + 1):
+            d = np.zeros(k)
+            rk, pk = r - kk, p - kk
+            if r >= kk:
+                a[s2, :, 0] = div(a[s1, :, 0], ndu[:, pk + 1, rk])
+                d = a[s2, :, 0] * ndu[:, rk, pk]
+            j1 = 1 if rk >= -1 else -rk
+            j2 = kk - 1 if r - 1 <= pk else p - r
+            for j in range(j1, j2 + 1):
+                a[s2, :, j] = div(a[s1, :, j] - a[s1, :, j - 1], ndu[:, pk + 1, rk + j])
+                d = d + a[s2, :, j] * ndu[:, rk + j, pk]
+            if r <= pk:
+                a[s2, :, kk] = div(-a[s1, :, kk - 1], ndu[:, pk + 1, r])
+                d = d + a[s2, :, kk] * ndu[:, r, pk]
+            ders[kk, :, r] = d
+            s1, s2 = s2, s1
+    factor = p
+    for kk in range(1, min(order, p) + 1):
+        ders[kk] *= factor
+        factor *= p - kk
+    if n is None:
+        n = nb - p if periodic else nb
+    elif not periodic and nb != n:
+        raise OptionError("n", f"{nb} poles for {len(t)} knots of degree {p}", n)
+    out = np.zeros((order + 1, k, n))
+    rows = np.repeat(np.arange(k), p + 1)
+    cols = (s[:, None] - p + np.arange(p + 1)[None, :]).ravel()
+    if periodic:
+        cols = np.mod(cols, n)
+    for d in range(order + 1):
+        np.add.at(out[d], (rows, cols), ders[d].ravel())
+    return out
 
 
 def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray | None = None,

@@ -245,6 +245,11 @@ def instance_record(record: dict, face, net, motion: Motion) -> dict:
     rec["notes"] = list(rec.get("notes") or []) + [
         f"{NOTE}{face.origin.face}, moved rigidly (within {max(motion.residual, 1e-16):.0e} of "
         "its size): its analysis is reused"]
+    for c in rec.get("criteria") or []:  # the PDQ criteria's worst places move with the face
+        if c.get("at") is not None:
+            c["at"]["uv"] = [round(t + s, 9) for t, s in zip(c["at"]["uv"], motion.shift)]
+            if c["at"].get("xyz") is not None and all(x is not None for x in c["at"]["xyz"]):
+                c["at"]["xyz"] = [json_number(x) for x in motion.apply(c["at"]["xyz"])]
     peak = rec.get("peak_at")
     if peak is not None:
         if peak.get("uv") is not None:

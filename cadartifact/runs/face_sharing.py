@@ -366,7 +366,7 @@ def _budgeted(net, settings, verify: bool):
 
 def _beyond(rec: dict) -> bool:
     """Whether a face's record is beyond the tolerance or warns: its peak is located."""
-    return rec["meets_tolerance"] is False or rec.get("verdict") in ("warn", "fail")
+    return rec["meets_tolerance"] is False or rec.get("ripple_verdict", rec.get("verdict")) in ("warn", "fail")
 
 
 def _located(outcome, located: bool, current, net, key: str):

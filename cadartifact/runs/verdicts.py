@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ..errors import CadArtifactError
 
-__all__ = ["VERDICTS", "worst_verdict", "face_verdict", "advice_wanted", "face_entry"]
+__all__ = ["VERDICTS", "worst_verdict", "face_verdict", "advice_wanted", "face_entry", "add_criteria"]
 
 #: Verdicts from best to worst.
 VERDICTS = ("pass", "warn", "fail", "error")
@@ -117,4 +117,47 @@ def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
         rec = finite(face_record(net, adv))
         verdict, reason, value = face_verdict(rec, settings)
     rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
+    add_criteria(rec, net, settings)
     return rec, (current if reading == "surface" else None)
+
+
+def add_criteria(rec: dict, net, settings) -> dict:
+    """Add the PDQ criteria of ``settings.profile`` to a face's gate record (:mod:`cadartifact.analysis.quality`).
+
+    ``ripple_verdict`` keeps the ripple's verdict; ``criteria`` is the list of criteria (None without a
+    profile); ``verdict`` becomes the worst of the ripple's and the evaluated criteria's, and when a criterion
+    makes it worse the reason says which (``; PDQ criteria: fail on waviness 5 > 3 inflections``).
+    """
+    from ..analysis.quality import CRITERIA, criteria
+    from .records import unit_name
+
+    rec["ripple_verdict"] = rec["verdict"]
+    profile = getattr(settings, "profile", None)
+    if profile is None:
+        rec["criteria"] = None
+    else:
+        try:
+            rec["criteria"] = [c.to_dict() for c in criteria(net, profile)]
+        except Exception as exc:  # noqa: BLE001 - never silent: every criterion says it was not evaluated
+            from ..analysis.quality import Criterion
+            from ..errors import one_line
+
+            why = one_line(f"the criteria could not be computed ({type(exc).__name__}: {exc})")
+            rec["criteria"] = [Criterion(k, False, limit=profile.limit(k), reason=why).to_dict() for k in CRITERIA]
+    if not rec["criteria"]:
+        return rec
+    for c in rec["criteria"]:  # the face's own unit
+        c["unit"] = c["unit"].replace("model units", unit_name(rec.get("units")))
+    worst = worst_verdict(c["verdict"] for c in rec["criteria"] if c["verdict"])
+    if VERDICTS.index(worst) > VERDICTS.index(rec["verdict"]):
+        found = []
+        for c in rec["criteria"]:
+            if c["verdict"] in ("warn", "fail"):
+                sense = ">" if CRITERIA[c["criterion"]][3] == "above" else "<"
+                found.append(f"{c['verdict']} on {c['criterion']} {c['value']:.4g} {sense} "
+                             f"{c['threshold'][c['verdict']]:g} {c['unit']}")
+        rec["verdict"] = worst
+        rec["verdict_reason"] += "; PDQ criteria: " + ", ".join(found)
+        if rec.get("advice_skipped") == "face passes (--advise failing)":
+            rec["advice_skipped"] = "the ripple passes: the face warns or fails on PDQ criteria only (--advise failing)"
+    return rec

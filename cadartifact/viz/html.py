@@ -320,6 +320,32 @@ def _advice_details(faces: list, doc: dict, unit: str) -> str:
     return f'<details class="small"><summary>Advice details</summary><ul>{"".join(rows)}</ul></details>'
 
 
+def _criteria_table(entry: dict, unit: str) -> str:
+    """The PDQ criteria of a gate run with a profile: a row per face and criterion (value, verdict, thresholds,
+    worst place, detail or why it was not evaluated); empty without criteria."""
+    from ..gate.reports import criterion_text
+
+    rows = []
+    for f in entry.get("faces") or []:
+        for c in f.get("criteria") or []:
+            at = c.get("at") or {}
+            where = "" if not at else ("uv (" + ", ".join(_num(t, 6) for t in at.get("uv") or []) + ")"
+                                       + (" xyz (" + ", ".join(_num(x, 6) for x in at["xyz"]) + ")"
+                                          if at.get("xyz") else ""))
+            cls = c["verdict"] if c["evaluated"] else "warn"
+            text = c["verdict"] if c["evaluated"] else "not evaluated"
+            rows.append(f"<tr><td>{_e(f.get('face'))}</td><td>{_e(c['criterion'])} ({_e(c['code'])})</td>"
+                        f"<td>{_e(criterion_text(c, unit, where=False))}</td>"
+                        f'<td><span class="badge b-{_e(cls)}">{_e(text)}</span></td><td>{_e(where)}</td>'
+                        f"<td>{_e(c['detail'] or c['reason'] or '')}</td></tr>")
+    if not rows:
+        return ""
+    return ('<details class="pdq"><summary>PDQ criteria (value, thresholds, worst place)</summary>'
+            '<div class="scroll"><table><thead><tr><th>face</th><th>criterion</th><th>value and thresholds</th>'
+            "<th>verdict</th><th>where</th><th>detail</th></tr></thead><tbody>" + "".join(rows)
+            + "</tbody></table></div></details>")
+
+
 def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     """The report page as a string (see :func:`write_report`)."""
     if not isinstance(doc, dict) or not isinstance(doc.get("files"), list):
@@ -403,6 +429,7 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
             parts.append('<div class="small">Bars: share of the tolerance per direction (full at 100 %, red '
                          f"beyond); below: the {_e(metric)} in {_e(unit)}.</div>")
             parts.append(_advice_details(entry["faces"], doc, unit))
+            parts.append(_criteria_table(entry, unit))
             if heatmaps and ftol:
                 if pictures < HEATMAP_FILES:
                     parts.append(_heatmap(entry, doc, float(ftol), unit))
