@@ -303,6 +303,36 @@ def test_min_radius_of_exact_cylinders(radius):
     assert np.linalg.norm(np.asarray(crit.xyz)[:2]) == pytest.approx(radius, rel=1e-9)
 
 
+@pytest.mark.parametrize("radius", [0.3, 1.0, 5.0, 120.0])
+@pytest.mark.parametrize("sweep", [0.5, 1.0])
+def test_min_radius_of_exact_spheres_with_a_pole(radius, sweep):
+    """A sphere patch whose v = 0 edge collapses into the pole (a rational biquadratic: quarter arcs swept
+    about the z axis by ``sweep`` of a quarter turn): every principal radius is ``radius``. At the pole one
+    derivative is zero up to rounding and the fundamental forms there are noise: those samples have no
+    normal, and the radius is the sphere's, not 0."""
+    w = math.sqrt(0.5)
+    meridian = np.array([[0, 0, radius], [radius, 0, radius], [radius, 0, 0]])  # pole to equator, in xz
+    weights_m = np.array([1.0, w, 1.0])
+    angle = sweep * math.pi / 2
+    half = angle / 2
+    # one rational quadratic arc about z of opening `angle`: middle weight cos(half), middle point at 1/cos(half)
+    rot = [np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]]) for a in (0, half, angle)]
+    pts = np.empty((3, 3, 3))
+    wts = np.empty((3, 3))
+    for j, (R, wj, stretch) in enumerate(zip(rot, (1.0, math.cos(half), 1.0), (1.0, 1 / math.cos(half), 1.0))):
+        for i in range(3):
+            p = meridian[i].copy()
+            p[:2] *= stretch
+            pts[i, j] = R @ p
+            wts[i, j] = weights_m[i] * wj
+    knots = np.array([0, 0, 0, 1, 1, 1.0])
+    net = ControlNet(points=pts, weights=wts, degrees=(2, 2), knots=(knots, knots))
+    crit = by_key(net)["radius"]
+    assert crit.value == pytest.approx(radius, rel=1e-6)
+    assert crit.verdict == ("fail" if radius < 0.5 else "pass")
+    assert "normal undefined" in crit.detail  # the pole's samples are named, not used
+
+
 # ---------------------------------------------------------------- what cannot be evaluated
 def test_cage_and_degenerate_faces_say_why_nothing_is_silent():
     i, j = np.meshgrid(np.arange(5), np.arange(4), indexing="ij")

@@ -309,7 +309,8 @@ def curvatures(fs: FaceSamples) -> dict:
     Returns
     -------
     dict
-        ``"valid"`` (a, b) bool (the normal is defined: ``|S_u x S_v| > 1e-10 |S_u| |S_v|`` and both non-zero),
+        ``"valid"`` (a, b) bool (the normal is defined: ``|S_u x S_v| > 1e-10 |S_u| |S_v|`` and neither
+        derivative below 1e-6 of its median over the face: a collapsed edge, such as a sphere's pole),
         ``"kmax"`` (a, b): ``max |k_i| = |H| + sqrt(max(H^2 - K, 0))``, ``"ku"``, ``"kv"`` (a, b): the normal
         curvature along the u and v lines, ``L / E`` and ``N / G``; NaN where not valid.
 
@@ -322,7 +323,11 @@ def curvatures(fs: FaceSamples) -> dict:
     cross = np.cross(fs.Su, fs.Sv)
     norm = np.linalg.norm(cross, axis=-1)
     lu, lv = np.linalg.norm(fs.Su, axis=-1), np.linalg.norm(fs.Sv, axis=-1)
-    valid = (lu > 0) & (lv > 0) & (norm > 1e-10 * lu * lv)
+    # a collapsed edge (a sphere's pole) has one derivative zero up to rounding, and the fundamental forms
+    # there are rounding noise: a derivative below 1e-6 of the face's typical one counts as zero
+    typical_u = float(np.median(lu)) if lu.size else 0.0
+    typical_v = float(np.median(lv)) if lv.size else 0.0
+    valid = (lu > 1e-6 * typical_u) & (lv > 1e-6 * typical_v) & (lu > 0) & (lv > 0) & (norm > 1e-10 * lu * lv)
     with np.errstate(divide="ignore", invalid="ignore"):
         n = cross / norm[..., None]
         E, F, G = lu ** 2, np.einsum("abk,abk->ab", fs.Su, fs.Sv), lv ** 2
