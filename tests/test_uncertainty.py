@@ -106,15 +106,77 @@ def test_an_honest_no_when_U_alone_reaches_the_tolerance():
     assert a.shape == net.shape  # no number advised
 
 
+def _direct_U(it) -> tuple[float, float, float]:
+    """U of a ``net`` intent by the definition, the slow way: each alternate's operators built by
+    :class:`AxisIntent` itself (the Gram matrix as a product over the points outside the net, the
+    pseudo-inverse by SVD), each alternate surface evaluated whole on the grid and projected, the spread per
+    direction and ``k max sqrt(D_u^2 + D_v^2)``."""
+    import dataclasses
+
+    from cadartifact.analysis.intent import AxisIntent, from_homogeneous
+    from cadartifact.analysis.uncertainty import ALTERNATES, GRID_PER_SPAN
+    from cadartifact.numerics.tensor import sandwich
+
+    P = it.lifted_points
+    grids = [np.arange(GRID_PER_SPAN * f.spans + (0 if f.periodic else 1)) / GRID_PER_SPAN for f in it.frames]
+    rows = [ax.full_at(g) for ax, g in zip(it.axes, grids)]
+    base = from_homogeneous(sandwich(rows[0], P, rows[1]))
+    D = []
+    for axis, (frame, ax) in enumerate(zip(it.frames, it.axes)):
+        Dd = np.zeros(base.shape[:2])
+        if not (frame.periodic or frame.exact):
+            for _name, fmax, ridge, ddeg, ext in ALTERNATES:
+                deg = ax.degree + ddeg
+                if deg < min(1, ax.degree) or deg > frame.n - 1:
+                    continue
+                f = frame if ext is None else dataclasses.replace(frame, extension=ext)
+                alt = list(rows)
+                alt[axis] = AxisIntent(f, deg, fmax, ridge).full_at(grids[axis])
+                diff = from_homogeneous(sandwich(alt[0], P, alt[1])) - base
+                Dd = np.maximum(Dd, np.linalg.norm(diff, axis=-1))
+        D.append(Dd)
+    k = COVERAGE_FACTOR
+    return k * float(np.sqrt(D[0] ** 2 + D[1] ** 2).max()), k * float(D[0].max()), k * float(D[1].max())
+
+
+def test_U_equals_its_definition_computed_the_slow_way():
+    """The fast construction of U (Gram matrices in closed form, the symmetric pseudo-inverse by eigenvalues,
+    products contracted in the cheaper order) against the definition computed directly (module docstring's
+    formula; every alternate built and evaluated whole): 40 seeded known-shape faces, a third of them
+    rational, degrees 1-5, nets 6-40, amplitude 1. The alternates are ill-conditioned least-norm interpolants
+    (condition about 1e14 on 40-point nets, pseudo-inverses cut at 1e-13), so the roads agree to their noise,
+    not to rounding: within 0.3 % of U plus 2e-4 of the shape's amplitude, for U and each direction's share
+    (measured on 80 such faces: U within 0.22 % (median 1e-7), the shares within 1.6e-4 of the amplitude)."""
+    rng = np.random.default_rng(22)
+    for net, _truth, info in calibration_family(2030, 40):
+        if rng.random() < 1 / 3:
+            i, j = np.meshgrid(np.arange(net.shape[0]), np.arange(net.shape[1]), indexing="ij")
+            net = net.replace(weights=np.exp(0.3 * np.cos(2 * np.pi * (rng.uniform(0.02, 0.15) * i
+                                                                      + rng.uniform(0.02, 0.15) * j))))
+        it = design_intent(net, bspline(*net.degrees), 3)
+        got = intent_uncertainty(it, bspline(*net.degrees))
+        want = _direct_U(it)
+        for a, b in zip((got.peak, got.u, got.v), want):
+            assert abs(a - b) <= 3e-3 * want[0] + 2e-4, (info["text"], (got.peak, got.u, got.v), want)
+
+
 #: The calibration's check grid: K = 4 per span (``levels=2``; the default is 8). A coarser check grid reads
-#: a candidate's peak less exactly, so its claims are the riskier ones; it keeps 600 advice runs affordable.
+#: a candidate's peak less exactly, so its claims are the riskier ones; it keeps the advice runs affordable.
 LEVELS = 2
 
-#: The 500 cases run as five seeded chunks (xdist spreads them over the cores); each asserts on its own.
-CHUNKS = 5
+#: The default run's share of the campaign: the first ``SUBSET`` cases of each of ``CHUNKS`` seeds (the same cases
+#: the full campaign starts with: ``calibration_family`` draws them in order). About 1.2 s per case on a loaded
+#: 2-core machine: the default run stays near a minute per worker. The full campaign (5 seeds x 100 cases and the
+#: "not refused" family of 100) is ``python benchmarks/calibrate_uncertainty.py`` (docs/uncertainty.md).
+CHUNKS, SUBSET = 2, 40
+
+#: The "not refused" family's default share (the full campaign: 100 cases, 35 of them eligible).
+NOT_REFUSED_CASES = 60
 
 
 def _calibration(seed, count, **family):
+    """One row per case of ``calibration_family(seed, count, **family)``: the advice at ``LEVELS`` and what the
+    known shape says of it (scipy's basis on a 161 x 157 grid of the whole face)."""
     rows = []
     u, v = np.linspace(0, 1, 161), np.linspace(0, 1, 157)
     for net, truth, info in calibration_family(seed, count, **family):
@@ -143,27 +205,39 @@ def _summary(rows) -> str:
             f"{max((r['true'] / r['t'] for r in claims), default=0):.3f}")
 
 
+def false_claims(rows) -> list:
+    """The cases claimed within tolerance whose advised net is more than 1.1 t from the known shape."""
+    return [r["info"]["text"] + f" true/t={r['true'] / r['t']:.3f}" for r in rows
+            if r["claim"] and r["true"] > 1.1 * r["t"]]
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("chunk", range(CHUNKS))
 def test_calibration_on_known_shape_families(chunk):
-    """Issue 22, item 3 (500 seeded cases in five chunks of 100): no false claim (true whole-face distance of the
-    advised net > 1.1 t while conformance is claimed), and U covers the intent's true whole-face error in at
-    least 95 % of the cases (of each chunk, so of the whole)."""
-    rows = _calibration(SEED + chunk, CASES // CHUNKS)
+    """Issue 22, item 3, the default run's share (the first 40 cases of seeds 2022 and 2023; the full campaign of
+    500 is benchmarks/calibrate_uncertainty.py): no false claim (true whole-face distance of the advised net > 1.1 t
+    while conformance is claimed), and U covers the intent's true whole-face error in at least 95 % of the cases
+    (of each chunk)."""
+    rows = _calibration(SEED + chunk, SUBSET)
     print("\n" + _summary(rows))
-    false = [r["info"]["text"] + f" true/t={r['true'] / r['t']:.3f}" for r in rows if r["claim"] and r["true"] > 1.1 * r["t"]]
-    assert not false, false
+    assert not false_claims(rows), false_claims(rows)
     assert np.mean([r["intent_error"] <= r["U"] + 1e-9 for r in rows]) >= 0.95
+
+
+def not_refused(rows) -> tuple[list, float]:
+    """The eligible rows (an independent fit at the advised density meets t/2) and the share claimed among them."""
+    eligible = [r for r in rows if r["eligible"]]
+    return eligible, float(np.mean([r["claim"] for r in eligible])) if eligible else 0.0
 
 
 @pytest.mark.slow
 def test_claims_are_not_refused_where_the_net_supports_them():
     """Issue 22, item 3: on nets of 16 points or more, content up to 0.3 cycles per point and tolerances of at
     least 2 % of the amplitude, wherever an independent least-squares fit of the true shape meets t/2 at the
-    advised density, conformance is claimed in at least 80 % of the cases (100 seeded cases of that kind)."""
-    rows = _calibration(SEED + 100, 100, nmin=16, fmax=0.3, tol_range=(0.02, 0.1))
-    eligible = [r for r in rows if r["eligible"]]
-    claimed = np.mean([r["claim"] for r in eligible])
+    advised density, conformance is claimed in at least 80 % of the cases (the first 60 seeded cases of that kind;
+    the full campaign's 100: benchmarks/calibrate_uncertainty.py)."""
+    rows = _calibration(SEED + 100, NOT_REFUSED_CASES, nmin=16, fmax=0.3, tol_range=(0.02, 0.1))
+    eligible, claimed = not_refused(rows)
     print(f"\n{_summary(rows)}; eligible {len(eligible)}, claimed among them {claimed:.3f}")
-    assert len(eligible) >= 25 and claimed >= 0.8  # 35 of the 100 are eligible (the fit must meet t/2)
-    assert not [r for r in rows if r["claim"] and r["true"] > 1.1 * r["t"]]
+    assert len(eligible) >= 15 and claimed >= 0.8  # 35 of the full campaign's 100 are eligible (fit meets t/2)
+    assert not false_claims(rows)

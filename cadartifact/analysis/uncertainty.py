@@ -22,6 +22,14 @@ points, degrees 1-5, content 0.05-0.45 cycles per point, cosines in four directi
 polynomials) so that the intent's true whole-face error is within ``U`` in at least 95 % of cases
 (``tests/test_uncertainty.py``, docs/uncertainty.md).
 
+**Cost.** The alternates' operators depend on a direction's geometry only and are cached
+(:data:`_CACHE`). Each band-limit, ridge or period alternate is built by :func:`_fourier_part`: its Gram matrix
+over the points outside the net in closed form (trigonometric sums of evenly spaced points) instead of a product
+over them, and the pseudo-inverse of the symmetric ``A G^-1 A'`` by its eigenvalues instead of an SVD; each
+alternate surface is contracted in the cheaper order (:func:`_applied`). On the real faces of
+../shared/realdata this made U several times cheaper where it cost most (long rational directions of degree
+10); ``benchmarks/bench_uncertainty.py`` measures U's share of the advice (docs/uncertainty.md).
+
 For the ``surface`` reading (the surface less its ripple) the surface is known, and so are the control
 points the scheme aliases: an intent that moves between the points moves nothing the split reads. What would
 be uncertain is the split itself at the borders (the continuation past them). No estimate of it has been
@@ -30,7 +38,12 @@ comparison with the tolerance, as before. Two constructions were tried and left 
 net reading's alternates pushed through the scheme's synthesis of the lattice move with the lattice's
 continuation past the borders, which the real clamped surface never reads (up to 100 times the real ripple);
 the measured road's split with the bridge over 2 or 5 times the span instead of 3 moved the samples' ripple by
-more than its own size (0.22 mm on a 0.095 mm ripple), which no check confirms.
+more than its own size (0.22 mm on a 0.095 mm ripple). A border-free truth now exists
+(``benchmarks/surface_split_truth.py``: a face cut exactly from a longer one, its reading against the longer
+face's on the same region) and says the split's border uncertainty is about the size of the ripple read at
+the border, not far smaller: an estimate that covers it (twice the ripple within one span of a border, on
+non-rational faces) would leave most real faces, whose ripple peaks at a border, undecided. Wiring it is the
+lead's decision (docs/uncertainty.md); rational faces differ across the whole face and have no estimate.
 
 Periodic directions (a closed net samples a whole period: its trigonometric interpolant is unique below the
 Nyquist limit) and exact lines and circles add no spread.
@@ -48,8 +61,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .intent import F_MAX, RIDGE, AxisIntent, Intent, axis_intent, from_homogeneous
-from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
+from .intent import F_MAX, RIDGE, SOBOLEV, AxisIntent, Intent, axis_intent
+from ..numerics.operator_cache import OperatorCache
 
 __all__ = ["Uncertainty", "intent_uncertainty", "ALTERNATES", "COVERAGE_FACTOR"]
 
@@ -108,44 +121,156 @@ def _judged(frame) -> bool:
     return not (frame.periodic or frame.exact)
 
 
+#: The alternates' per-direction operators (their geometry only, never the points; emptied with the others).
+_CACHE = OperatorCache(256)
+
+
+def _fourier_part(frame, fmax: float, ridge: float):
+    """The Fourier part of an open direction's intent with band limit ``fmax`` and ridge ``ridge``: what
+    :class:`~cadartifact.analysis.intent.AxisIntent` builds, ``coef = G^-1 A' (A G^-1 A')^+`` with
+    ``G = Bo' Bo / m + ridge W^2`` (``A``: the basis at the samples, ``(n, M)``; ``Bo``: at the ``m`` points
+    outside the net, ``(m, M)``), with the Gram matrix ``Bo' Bo`` from the trigonometric sums
+    ``C_j = sum_i cos(2 pi j x_i / T)``, ``S_j = sum_i sin(2 pi j x_i / T)``, ``|j| <= 2 k_max`` (in closed form:
+    the points are evenly spaced):
+
+        cos_j cos_k = (C_{j-k} + C_{j+k}) / 2,   sin_j sin_k = (C_{j-k} - C_{j+k}) / 2,
+        cos_j sin_k = (S_{j+k} - S_{j-k}) / 2
+
+    (``O(k_max)`` sines and cosines instead of an ``O(m M^2)`` product: on a 275-point direction,
+    period 3 x the span, ``M`` = 719 and ``m`` = 4 200), and the pseudo-inverse of the symmetric
+    ``A G^-1 A'`` by its eigenvalues (:func:`_pinv_sym`). The system is ill-conditioned (condition about 1e14
+    on 40-point nets, hence the pseudo-inverse): against the product and the SVD, ``U`` moves by up to 0.22 %
+    of itself (median 1e-7) on 80 known-shape faces (tests/test_uncertainty.py compares the two roads).
+
+    Returns
+    -------
+    SimpleNamespace
+        ``k`` ``(k_max,)``, ``nyquist`` (False), ``freqs`` and ``weights`` ``(M,)``, ``coef`` ``(M, n)``: the
+        Fourier part :class:`~cadartifact.analysis.intent.AxisIntent` takes as ``fourier``."""
+    from types import SimpleNamespace
+
+    T, spans = frame.period, frame.spans
+    kmax = max(int(np.ceil(fmax * T)) - 1, 0)
+    k = np.arange(1, kmax + 1)
+    # the points outside: np.linspace(spans, T, N + 1)[1:-1], N = 8 round(T - spans), step h, first x0
+    N = 8 * int(round(T - spans))
+    m, h = N - 1, (T - spans) / N
+    x0 = spans + h
+    # their sums in closed form (Dirichlet): sum_i exp(i w (x0 + i h)) = exp(i w (x0 + (m-1) h / 2)) D_m(w h / 2),
+    # D_m(a) = sin(m a) / sin(a) (w h / 2 = pi j / (8 T) < pi / 8 here: never a multiple of pi but at j = 0)
+    w = (2 * np.pi / T) * np.arange(2 * kmax + 1)
+    half = w * h / 2
+    D = np.full(len(w), float(m))
+    D[1:] = np.sin(m * half[1:]) / np.sin(half[1:])
+    centre = w * (x0 + (m - 1) * h / 2)
+    C, S = np.cos(centre) * D, np.sin(centre) * D
+    d, t = np.abs(k[:, None] - k[None, :]), k[:, None] + k[None, :]
+    sgn = np.sign(k[:, None] - k[None, :])  # S_{j-k} = sgn * S_{|j-k|}
+    M = 2 * kmax + 1
+    G = np.empty((M, M))
+    G[0, 0] = m
+    G[0, 1:kmax + 1] = G[1:kmax + 1, 0] = C[k]
+    G[0, kmax + 1:] = G[kmax + 1:, 0] = S[k]
+    G[1:kmax + 1, 1:kmax + 1] = (C[d] + C[t]) / 2
+    G[kmax + 1:, kmax + 1:] = (C[d] - C[t]) / 2
+    cs = (S[t] - sgn * S[d]) / 2  # rows cos_j, columns sin_k
+    G[1:kmax + 1, kmax + 1:] = cs
+    G[kmax + 1:, 1:kmax + 1] = cs.T
+    f = k / T
+    freqs = np.concatenate([[0.0], f, f])
+    weights = (1.0 + (freqs * spans) ** 2) ** (SOBOLEV / 2)
+    G = G / m + ridge * np.diag(weights ** 2)
+    xph = (2 * np.pi / T) * np.outer(frame.xs, k)
+    A = np.hstack([np.ones((frame.n, 1)), np.cos(xph), np.sin(xph)])
+    GiAt = np.linalg.solve(G, A.T)
+    return SimpleNamespace(k=k, nyquist=False, freqs=freqs, weights=weights, coef=GiAt @ _pinv_sym(A @ GiAt))
+
+
+def _pinv_sym(Q: np.ndarray, rcond: float = 1e-13) -> np.ndarray:
+    """The pseudo-inverse of a symmetric positive semi-definite matrix (``A G^-1 A'``) by its eigenvalues
+    (symmetrised first; eigenvalues below ``rcond`` times the largest dropped): what ``numpy.linalg.pinv(Q,
+    rcond)`` gives for such a matrix, its singular values being its eigenvalues, at a third of the cost."""
+    w, V = np.linalg.eigh((Q + Q.T) / 2)
+    keep = w > rcond * max(float(w[-1]), 0.0)
+    return (V[:, keep] / w[keep]) @ V[:, keep].T
+
+
+def _frame_key(frame) -> tuple:
+    return (frame.n, frame.periodic, frame.spans, round(frame.offset, 12), frame.xs.round(12).tobytes(), frame.period)
+
+
+def _alternate_axis(frame, degree: int, fmax: float, ridge: float) -> AxisIntent:
+    """The cached alternate :class:`AxisIntent` of a band limit, ridge weight or period (:func:`_fourier_part`)."""
+    key = _frame_key(frame) + (fmax, ridge)
+    part = _CACHE.get(("fourier",) + key, lambda: _fourier_part(frame, fmax, ridge))
+    return _CACHE.get(("axis", degree) + key, lambda: AxisIntent(frame, degree, fmax, ridge, fourier=part))
+
+
 def _alternates(intent: Intent, axis: int):
-    """The admissible alternate intents along ``axis`` (the other direction as it is)."""
+    """The admissible alternate per-direction intents along ``axis`` (the other direction as it is)."""
     frame, ax = intent.frames[axis], intent.axes[axis]
     for _name, fmax, ridge, ddeg, ext in ALTERNATES:
         deg = ax.degree + ddeg
         if deg < min(1, ax.degree) or deg > frame.n - 1:  # every scheme reproduces lines: never below a line
             continue
-        f = frame if ext is None else dataclasses.replace(frame, extension=ext)
-        alt = axis_intent(f, deg, fmax, ridge, like=ax)  # a trend alternate reuses the Fourier part
-        if alt is ax:
-            continue
-        frames = tuple(f if k == axis else intent.frames[k] for k in (0, 1))
-        axes = tuple(alt if k == axis else intent.axes[k] for k in (0, 1))
-        yield frames, axes
+        if ddeg:  # a trend alternate reuses the intent's Fourier part
+            alt = axis_intent(frame, deg, fmax, ridge, like=ax)
+        else:  # another band limit, ridge or period
+            alt = _alternate_axis(frame if ext is None else dataclasses.replace(frame, extension=ext), deg, fmax,
+                                  ridge)
+        if alt is not ax:
+            yield alt
+
+
+def _applied(ax: AxisIntent, x: np.ndarray, H: np.ndarray) -> np.ndarray:
+    """``ax.full_at(x) @ H`` (``(len(x), k)`` for ``H`` of ``(n, k)``; ``a = len(x)``, ``M`` Fourier terms),
+    in the cheaper order: the operator first (``a M n + a n k`` products), or contracted from the right,
+    ``trend(x) (Vp H) + basis(x) (coef (rest H))`` (``(a + n) M k + n^2 k``), which forms no ``(a, n)``
+    operator: far cheaper for a long direction beside a short one (a 275-point direction beside a 7-point
+    one: 20 instead of 216 million products per alternate)."""
+    a, (n, k), M = len(x), H.shape, len(ax.freqs)
+    if (a + n) * M * k + n * n * k < a * M * n + a * n * k:
+        return ax.trend_at(x) @ (ax.Vp @ H) + ax.basis(x) @ (ax.coef @ (ax.rest @ H))
+    return ax.full_at(x) @ H
 
 
 def _spread_net(intent: Intent, x, y) -> tuple[np.ndarray, np.ndarray]:
-    """``(D_u, D_v)``: each direction's pointwise spread of the ``net`` reading on ``x x y``."""
+    """``(D_u, D_v)``: each direction's pointwise spread of the ``net`` reading on ``x x y``.
+
+    Along ``u`` the alternate surfaces are ``I_a = R_a P R_v'`` (``R``: a direction's rows ``full_at``, ``(a, nu)``
+    and ``(b, nv)``), so with ``H = P R_v'`` formed once (``(nu, c, b)``, flattened to ``(nu, c b)``) each
+    alternate costs one :func:`_applied`; along ``v`` the same with ``H = R_u P`` (``(nv, c, a)``). A rational
+    intent (``c = 4``) is compared after the projection of each surface. Returns two ``(a, b)`` arrays.
+    """
     P = intent.lifted_points
-    rows = [intent.axes[0].full_at(x), intent.axes[1].full_at(y)]
     homogeneous = P.shape[-1] == 4
-    base = from_homogeneous(sandwich(rows[0], P, rows[1])) if homogeneous else None
-    halves = (sandwich_right(P, rows[1]), sandwich_left(rows[0], P))  # (nu, b, c), (a, nv, c)
+    rows = [intent.axes[0].full_at(x), intent.axes[1].full_at(y)]
     out = []
-    for axis in (0, 1):
+    for axis, pts in ((0, x), (1, y)):
         D = np.zeros((len(x), len(y)))
         if _judged(intent.frames[axis]):
-            for _frames, axes in _alternates(intent, axis):
-                delta = axes[axis].full_at(x if axis == 0 else y) - rows[axis]
-                if homogeneous:  # the projection is not linear: the alternate surface itself
-                    alt = list(rows)
-                    alt[axis] = rows[axis] + delta
-                    diff = from_homogeneous(sandwich(alt[0], P, alt[1])) - base
-                else:
-                    diff = sandwich_left(delta, halves[0]) if axis == 0 else sandwich_right(halves[1], delta)
-                D = np.maximum(D, np.sqrt(np.sum(diff * diff, axis=-1)))
+            other = rows[1 - axis]
+            # H: the points contracted with the other direction's rows, this direction first, flattened
+            H = np.tensordot(P, other, axes=([1 - axis], [1]))  # (n_axis, c, len(other))
+            shape = H.shape
+            H = H.reshape(shape[0], -1)
+            base = rows[axis] @ H
+            if homogeneous:
+                base_s = _project(base, shape)
+            for alt in _alternates(intent, axis):
+                surf = _applied(alt, pts, H)
+                diff = _project(surf, shape) - base_s if homogeneous else (surf - base).reshape(
+                    (len(pts),) + shape[1:])
+                dist = np.sqrt(np.sum(diff * diff, axis=1))  # (len(pts), len(other))
+                D = np.maximum(D, dist if axis == 0 else dist.T)
         out.append(D)
     return out[0], out[1]
+
+
+def _project(flat: np.ndarray, shape) -> np.ndarray:
+    """Homogeneous ``(len, c * len(other))`` products -> projected points ``(len, 3, len(other))``."""
+    a = flat.reshape((flat.shape[0],) + shape[1:])
+    return a[:, :3] / a[:, 3:4]
 
 
 def intent_uncertainty(intent, scheme=None, reading: str = "net", keep=None) -> Uncertainty:

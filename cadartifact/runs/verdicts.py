@@ -24,6 +24,8 @@ def face_verdict(record: dict, settings) -> tuple[str, str, float]:
     record : dict
         A face entry (:func:`cadartifact.runs.records.face_record`).
     settings : FileSettings
+        Its ``run.compared`` names the statistic (``"total"``, or ``"deviation"`` with the signal error),
+        ``metric`` the metric, ``undecided`` the verdict of an undecided face.
 
     Returns
     -------
@@ -44,8 +46,7 @@ def face_verdict(record: dict, settings) -> tuple[str, str, float]:
     from ..advice.decision import NONCONFORMING, UNDECIDED, decide
     from .records import unit_name
 
-    key = "deviation" if settings.include_signal_error else "total"
-    value = record["budget"][key][settings.metric]
+    value = record["budget"][settings.run.compared][settings.metric]
     t = settings.tolerance
     what = "deviation" if settings.include_signal_error else "ripple"
     u = unit_name(record.get("units"))  # the face's own unit, next to its numbers
@@ -55,7 +56,7 @@ def face_verdict(record: dict, settings) -> tuple[str, str, float]:
     if decision == NONCONFORMING:
         verdict, reason = "fail", f"{what} {settings.metric} {value:.4g}{pm} {u} exceeds tolerance {t:g} {u}"
     elif decision == UNDECIDED:
-        verdict = getattr(settings, "undecided", "warn")
+        verdict = settings.undecided  # the policy's value (FileSettings, checked against UNDECIDED when read)
         reason = (f"{what} {settings.metric} {value:.4g}{pm} {u} is undecided against tolerance {t:g} {u} (the "
                   f"intent's uncertainty straddles it; policy undecided = {verdict!r})")
     elif value >= settings.warn_fraction * t:
