@@ -147,7 +147,7 @@ def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
         from ..exchange.load import evaluate_grid
         from ..analysis.frames import axis_frames
 
-        fu, fv = axis_frames(net)
+        fu, fv = axis_frames(b.work if b.work is not None else net)  # the spans the trim uses
         uv = [float(fu.param(x)), float(fv.param(y))]
         # the face's own point at that uv (the fine grid of a predicted face is the uniform model's)
         xyz = evaluate_grid(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
