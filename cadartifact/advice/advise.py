@@ -30,6 +30,7 @@ from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
+from .honest import unverified_note
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from .joins import piece_spans
@@ -357,7 +358,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} {kind} "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
-    verification = pending = None
+    verification = pending = checked = None
     if verify:
         from .verification import verify_advice
 
@@ -371,6 +372,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             pending = check
         else:
             verification = check()
+            if not verification.get("meets", True) and meets:  # an answer only where it is verified (SPEC §5)
+                meets, checked = False, verification["value"]
+                notes.insert(0, unverified_note(verification, tolerance - margin))
     comparison, comparison_note = {}, None
     if compare == "auto":
         compare = net.size <= COMPARE_MAX_POINTS
@@ -378,7 +382,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
         comparison = compare_schemes(net, work, sch, shape, meets, settings, fine, growth=GROWTH,
-                                     max_points=MAX_POINTS)
+                                     max_points=MAX_POINTS, objective=objective)
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
     if hopeless:
@@ -389,7 +393,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         for k, (d, plan, n) in enumerate(zip("uv", fine.plans, shape)) if plan is not None}
     return Advice(joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, decision=CONFORMS if meets else decide(raw, unc.peak, t),
+                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), unc.peak, t),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,

@@ -20,7 +20,7 @@ import numpy as np
 from ..analysis.fields import project
 from ..net import knot_multiplicities
 
-__all__ = ["explain", "REASONS"]
+__all__ = ["explain", "unverified_note", "REASONS"]
 
 #: The reasons an honest no can give, in the order they are reported.
 REASONS = ("crease", "uncertainty", "stops improving", "growth limit")
@@ -95,3 +95,9 @@ def explain(scorer, shape, trail: dict, raw: float, margin: float, t: float, uni
               f"gives {raw:.4g} {unit} (+ U {margin:.3g}) against {t:g}")
     return {"why": why, "best": {"net": [int(shape[0]), int(shape[1])], "value": float(raw),
                                  "uncertainty": float(margin)}, "reason": reason}
+
+
+def unverified_note(verification: dict, target: float) -> str:
+    """The note of an advice whose verification (OCCT's evaluation) did not confirm it: it is then not claimed."""
+    return (f"not verified: OCCT's evaluation of the advised net reads {verification.get('value', float('nan')):.4g} "
+            f"against {target:.4g} (the tolerance less U): the density is not claimed to conform")

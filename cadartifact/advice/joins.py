@@ -23,10 +23,10 @@ from ..net import ControlNet, bezier_direction, knot_multiplicities
 from ..numerics.operator_cache import OperatorCache
 from ..numerics.splines import basis_matrix
 
-__all__ = ["JoinPlan", "join_plan", "jointed_axis", "jointed_knots", "piece_spans"]
+__all__ = ["JoinPlan", "join_plan", "jointed_axis", "jointed_knots", "piece_spans", "smooth_join"]
 
 #: A direction with more joins than this is advised with one uniform net (as before joins were kept).
-MAX_JOINS = 12
+MAX_JOINS = 40
 
 
 @dataclass(frozen=True)
@@ -61,20 +61,70 @@ class JoinPlan:
 
 
 def join_plan(net: ControlNet, axis: int) -> JoinPlan | None:
-    """The :class:`JoinPlan` of a direction, or None (a cage, periodic, no join, every span a piece, too many)."""
+    """The :class:`JoinPlan` of a direction, or None (a cage, periodic, no join, every span a piece, too many).
+
+    A join is an interior knot of multiplicity ``> p``, or ``p`` where the surface is not C1 across it
+    (:func:`smooth_join`): a crease or a G1 join. A smooth surface written piecewise is not held to its knots."""
     if net.knots is None or net.periodic[axis]:
         return None
     t, p, n = np.asarray(net.knots[axis], float), int(net.degrees[axis]), net.shape[axis]
     if p < 1 or bezier_direction(t, p, n, False):
         return None
     mults = knot_multiplicities(t, p, n, False)
-    joins = [(v, m) for v, m in mults if m >= p]
+    joins = [(v, m) for v, m in mults if m >= p and not (m == p and smooth_join(net, axis, v))]
     if not joins or len(joins) > MAX_JOINS:
         return None
     lo, hi = float(t[p]), float(t[n])
     edges = [lo] + [v for v, _ in joins] + [hi]
     spans = tuple(max(1, sum(1 for v, _ in mults if a < v < b) + 1) for a, b in zip(edges[:-1], edges[1:]))
     return JoinPlan(tuple(float(v) for v, _ in joins), min(p, max(m for _, m in joins)), spans, lo, hi)
+
+
+#: A join is smooth when the unit tangents either side differ by at most this (radians) and the curvature vectors
+#: by at most ten times this share of the larger (or of 1 / the face's size).
+G2_RTOL = 1e-4
+
+
+def smooth_join(net: ControlNet, axis: int, value: float) -> bool:
+    """Whether the surface is geometrically smooth (G2) across the knot ``value`` along ``axis``: a smooth surface
+    written with a knot of multiplicity ``p`` (piecewise Bezier, a sweep in pieces), which a uniform net may
+    cross. A crease (tangent jump) or a G1 join (curvature jump) is not smooth.
+
+    One-sided second-order differences at the join (``d = 1e-3`` of the shorter neighbouring span) give
+    ``S'`` and ``S''`` either side along 9 isocurves of the other direction; the unit tangent ``T = S'/|S'|``
+    and the curvature vector ``k = (S'' - (S''.T) T) / |S'|^2`` are compared (:data:`G2_RTOL`).
+    """
+    from ..numerics.splines import evaluate
+
+    t, p, n = np.asarray(net.knots[axis], float), net.degrees[axis], net.shape[axis]
+    distinct = np.unique(t[p: n + 1])
+    k = int(np.argmin(np.abs(distinct - value)))
+    if k == 0 or k == len(distinct) - 1:
+        return False
+    d = 1e-3 * min(distinct[k] - distinct[k - 1], distinct[k + 1] - distinct[k])
+    a = value + d * np.arange(-3, 4)
+    o = np.asarray(net.knots[1 - axis], float)
+    q, m = net.degrees[1 - axis], net.shape[1 - axis]
+    lo, hi = o[q], (o[m + q] if net.periodic[1 - axis] else o[m])
+    S = evaluate(net, a, np.linspace(lo, hi, 9)) if axis == 0 else np.swapaxes(
+        evaluate(net, np.linspace(lo, hi, 9), a), 0, 1)
+    size = float(np.ptp(np.asarray(net.points).reshape(-1, 3), axis=0).max())
+
+    def side(s0, s1, s2, s3, sign):
+        d1 = sign * (-3 * s0 + 4 * s1 - s2) / (2 * d)
+        d2 = (2 * s0 - 5 * s1 + 4 * s2 - s3) / d ** 2
+        speed = np.linalg.norm(d1, axis=-1, keepdims=True)
+        T = d1 / np.maximum(speed, 1e-300)
+        kv = (d2 - np.sum(d2 * T, axis=-1, keepdims=True) * T) / np.maximum(speed, 1e-300) ** 2
+        return T, kv
+
+    TL, kL = side(S[3], S[2], S[1], S[0], -1.0)
+    TR, kR = side(S[3], S[4], S[5], S[6], 1.0)
+    if np.linalg.norm(TL - TR, axis=-1).max() > G2_RTOL:
+        return False
+    scale = max(float(np.linalg.norm(kL, axis=-1).max()), float(np.linalg.norm(kR, axis=-1).max()),
+                1.0 / max(size, 1e-300))
+    return bool(np.linalg.norm(kL - kR, axis=-1).max() <= 10 * G2_RTOL * scale)
 
 
 def piece_spans(total: int, weights) -> list[int]:
