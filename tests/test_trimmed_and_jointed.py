@@ -273,3 +273,33 @@ def test_no_real_face_is_advised_more_than_four_times_its_points_without_saying_
             assert a.meets_tolerance or a.no_density is not None or not a.verifiable, (path.name, net.shape)
             if a.points > 4 * net.size:
                 assert any("binding" in r["reason"] for r in a.reasons.values()), (path.name, net.shape, a.shape)
+
+
+@pytest.mark.realdata
+@pytest.mark.skipif(not (REAL_STEP / "boxed_sphere.step").is_file(), reason="../shared/realdata/step not present")
+def test_a_written_advised_face_is_built_over_the_region_its_trim_uses(tmp_path):
+    """boxed_sphere's 23x23 faces leave a span outside their trim at each end: the advised surface written into the model spans
+    that region (OCCT reads it back), keeps the face's trim, and the model stays valid."""
+    pytest.importorskip("OCP")
+    import warnings
+
+    from cadartifact.exchange.load import read
+    from cadartifact.exchange.model_writer import write_model
+
+    path = REAL_STEP / "boxed_sphere.step"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        net = next(n for n in read(path).nets if n.shape == (23, 23))
+    a = advise(net, T, compare=False)
+    assert a.meets_tolerance and a.outside_trim["share"] > 0.1
+    used = a.current.used.ranges
+    (rec,) = write_model(path, {net.origin.face: a.advised_net}, tmp_path / "out.step",
+                         provenance={"tool": "test", "version": "0", "tolerance": T, "intent": "surface"})
+    assert rec["valid"] and rec["model_valid"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        back = next(n for n in read(tmp_path / "out.step").nets if n.origin.face == net.origin.face)
+    for k in (0, 1):
+        t = np.asarray(back.knots[k])
+        assert (t[0], t[-1]) == pytest.approx(used[k], abs=1e-9)
+        assert used[k][0] - 1e-9 <= back.uv_bounds[2 * k] and back.uv_bounds[2 * k + 1] <= used[k][1] + 1e-9

@@ -63,8 +63,11 @@ class JoinPlan:
 def join_plan(net: ControlNet, axis: int) -> JoinPlan | None:
     """The :class:`JoinPlan` of a direction, or None (a cage, periodic, no join, every span a piece, too many).
 
-    A join is an interior knot of multiplicity ``> p``, or ``p`` where the surface is not C1 across it
-    (:func:`smooth_join`): a crease or a G1 join. A smooth surface written piecewise is not held to its knots."""
+    A join is an interior knot of multiplicity ``> p``, or ``p`` where the surface is not G2 across it
+    (:func:`smooth_join`): a crease or a G1 join. A smooth surface written piecewise is not held to its knots, nor
+    is a direction of mostly one-span pieces (fewer than 1.5 spans per piece on average: a chain written
+    piecewise, like a piecewise-Bezier direction, advised one uniform net as before) or of more than
+    :data:`MAX_JOINS` joins."""
     if net.knots is None or net.periodic[axis]:
         return None
     t, p, n = np.asarray(net.knots[axis], float), int(net.degrees[axis]), net.shape[axis]
@@ -77,6 +80,8 @@ def join_plan(net: ControlNet, axis: int) -> JoinPlan | None:
     lo, hi = float(t[p]), float(t[n])
     edges = [lo] + [v for v, _ in joins] + [hi]
     spans = tuple(max(1, sum(1 for v, _ in mults if a < v < b) + 1) for a, b in zip(edges[:-1], edges[1:]))
+    if 3 * len(spans) > 2 * sum(spans):  # mostly one-span pieces: a chain written piecewise, not a few joins
+        return None
     return JoinPlan(tuple(float(v) for v, _ in joins), min(p, max(m for _, m in joins)), spans, lo, hi)
 
 

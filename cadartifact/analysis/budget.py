@@ -229,7 +229,7 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
 def analysis_net(net: ControlNet, scheme, tolerance: float | None = None) -> ControlNet:
     """The net as the scheme reads it: a face under its own degrees keeps its knots and weights, cut down to the
     spans its trim uses (:func:`cadartifact.analysis.trim_region.used_net`; ``tolerance`` in model units: a
-    trim past a knot by less counts as stopping there); under another scheme its points are a cage (uniform
+    trim past a join by less counts as stopping there); under another scheme its points are a cage (uniform
     parametrisation of that scheme)."""
     return used_region(net, scheme, tolerance)[0]
 

@@ -5,8 +5,8 @@ multiplicity ``p``. Spans wholly outside the face's uv bounds are no part of the
 advice work on the surface cut down to the spans the trim touches (:func:`used_net`), exactly the same surface
 there (knot insertion to multiplicity ``p`` at each cut, then the poles between the cuts).
 
-A trim that reaches past a knot by less than the tolerance in model units (rounding: real exports show 1e-9
-of the range), or by less than :data:`ROUNDING` of the range when no tolerance is known, counts as not
+A trim that reaches past a join (a knot of multiplicity ``>= p``) by less than the tolerance in model units, or
+past any knot by less than :data:`ROUNDING` of the range (rounding: real exports show 1e-9), counts as not
 reaching it: the span beyond is dropped.
 
 Periodic directions are left whole (a trim across the seam would need the unrolled direction).
@@ -133,20 +133,29 @@ def _range(net: ControlNet, axis: int, b0: float, b1: float, other, tolerance) -
     t = np.asarray(net.knots[axis], float)
     lo_all, hi_all = float(t[p]), float(t[n])
     scale = max(1.0, float(np.abs(t).max()))
-    values = [v for v, _, _ in knot_runs(t, scale) if lo_all <= v <= hi_all]
+    runs = [(v, m) for v, _, m in knot_runs(t, scale) if lo_all <= v <= hi_all]
+    values = [v for v, _ in runs]
+    joins = {v for v, m in runs if m >= p and lo_all < v < hi_all}
     rounding = ROUNDING * (hi_all - lo_all)
+
+    def short(bound, knot):
+        """An overshoot that counts as not reaching ``knot``: rounding anywhere; less than the tolerance (model
+        units) past a join (SPEC §4: an extension's join), where the new surface may end short of the trim's
+        pcurves by that much."""
+        if abs(knot - bound) <= rounding:
+            return True
+        return tolerance is not None and knot in joins and _past(net, axis, bound, knot, other) < tolerance
+
     b0, b1 = max(b0, lo_all), min(b1, hi_all)
     if b1 <= b0:
         return lo_all, hi_all
     lo = max(v for v in values if v <= b0 + 1e-12 * scale)
     hi = min(v for v in values if v >= b1 - 1e-12 * scale)
     nxt = min((v for v in values if v > lo + 1e-12 * scale), default=hi)
-    if lo < b0 and nxt < hi and (nxt - b0 <= rounding or (tolerance is not None
-                                                         and _past(net, axis, b0, nxt, other) < tolerance)):
+    if lo < b0 and nxt < hi and short(b0, nxt):
         lo = nxt
     prv = max((v for v in values if v < hi - 1e-12 * scale), default=lo)
-    if hi > b1 and prv > lo and (b1 - prv <= rounding or (tolerance is not None
-                                                          and _past(net, axis, b1, prv, other) < tolerance)):
+    if hi > b1 and prv > lo and short(b1, prv):
         hi = prv
     return lo, hi
 
@@ -159,7 +168,7 @@ def used_net(net: ControlNet, tolerance: float | None = None) -> tuple[ControlNe
     net : ControlNet
         A B-spline face (a cage, or a face without uv bounds, is returned as is).
     tolerance : float, optional
-        Model units: a trim past a knot by less than this counts as stopping at the knot.
+        Model units: a trim past a join by less than this counts as stopping at the join.
 
     Returns
     -------

@@ -362,7 +362,7 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     Returns
     -------
     dict
-        ``{"schema": "cadartifact.advise/2", "gate": "cadartifact.gate/2", "tolerance", "units",
+        ``{"schema": "cadartifact.advise/3", "gate": "cadartifact.gate/2", "tolerance", "units",
         "metric", "include_signal_error", "warn_fraction", "measured", "undecided", "policy": source | None,
         "files": [...], "summary": {..., "undecided": faces the decision rule left undecided,
         "verdicts": {"files": {...}, "faces": {...}}},
