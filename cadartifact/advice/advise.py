@@ -22,7 +22,7 @@ import numpy as np
 
 from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
 from ..analysis.baseband import baseband_at, release
-from .density_search import GROWTH, MAX_POINTS, _limits, _straight, frontier, gallop  # noqa: F401 (_straight: face_instances)
+from .density_search import GROWTH, MAX_POINTS, _limits, _straight, corner, frontier, gallop  # noqa: F401 (_straight: face_instances)
 from ..errors import OptionError, check_option
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
@@ -30,8 +30,11 @@ from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
+from .honest import unverified_note
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
+from .joins import piece_spans
+from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
 __all__ = ["Advice", "advise", "advise_for", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
@@ -51,129 +54,6 @@ GREEDY_STEPS = 4
 
 #: A face within the tolerance today keeps its net unless the advice saves at least this share of points.
 MIN_REDUCTION = 0.1
-
-
-class _Scorer:
-    """Scores candidate densities (and today's net) against one intent on check grids (memoised)."""
-
-    def __init__(self, net: ControlNet, work: ControlNet, scheme, fields, intent, settings: RunSettings):
-        from ..analysis.budget import trim_mask
-
-        self.net, self.work, self.scheme = net, work, scheme
-        # settings.intent is the reading candidates are scored against, settings.levels the check grid's
-        self.fields, self.intent, self.reading = fields, intent, settings.intent
-        self.K, self.metric, self.component = 2 ** settings.levels, settings.metric, settings.component
-        self.frames = intent.frames
-        self.degrees = work.degrees if work.degrees is not None else tuple(
-            min(d, n - 1) for d, n in zip(scheme.degrees or (3, 3), work.shape))
-        self._targets: dict = {}
-        self._scores: dict = {}
-        self._trim = trim_mask
-        self._borders: dict = {}
-        self._halves = OperatorCache(8, shared=False)  # (a, grid) -> the fit's u half
-
-    def target(self, x: np.ndarray, y: np.ndarray):
-        """The intent, its normals and the trim mask on the grid ``x x y`` (cached by grid size)."""
-        key = (len(x), len(y))
-        if key not in self._targets:
-            if self.reading == "surface":
-                I = baseband_at(self.fields, x, y)
-            else:
-                I = self.intent.evaluate(x, y)
-            sx = (x[-1] - x[0]) / max(len(x) - 1, 1)
-            sy = (y[-1] - y[0]) / max(len(y) - 1, 1)
-            normal = None if self.component == "vector" else intent_normals(I, spacing=(sx, sy))
-            keep = self._trim(self.work, self.frames, x, y)
-            if len(self._targets) > 16:
-                self._targets.clear()
-            self._targets[key] = (I, normal, keep)
-        return self._targets[key]
-
-    def axes(self, a: int, b: int):
-        return (candidate_axis(self.frames[0], a, self.degrees[0], self.K),
-                candidate_axis(self.frames[1], b, self.degrees[1], self.K))
-
-    def fit(self, a: int, b: int):
-        """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b`` (:func:`fit_points`; the
-        fit's ``u`` half is kept per ``a`` and grid, since the search pairs each ``a`` with many ``b``)."""
-        cu, cv = self.axes(a, b)
-        I, normal, keep = self.target(cu.x, cv.x)
-        half = self._halves.get((a, len(cu.x), len(cv.x)), lambda: sandwich_left(cu.pinv, I))
-        Q = sandwich_right(half, cv.pinv)
-        return Q, sandwich(cu.B, Q, cv.B), I, normal, keep, (cu, cv)
-
-    def score(self, a: int, b: int) -> dict:
-        """``{"peak", "rms", "boundary"}`` of the candidate's error (model units)."""
-        if (a, b) not in self._scores:
-            Q, S, I, normal, keep, (cu, cv) = self.fit(a, b)
-            self._scores[(a, b)] = self._measure(S - I, normal, keep)
-            self._scores[(a, b)]["boundary"] = self.boundary(S, cu.x, cv.x)
-        return self._scores[(a, b)]
-
-    def _measure(self, err, normal, keep) -> dict:
-        f = np.abs(project(err, normal, self.component))
-        v = f[keep] if not keep.all() else f
-        return {"peak": float(v.max()) if v.size else 0.0, "rms": float(np.sqrt(np.mean(v ** 2))) if v.size else 0.0}
-
-    def value(self, a: int, b: int) -> float:
-        return self.score(a, b)[self.metric]
-
-    def boundary(self, S: np.ndarray, x: np.ndarray, y: np.ndarray) -> float:
-        """Largest distance of the candidate's open border curves from today's real ones (untrimmed faces):
-        each candidate border sample's distance to today's border curve (a polyline through its samples on
-        the check grid), so a different parametrisation of the same curve costs nothing."""
-        if self.work.knots is None or _trimmed(self.work, self.frames):
-            return 0.0
-        from ..numerics.splines import evaluate
-
-        fu, fv = self.frames
-        out = 0.0
-        key = (len(x), len(y))
-        if key not in self._borders:
-            lines = {}
-            if not fu.periodic:
-                lines["u"] = evaluate(self.work, fu.param(x[[0, -1]]), fv.param(y))
-            if not fv.periodic:
-                lines["v"] = evaluate(self.work, fu.param(x), fv.param(y[[0, -1]]))
-            self._borders[key] = lines
-        lines = self._borders[key]
-        if "u" in lines:
-            for k in (0, 1):
-                out = max(out, curve_distance(S[[0, -1][k]], lines["u"][k]))
-        if "v" in lines:
-            for k in (0, 1):
-                out = max(out, curve_distance(S[:, [0, -1][k]], lines["v"][:, k]))
-        return out
-
-    def today(self) -> dict:
-        """Today's net scored by the same code: its real surface minus the intent on its own check grid."""
-        cu, cv = self.axes(*self.work.shape)
-        I, normal, keep = self.target(cu.x, cv.x)
-        real = _real_on(self.work, self.scheme, self.intent, cu.x, cv.x, self.fields)
-        out = self._measure(real - I, normal, keep)
-        out["boundary"] = 0.0
-        return out
-
-
-def _trimmed(net: ControlNet, frames) -> bool:
-    """Whether a face is trimmed inside its surface's parameter range (its borders are then trim curves)."""
-    if net.uv_bounds is None:
-        return False
-    (u0, u1, v0, v1), (fu, fv) = net.uv_bounds, frames
-    full = (fu.u0, fu.u0 + fu.h * fu.spans, fv.u0, fv.u0 + fv.h * fv.spans)
-    scale = max(1.0, *(abs(a) for a in full))
-    return any(abs(a - b) > 1e-9 * scale for a, b in zip((u0, u1, v0, v1), full))
-
-
-def _real_on(work, scheme, intent, x, y, fields) -> np.ndarray:
-    """Today's real surface on a grid of analysis coordinates."""
-    if work.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(work.degrees):
-        from ..numerics.splines import evaluate
-
-        fu, fv = intent.frames
-        return evaluate(work, fu.param(x), fv.param(y))
-    # cages: the fine grid of the fields (the check grid at today's density is that grid)
-    return fields.surface
 
 
 @dataclass(frozen=True, eq=False)
@@ -239,6 +119,12 @@ class Advice:
     decision: str | None = None
     today_decision: str | None = None
     verifiable: bool = True
+    #: Per direction with joins kept (:mod:`cadartifact.advice.joins`): ``{"joins", "multiplicity", "today_spans",
+    #: "advised_spans"}``; what of the surface's parameter range lies outside the trim (``{"u", "v", "share"}``);
+    #: and, when no density within the limits conforms, why (:mod:`cadartifact.advice.honest`).
+    joins: dict = field(default_factory=dict)
+    outside_trim: dict | None = None
+    no_density: dict | None = None
     #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
     pending: object = field(default=None, repr=False, compare=False)
 
@@ -282,6 +168,9 @@ class Advice:
             "verification": self.verification,
             "comparison": self.comparison,
             "notes": list(self.notes),
+            "joins": self.joins,
+            "outside_trim": self.outside_trim,
+            "no_density": self.no_density,
         }
         if self.comparison_note:
             d["comparison_note"] = self.comparison_note
@@ -365,15 +254,18 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
              and (current.metric, current.levels, current.component, current.intent) == (metric, levels,
                                                                                          settings.component, intent)
              and current.options == ("auto", "auto"))  # the road and region advise() itself would use
+    work = analysis_net(net, sch, tolerance)  # the spans the trimmed face uses (SPEC §4)
+    if reuse and (current.work is None or current.work.shape != work.shape):
+        reuse = False  # today's budget read another part of the surface (another tolerance)
     if not reuse:
         current = budget_for(net, settings, keep_fields=True)
-    work = analysis_net(net, sch)
+    work = current.work if current.work is not None else work
     # one intent for both check grids (only the grid's density differs): the fields of today's budget
     scorers = {lv: _make_scorer(net, work, sch, settings.replace(levels=lv), current)
                for lv in sorted({min(SEARCH_LEVELS, levels), levels})}
     fine = scorers[levels]
     coarse = scorers[min(SEARCH_LEVELS, levels)]
-    low, high = _limits(work, fine.degrees)
+    low, high = _limits(work, fine.degrees, fine.plans)
     t = tolerance
     unc = scorer_uncertainty(fine)  # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     hopeless = unverifiable(unc.peak, t)
@@ -390,18 +282,25 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             return dev
         return max(dev, _ripple_of(sc, a, b, settings) + margin)
 
+    trail = {}
     if hopeless:  # no density can conform (SPEC §5 "an honest no"): no search, today's density stands
         a, b = work.shape
     else:
-        shape, reachable = frontier(lambda a, b: value(coarse, a, b, own_ripple=False) <= t, low, high, work.shape)
-        a, b = shape
-        # confirm on the fine grid: grow until it agrees (a few greedy steps, then the frontier of the fine grid's
-        # own test from there: the own ripple need not fall at every step, and a greedy walk along the direction
-        # that does not bind can climb to the search's bound), then shrink each direction while it holds
+        # a feasible corner by bounded doubling (a direction that stops improving stops growing), then its frontier
+        found, reachable, trail = corner(lambda x, y: value(coarse, x, y, own_ripple=False), t, low, high,
+                                         work.shape)
+        a, b = frontier(lambda x, y: value(coarse, x, y, own_ripple=False) <= t, low, high, work.shape,
+                        found=found)[0] if reachable else found
+        # confirm on the fine grid: grow until it agrees (a few greedy steps, then a bounded corner and frontier of
+        # the fine grid's own test from there: the own ripple need not fall at every step, and a greedy walk along
+        # the direction that does not bind can climb to the search's bound), then shrink each direction while it
+        # holds
         steps = 0
-        while value(fine, a, b) > t and (a < high[0] or b < high[1]):
+        while reachable and value(fine, a, b) > t and (a < high[0] or b < high[1]):
             if steps == GREEDY_STEPS:
-                (a, b), _ = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b))
+                found, reachable, trail = corner(lambda x, y: value(fine, x, y), t, low, high, (a, b))
+                a, b = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b), found=found)[0] \
+                    if reachable else found
                 break
             grow_u = a < high[0] and (b >= high[1] or value(fine, a + 1, b) <= value(fine, a, min(b + 1, high[1])))
             a, b = (a + 1, b) if grow_u else (a, b + 1)
@@ -431,6 +330,15 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         kept, meets = True, True
     shape = (int(a), int(b))
     binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value)
+    no_density = None
+    if not meets and not hopeless:  # SPEC §5 "an answer or an honest no": the best found, and why none conforms
+        from .honest import explain
+
+        no_density = explain(fine, shape, trail, value(fine, a, b) - margin, margin, t, net.unit or "model units")
+        notes.insert(0, no_density["reason"])
+        binding = None
+        for d in reasons.values():
+            d["binding"], d["reason"] = False, no_density["reason"]
     if kept:
         advised = net
         sc = dict(today)
@@ -446,10 +354,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                      "the tolerance): neighbouring faces must follow")
     what = face_kind(work)
     if what and not kept and meets:
-        notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} uniform "
+        kind = "jointed (its joins kept)" if any(fine.plans) else "uniform"
+        notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} {kind} "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
-    verification = pending = None
+    verification = pending = checked = None
     if verify:
         from .verification import verify_advice
 
@@ -463,6 +372,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             pending = check
         else:
             verification = check()
+            if not verification.get("meets", True) and meets:  # an answer only where it is verified (SPEC §5)
+                meets, checked = False, verification["value"]
+                notes.insert(0, unverified_note(verification, tolerance - margin))
     comparison, comparison_note = {}, None
     if compare == "auto":
         compare = net.size <= COMPARE_MAX_POINTS
@@ -470,45 +382,23 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
         comparison = compare_schemes(net, work, sch, shape, meets, settings, fine, growth=GROWTH,
-                                     max_points=MAX_POINTS)
+                                     max_points=MAX_POINTS, objective=objective)
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
     if hopeless:
         notes.insert(0, unverifiable_note(unc.peak, t, net.unit or "model units"))
     raw = stats["deviation" if objective == "deviation" else "total"].get(metric)
-    return Advice(net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, decision=CONFORMS if meets else decide(raw, unc.peak, t),
+    joins = {d: dict(plan.to_dict(), advised_spans=list(plan.spans) if kept else piece_spans(
+        n - fine.degrees[k] - len(plan.joins) * (plan.mult - 1), plan.spans))
+        for k, (d, plan, n) in enumerate(zip("uv", fine.plans, shape)) if plan is not None}
+    return Advice(joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
+                  net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
+                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), unc.peak, t),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
                   verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,
                   pending=pending)
-
-
-def _make_scorer(net, work, sch, settings: RunSettings, current=None) -> _Scorer:
-    """A scorer of candidates against the intent (``settings.intent``: the reading, ``settings.levels``: the
-    check grid): the surface reading's fields (today's budget's when it kept them), and the intent object (a
-    split face's :class:`cadartifact.analysis.pieces.PiecewiseIntent`)."""
-    from ..analysis.intent import design_intent
-
-    fields = current.fields if current is not None else None
-    if fields is None or fields.baseband is None:  # a net-reading budget keeps no base band: the surface reading
-        lv = current.levels if current is not None else settings.levels
-        surface = RunSettings(scheme=sch, levels=lv, component=settings.component)
-        fields = budget_for(work, surface, keep_fields=True).fields
-    it = fields.baseband.get("intent") or design_intent(work, sch, fields.levels)
-    return _Scorer(net, work, sch, fields, it, settings)
-
-
-def _ripple_of(sc: _Scorer, a, b, settings: RunSettings) -> float:
-    """The ripple-only objective: the fitted candidate's own ripple budget (under its own degrees, on the
-    scorer's check grid)."""
-    key = ("ripple", a, b)
-    if key not in sc._scores:
-        Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
-        cand = candidate_net(sc.net, Q, cu, cv)
-        sc._scores[key] = total_ripple(cand, settings.replace(scheme=None, levels=int(np.log2(sc.K))))
-    return sc._scores[key]
 
 
 def _advice_stats(advised, settings: RunSettings, score, known=None) -> dict:

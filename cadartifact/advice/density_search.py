@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["frontier", "gallop", "first_true"]
+__all__ = ["frontier", "gallop", "first_true", "corner"]
 
 
 def first_true(lo: int, hi: int, pred) -> int:
@@ -43,7 +43,63 @@ def gallop(pred, lo: int, hi: int, hint: int) -> int:
         bottom, step = nxt, 2 * step
 
 
-def frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int]) -> tuple[tuple[int, int], bool]:
+#: A doubling that lowers the value by less than this share "stops improving": the direction is not grown further.
+STALL = 0.1
+
+
+def corner(value, t: float, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int]):
+    """A feasible corner ``value(a, b) <= t`` by doubling from ``start``, bounded: a direction whose doubling
+    lowers the value by less than :data:`STALL` of it (or that reached its bound) stops growing; when none grows
+    the search ends without a corner.
+
+    Returns
+    -------
+    (shape, reachable, trail) : ((int, int), bool, dict)
+        The corner (or the best density tried), whether it is feasible, and ``trail``: ``{"best": (a, b),
+        "value", "stalled": [directions that stopped improving], "at_limit": [directions at their bound]}``.
+    """
+    a, b = (max(l, min(h, s)) for l, h, s in zip(lo, hi, start))
+    v = value(a, b)
+    best = ((a, b), v)
+    grow = [a < hi[0], b < hi[1]]
+    stalled, at_limit = set(), set()
+    while v > t:
+        tries = {}
+        if grow[0]:
+            tries["u"] = (min(hi[0], 2 * a), b)
+        if grow[1]:
+            tries["v"] = (a, min(hi[1], 2 * b))
+        if grow[0] and grow[1]:
+            tries["uv"] = (min(hi[0], 2 * a), min(hi[1], 2 * b))
+        if not tries:
+            break
+        vals = {k: value(*s) for k, s in tries.items()}
+        helps = {k: x <= (1.0 - STALL) * v for k, x in vals.items()}
+        if not (helps.get("uv") and not helps.get("u") and not helps.get("v")):  # together only: keep both
+            for k, d in (("u", 0), ("v", 1)):
+                if k in vals and not helps[k]:
+                    grow[d] = False
+                    stalled.add(k)
+        ok = [k for k in vals if vals[k] <= t]
+        pick = min(ok, key=lambda k: tries[k][0] * tries[k][1]) if ok else min(vals, key=vals.get)
+        if not ok and vals[pick] > (1.0 - STALL) * v:
+            stalled.update(k for k in ("u", "v") if k in tries)
+            break
+        (a, b), v = tries[pick], vals[pick]
+        if v < best[1]:
+            best = ((a, b), v)
+        for d, n in enumerate((a, b)):
+            if n >= hi[d]:
+                grow[d] = False
+                at_limit.add("uv"[d])
+    reachable = v <= t
+    trail = {"best": best[0] if not reachable else (a, b), "value": best[1] if not reachable else v,
+             "stalled": sorted(stalled), "at_limit": sorted(at_limit)}
+    return (a, b) if reachable else best[0], reachable, trail
+
+
+def frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int],
+             found: tuple[int, int] | None = None) -> tuple[tuple[int, int], bool]:
     """Fewest-points feasible density on the frontier ``n'v(n'u)``; ``(shape, reachable)``.
 
     A feasible corner is found by doubling from ``start``; the frontier's ends are the smallest
@@ -52,7 +108,10 @@ def frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int
     until ``n'u`` times the smallest ``n'v`` cannot beat the best. Exact for a predicate monotone in
     both directions within the corner's box.
     """
-    a, b = (max(l, min(h, s)) for l, h, s in zip(lo, hi, start))
+    if found is not None:  # a feasible corner found already (:func:`corner`)
+        a, b = found
+    else:
+        a, b = (max(l, min(h, s)) for l, h, s in zip(lo, hi, start))
     while not ok(a, b):
         if a >= hi[0] and b >= hi[1]:
             return (a, b), False
@@ -76,10 +135,11 @@ def frontier(ok, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int
 GROWTH, MAX_POINTS = 8, 2000
 
 
-def _limits(work: ControlNet, degrees) -> tuple[tuple[int, int], tuple[int, int]]:
+def _limits(work: ControlNet, degrees, plans=(None, None)) -> tuple[tuple[int, int], tuple[int, int]]:
     """Search bounds per direction; a straight degree-1 direction is never advised more points than today's
-    (it carries no ripple and more points cannot make it straighter)."""
-    low = tuple(d + 1 for d in degrees)
+    (it carries no ripple and more points cannot make it straighter); a direction keeping its joins
+    (:class:`cadartifact.advice.joins.JoinPlan`) needs a span per piece."""
+    low = tuple(d + 1 if plan is None else plan.min_points(d) for d, plan in zip(degrees, plans))
     high = [max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape)]
     for k in (0, 1):
         if work.degrees is not None and work.degrees[k] == 1 and _straight(work.points, k):

@@ -2,8 +2,9 @@
 
 For each of :data:`NAMED_SCHEMES` other than the face's own, the intent is sampled at a cage of
 ``a x b`` points and the cage's total ripple under that scheme is read (its predicted road); the
-fewest-points density within the tolerance is searched on the frontier ``b(a)``. The face's own
-scheme keeps the advice's answer. The cages are shared by the schemes (their frontiers start alike).
+fewest-points density within the tolerance is searched on the frontier ``b(a)``. The face's own scheme's
+row, and a named scheme of the same B-spline degrees (``bicubic`` for a bicubic face), is the advice itself:
+one answer per scheme the advice covers. The cages are shared by the schemes (their frontiers start alike).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 
 
 def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, settings: RunSettings, fine, *,
-                    growth: int, max_points: int) -> dict:
+                    growth: int, max_points: int, objective: str = "deviation") -> dict:
     """Fewest points per named scheme for the intent's ripple (the intent sampled at each scheme's net).
 
     Parameters
@@ -37,14 +38,19 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
         The run's ``tolerance``, ``metric`` and ``component``.
     fine : cadartifact.advice.advise._Scorer
         The advice's scorer at the confirmation grid: its intent, fields and frames.
+    objective : {"deviation", "ripple"}
+        The advice's objective (its rows' ``"objective"``; the other schemes' rows read ripple, see
+        :func:`_value`).
     growth, max_points : int
         The search's bounds (:data:`cadartifact.advice.advise.GROWTH`, :data:`~cadartifact.advice.advise.MAX_POINTS`).
 
     Returns
     -------
     dict
-        ``{scheme name: {"net", "points", "meets_tolerance", "objective"}}``; for the other schemes the
-        fewest-points cage ``(a, b)`` whose total ripple (predicted road, ``K = 2``) is within the tolerance,
+        ``{scheme name: {"net", "points", "meets_tolerance", "objective", "advice"}}``: the face's own scheme (and
+        a named scheme of the same B-spline degrees) is the advice itself (``"advice": true``); for the other
+        schemes the fewest-points cage ``(a, b)`` whose total ripple (predicted road, ``K = 2``) is within the
+        tolerance,
         searched on the frontier from ``shape`` (:func:`cadartifact.advice.density_search.frontier`).
     """
     out = {}
@@ -62,24 +68,38 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
                 cages[(a, b)], room[0] = got, room[0] - pts.nbytes
         return got
 
+    own = {"net": list(shape), "points": int(shape[0] * shape[1]), "meets_tolerance": bool(meets),
+           "objective": objective, "advice": True}
+    out[sch.name] = dict(own)  # the face's own scheme's row is the advice itself
     for name in NAMED_SCHEMES:
         other = get_scheme(name)
-        if other.name == sch.name:
-            out[other.name] = {"net": list(shape), "points": int(shape[0] * shape[1]),
-                               "meets_tolerance": bool(meets), "objective": "deviation"}
+        if other.name == sch.name or (sch.degrees is not None and other.degrees == tuple(sch.degrees)):
+            # the advice's candidates are uniform B-splines of the face's degrees: this scheme's own nets
+            out[other.name] = dict(own)
             continue
 
         seen = {}  # a memo per scheme: the frontier asks about some densities twice
-        under = settings.replace(scheme=other, levels=1)
+        under = settings.replace(scheme=other, levels=1, tolerance=None)
 
         def ok(a, b, under=under, seen=seen):
             if (a, b) not in seen:
-                seen[(a, b)] = total_ripple(cage_of(a, b), under) <= settings.tolerance
+                seen[(a, b)] = _value(cage_of(a, b), under, objective, settings.metric) <= settings.tolerance
             return seen[(a, b)]
 
         low = (3, 3)
         high = tuple(max(l + 1, min(max_points // 4, growth * n)) for l, n in zip(low, work.shape))
         s2, ok2 = frontier(ok, low, high, tuple(shape))  # the schemes' answers lie near this scheme's
         out[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2),
-                           "objective": "ripple"}
+                           "objective": "ripple", "advice": False}
     return out
+
+
+def _value(cage: ControlNet, under: RunSettings, objective: str, metric: str) -> float:
+    """A cage's value under another scheme: its ripple (predicted road).
+
+    The deviation objective is not carried to other schemes: their cages are the intent sampled, not fitted
+    (no scheme's best net of a density is built), so their deviation is mostly the attenuation a designer would
+    correct (tried: bilinear, 4-3 and 4-8 then failed at 8x the advice's points on the hull sample, and the
+    comparison cost about 4x: 37.7 s against 9.9 s on the hull sample's first face, under load). Their rows
+    say ``"objective": "ripple"``."""
+    return total_ripple(cage, under)

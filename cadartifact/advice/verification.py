@@ -30,7 +30,17 @@ def complete(advice):
 
     if advice.pending is None:
         return advice
-    return replace(advice, verification=advice.pending(), pending=None)
+    got = advice.pending()
+    if got.get("meets", True) or not advice.meets_tolerance:
+        return replace(advice, verification=got, pending=None)
+    # an answer only where it is verified (SPEC §5): OCCT's reading did not confirm it
+    from .decision import decide
+    from .honest import unverified_note
+
+    u = advice.uncertainty.peak if advice.uncertainty is not None else 0.0
+    return replace(advice, verification=got, pending=None, meets_tolerance=False,
+                   decision=decide(got["value"], u, advice.tolerance),
+                   notes=[unverified_note(got, advice.tolerance - u)] + list(advice.notes))
 
 
 def verify_advice(scorer, shape, binding, tolerance: float, advised, target: float | None = None) -> dict:

@@ -20,6 +20,7 @@ from .intent import design_intent
 from ..net import ControlNet
 from .pieces import gather_fields, split_net
 from .settings import RunSettings, resolve_scheme
+from .trim_region import used_net
 
 __all__ = ["Budget", "Stat", "budget", "budget_for", "total_ripple"]
 
@@ -105,6 +106,10 @@ class Budget:
     pieces: tuple | None = None
     caveats: tuple = ()
     options: tuple = ("auto", "auto")
+    #: What of the surface's parameter range the trimmed face uses (:class:`~cadartifact.analysis.trim_region.UsedRegion`;
+    #: None: untrimmed), and the net analysed: the surface cut down to those spans (``net`` when nothing is cut).
+    used: object = None
+    work: ControlNet | None = field(default=None, repr=False)
 
     @property
     def notes(self) -> list[str]:
@@ -146,6 +151,7 @@ class Budget:
             "undersampled": _num(self.undersampled),
             "notes": self.notes,
             "pieces": list(self.pieces) if self.pieces else None,
+            "outside_trim": None if self.used is None else self.used.to_dict(),
         }
         d.update({name: {"peak": _num(s.peak), "rms": _num(s.rms)} for name, s in self.stats.items()})
         if self.tolerance is not None:
@@ -220,13 +226,23 @@ def _stats(scalars: dict, keep: np.ndarray) -> dict:
     return res
 
 
-def analysis_net(net: ControlNet, scheme) -> ControlNet:
-    """The net as the scheme reads it: a face under its own degrees keeps its knots and weights;
-    under another scheme its points are a cage (uniform parametrisation of that scheme)."""
+def analysis_net(net: ControlNet, scheme, tolerance: float | None = None) -> ControlNet:
+    """The net as the scheme reads it: a face under its own degrees keeps its knots and weights, cut down to the
+    spans its trim uses (:func:`cadartifact.analysis.trim_region.used_net`; ``tolerance`` in model units: a
+    trim past a join by less counts as stopping there); under another scheme its points are a cage (uniform
+    parametrisation of that scheme)."""
+    return used_region(net, scheme, tolerance)[0]
+
+
+def used_region(net: ControlNet, scheme, tolerance: float | None = None):
+    """``(analysis net, UsedRegion or None)``: :func:`analysis_net` and what of the surface's parameter range
+    the trimmed face uses (:class:`cadartifact.analysis.trim_region.UsedRegion`)."""
     own = net.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(net.degrees)
-    if own or net.knots is None:
-        return net
-    return ControlNet(points=net.points, periodic=net.periodic, unit=net.unit, origin=net.origin)
+    if net.knots is None:
+        return net, None
+    if own:
+        return used_net(net, tolerance)
+    return ControlNet(points=net.points, periodic=net.periodic, unit=net.unit, origin=net.origin), None
 
 
 def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metric: str = "peak",
@@ -284,7 +300,7 @@ def budget_for(net: ControlNet, settings: RunSettings, *, keep_fields: bool = Fa
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
     sch = resolve_scheme(net, settings.scheme)
-    work = analysis_net(net, sch)
+    work, used = used_region(net, sch, settings.tolerance)
     b = None
     if work.knots is not None:
         pieces = split_net(work)
@@ -296,7 +312,7 @@ def budget_for(net: ControlNet, settings: RunSettings, *, keep_fields: bool = Fa
     if b is None:
         b = _budget_of(net, work, sch, settings, keep_fields)
     options = (settings.method, settings.region)
-    return b if options == ("auto", "auto") else dataclasses.replace(b, options=options)
+    return dataclasses.replace(b, options=options, used=used, work=work)
 
 
 def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=False) -> Budget:
@@ -358,7 +374,7 @@ def total_ripple(net: ControlNet, settings: RunSettings) -> float:
     comparison's cages, the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
     """
     sch = resolve_scheme(net, settings.scheme)
-    work = analysis_net(net, sch)
+    work = analysis_net(net, sch, settings.tolerance)
     if work.knots is not None:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:

@@ -108,15 +108,26 @@ def _read_source(path: Path):
     return shape, face_name, unit, products
 
 
-def _check_range(index: int, surface, net: ControlNet) -> None:
-    """The replacement must span the old surface's parameter range (the pcurves stay valid)."""
+def _check_range(index: int, surface, net: ControlNet, face=None) -> None:
+    """The replacement must span the old surface's parameter range, or a part of it that covers the face's own uv
+    box (the spans its trim uses, SPEC §4: the pcurves stay inside the new surface)."""
     new = occ_surface(net).Bounds()
     old = surface.Bounds()
     scale = max(1.0, *(abs(x) for x in old if np.isfinite(x)))
-    if not all(np.isfinite(old)) or any(abs(a - b) > 1e-7 * scale for a, b in zip(old, new)):
+    tol = 1e-7 * scale
+    same = all(abs(a - b) <= tol for a, b in zip(old, new))
+    covers = False
+    if face is not None and not same and all(np.isfinite(old)):
+        u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+        inside = old[0] - tol <= new[0] and new[1] <= old[1] + tol and old[2] - tol <= new[2] and new[3] <= old[3] + tol
+        # a trim past an extension's join by less than the tolerance (model units) ends the advised surface short
+        # of the pcurves by that much (at most a thousandth of the range here); the written model is checked
+        su, sv = max(tol, 1e-3 * (old[1] - old[0])), max(tol, 1e-3 * (old[3] - old[2]))
+        covers = inside and new[0] <= u0 + su and new[1] >= u1 - su and new[2] <= v0 + sv and new[3] >= v1 - sv
+    if not all(np.isfinite(old)) or not (same or covers):
         raise OptionError(f"replacements[{index}]", "a net over the face's parameter range "
-                          f"u [{old[0]:g}, {old[1]:g}] x v [{old[2]:g}, {old[3]:g}]",
-                          f"u [{new[0]:g}, {new[1]:g}] x v [{new[2]:g}, {new[3]:g}]")
+                          f"u [{old[0]:g}, {old[1]:g}] x v [{old[2]:g}, {old[3]:g}] or a part of it covering its "
+                          "trimmed region", f"u [{new[0]:g}, {new[1]:g}] x v [{new[2]:g}, {new[3]:g}]")
 
 
 def _distance(face, old_surface, new_surface, grid: int = GRID) -> tuple[float, float]:
@@ -273,7 +284,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         kind, basis = surface_kind(BRep_Tool.Surface_s(face))
         if basis is None:
             raise OptionError(f"replacements[{index}]", "a face with a surface", "a face without one")
-        _check_range(index, basis, replacements[index])
+        _check_range(index, basis, replacements[index], face)
         old[index] = (face, basis)
     if faces_only:
         return _write_faces_only(source, replacements, old, out, provenance)

@@ -362,7 +362,7 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     Returns
     -------
     dict
-        ``{"schema": "cadartifact.advise/2", "gate": "cadartifact.gate/3", "tolerance", "units",
+        ``{"schema": "cadartifact.advise/3", "gate": "cadartifact.gate/3", "tolerance", "units",
         "metric", "include_signal_error", "warn_fraction", "measured", "undecided",
         "profile": the PDQ profile's thresholds (:func:`cadartifact.gate.profiles.profile_dict`) | None,
         "policy": source | None,

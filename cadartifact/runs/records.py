@@ -1,10 +1,13 @@
 """The advise document's records: one face's budget, advice and peak, and the schema they make.
 
 The document (``cadartifact advise --json``) has this schema (version 2: issue 22 added ``uncertainty`` and
-``decision``, and ``meets_tolerance`` is true only for what conforms, ``value + U <= t``)::
+``decision``, and ``meets_tolerance`` is true only for what conforms, ``value + U <= t``; version 3: issue 23
+analyses and advises the spans the trimmed face uses, so ``advice.reasons.*.today`` counts those spans' points,
+and adds ``outside_trim``, ``advice.joins``, ``advice.no_density``, ``advice.outside_trim`` and the comparison's
+``advice`` flag)::
 
     {
-      "schema": "cadartifact.advise/2",
+      "schema": "cadartifact.advise/3",
       "tolerance": float, "units": "mm", "metric": "peak" | "rms",
       "intent": "surface" | "net", "include_signal_error": bool,
       "files": [{
@@ -28,6 +31,8 @@ The document (``cadartifact advise --json``) has this schema (version 2: issue 2
           "uncertainty": {"peak", "u", "v" (the intent's expanded uncertainty U, model units), "reading",
                           "coverage_factor", "estimated" (false: the surface reading, U = 0)} | null,
           "decision": "conforms" | "undecided" | "does not conform" (ISO 14253-1, today's net) | null,
+          "outside_trim": {"u", "v", "share"} (shares of the surface's parameter range outside the trimmed
+                          face: those spans are not analysed or advised) | null (untrimmed),
           "advice": {"net": [n'u, n'v], "points": int, "intent": str, "objective": "deviation" | "ripple",
                      "budget": {"deviation" (the advised net against the intent), "boundary" (its borders
                                 against today's), its own "x1" ... "total": {"peak", "rms"}},
@@ -40,7 +45,14 @@ The document (``cadartifact advise --json``) has this schema (version 2: issue 2
                      "verification": {"method": "occt" | "today", "levels", "region": "face", "value", "rms",
                                       "meets", "coarser": {"shape", "value", "meets"},
                                       "samples" (net reading: distance to today's points)} | null,
-                     "comparison": {scheme: {"net", "points", "meets_tolerance", "objective"}},
+                     "comparison": {scheme: {"net", "points", "meets_tolerance", "objective",
+                                             "advice" (true: this row is the advice itself)}},
+                     "joins": {"u" | "v": {"joins": [float], "multiplicity", "today_spans": [int],
+                                           "advised_spans": [int]}} (directions whose joins the advice keeps),
+                     "outside_trim": {"u", "v", "share"} | null,
+                     "no_density": {"why": ["crease" | "uncertainty" | "stops improving" | "growth limit"],
+                                    "best": {"net", "value", "uncertainty"}, "reason": str} | null
+                                   (no density within the limits conforms: the best found, and why),
                      "notes": [str]}
         }]
       }],
@@ -61,7 +73,7 @@ import math
 __all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "uncertainty_record", "peak_location", "face_record", "analysed_share",
            "kind_count", "plural", "unit_name"]
 
-SCHEMA = "cadartifact.advise/2"
+SCHEMA = "cadartifact.advise/3"
 
 
 DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total", "signal_error", "deviation")
@@ -107,6 +119,8 @@ def budget_record(net, budget, include_signal_error: bool = False, uncertainty=N
         "meets_tolerance": None if t is None else decision == CONFORMS,
         "uncertainty": None if uncertainty is None else uncertainty_record(uncertainty),
         "decision": decision,
+        "outside_trim": None if getattr(budget, "used", None) is None else {
+            k: json_number(v) for k, v in budget.used.to_dict().items()},
         "advice": None,
     }
 
@@ -147,7 +161,7 @@ def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
         from ..exchange.load import evaluate_grid
         from ..analysis.frames import axis_frames
 
-        fu, fv = axis_frames(net)
+        fu, fv = axis_frames(b.work if b.work is not None else net)  # the spans the trim uses
         uv = [float(fu.param(x)), float(fv.param(y))]
         # the face's own point at that uv (the fine grid of a predicted face is the uniform model's)
         xyz = evaluate_grid(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
