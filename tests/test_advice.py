@@ -292,3 +292,20 @@ def test_confirmation_does_not_climb_along_the_direction_that_does_not_bind(monk
     for d in "uv":
         r = adv.reasons[d]
         assert r["coarser_value"] is None or r["coarser_value"] > tol or not r["binding"]
+
+
+# ---------------------------------------------------------------- the comparison's default (issue 24 item 1)
+@pytest.mark.parametrize("n", [6, 9])
+def test_comparison_is_off_by_default_for_a_face_and_on_for_a_cage_or_a_named_scheme(n):
+    """A B-spline face read from a file is the scheme its file says: ``compare="auto"`` skips the five-scheme
+    comparison and says how to ask for it; a cage, or a face under a scheme named by the user, still gets it."""
+    i, j = np.meshgrid(np.arange(n, dtype=float), np.arange(n - 1, dtype=float), indexing="ij")
+    pts = np.stack([i, j, 0.3 * np.cos(0.9 * i + 0.4 * j)], axis=-1)
+    face = ControlNet.from_points(pts, degrees=(3, 3))
+    auto = advise(face, 0.05, verify=False)
+    assert auto.comparison == {} and "compare=True" in auto.comparison_note and "3x3" in auto.comparison_note
+    assert advise(face, 0.05, verify=False, compare=True).comparison  # asked for: given
+    named = advise(face, 0.05, "bicubic", verify=False)  # an explicit scheme: the question is the user's
+    assert named.comparison and named.comparison_note is None
+    cage = advise(ControlNet(points=pts), 0.05, verify=False)
+    assert cage.comparison and cage.comparison_note is None

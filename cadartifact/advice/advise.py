@@ -207,7 +207,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     component : {"normal", "vector"}
     compare : bool or "auto"
         Also advise the other named schemes (ripple of the intent sampled at their points);
-        ``"auto"``: for nets of up to :data:`COMPARE_MAX_POINTS` points.
+        ``"auto"``: for cages and for a ``scheme`` named explicitly, of up to :data:`COMPARE_MAX_POINTS`
+        points; not for a B-spline face under its own degrees (its file fixes its scheme).
     verify : bool or "later"
         Build the advised net as a real B-spline surface (OCCT), evaluate it and measure it against
         the intent on the whole face, and the same one step coarser in the binding direction.
@@ -248,7 +249,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     metric, levels, intent = settings.metric, settings.levels, settings.intent
     if not isinstance(net, ControlNet):
         raise OptionError("net", "a ControlNet", type(net).__name__)
-    sch = resolve_scheme(net, settings.scheme)
+    named = settings.scheme  # None: the face's own B-spline degrees (or bicubic for a cage)
+    sch = resolve_scheme(net, named)
     settings = settings.replace(scheme=sch, method="auto", region="auto")  # the road and region advise() reads
     reuse = (current is not None and current.net is net and current.fields is not None and current.scheme == sch.name
              and (current.metric, current.levels, current.component, current.intent) == (metric, levels,
@@ -377,9 +379,16 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                 notes.insert(0, unverified_note(verification, tolerance - margin))
     comparison, comparison_note = {}, None
     if compare == "auto":
-        compare = net.size <= COMPARE_MAX_POINTS
-        if not compare:
-            comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
+        if net.knots is not None and named is None:
+            # a B-rep face is the B-spline its file says: which other scheme would do better is a question for a
+            # cage's author, and its answer cost most of a face's advice (issue 24)
+            compare = False
+            comparison_note = (f"off: a B-spline face's scheme is its file's (degrees {net.degrees[0]}x"
+                               f"{net.degrees[1]}); pass compare=True (--compare) to advise the other schemes too")
+        else:
+            compare = net.size <= COMPARE_MAX_POINTS
+            if not compare:
+                comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
         comparison = compare_schemes(net, work, sch, shape, meets, settings, fine, growth=GROWTH,
                                      max_points=MAX_POINTS, objective=objective)

@@ -46,7 +46,8 @@ def advise_cmd(
     report: Optional[Path] = typer.Option(None, "--report",
                                           help="Also write a self-contained HTML report (tables, heatmaps, maps)."),
     compare: Optional[bool] = typer.Option(None, "--compare/--no-compare",
-                                           help="Also advise the other named schemes (default: nets up to 2000 points)."),
+                                           help="Also advise the other named schemes (default: for OBJ cages and an explicit --scheme, "
+                                                "nets up to 2000 points; off for B-rep faces)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Verify each advice on the real surface (OCCT)."),
     convert: bool = typer.Option(False, "--convert",
                                  help="Convert revolution/extrusion/offset faces to B-splines instead of skipping them."),
