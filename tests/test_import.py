@@ -28,3 +28,20 @@ def test_the_reader_child_starts_before_numpy():
     code = "import sys, cadartifact.cli.prestart, cadartifact.exchange.reader_start; print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_a_gate_run_does_not_import_scipy(tmp_path):
+    """scipy is for the scheme designer (theory.design, theory.regularity): importing ``scipy.fft`` alone cost a
+    gate process 0.1-0.4 s, more than the analysis of a small file (issue 24). The gate and advise paths use
+    numpy's FFT, in this process and in the reader child alike (here: the file read in-process)."""
+    from pathlib import Path
+
+    sample = Path(__file__).resolve().parents[1] / "samples" / "wavy_panel_diagonal.step"
+    code = ("import sys\n"
+            f"sys.argv = ['cadartifact', 'advise', {str(sample)!r}, '--tol', '0.05', '--json']\n"
+            "from cadartifact.cli.app import run\n"
+            "try:\n    run()\nexcept SystemExit:\n    pass\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] == 'scipy'), file=sys.stderr)\n")
+    env = dict(__import__("os").environ, CADARTIFACT_READ_ISOLATION="0")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert out.stderr.strip().splitlines()[-1] == "[]", out.stderr[-2000:]
