@@ -94,18 +94,16 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     check_file(path)
     isolation.read_timeout(timeout)  # a bad timeout is a usage error before any work
     if isolation.enabled() and fmt == "step":
-        # the text checks and the entity index run here while the child reads (two cores, one file)
-        from .step_text import entity_lines
-
-        records = []
+        # the text checks run here while the child reads (two cores, one file); their record heads map the
+        # model's entity numbers to the file's ids
+        heads: list = []
 
         def scan():
-            _prescan(path)
-            records.extend(entity_lines(path))
+            heads.extend(_prescan(path))
 
         result = isolation.call(*read_request(path, fmt, convert), path=path, what="STEP", timeout=timeout,
                                 during=scan)
-        _file_ids(result, records)
+        _file_ids(result, heads)
     elif isolation.enabled():
         result = isolation.call(*read_request(path, fmt, convert), path=path, what=fmt.upper(), timeout=timeout)
     else:
@@ -115,28 +113,33 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     return result
 
 
-def _prescan(path: Path) -> list[str]:
+def _prescan(path: Path) -> list[tuple[str, str]]:
     """The STEP text's checks: impossible numbers (:func:`~cadartifact.exchange.step_scan.check_step_text`), then
-    broken references (:func:`~cadartifact.exchange.step_refs.check_references`). Returns the record ids."""
+    broken references (:func:`~cadartifact.exchange.step_refs.check_references`), on one cleaned copy of the
+    text (:func:`~cadartifact.exchange.step_scan.clean_data`). Returns the record heads ``[(id, KEYWORD)]``."""
     from .step_refs import check_references
-    from .step_scan import check_step_text, data_section, record_heads
+    from .step_scan import check_step_text, clean_data, data_section, record_heads
 
     with open(path, "rb") as fh:
         text = fh.read().decode("latin-1")
-    heads = record_heads(data_section(text))
-    ids = check_step_text(path, text, heads)
-    check_references(path, text, heads)
-    return ids
+    clean = clean_data(data_section(text))
+    heads = record_heads(clean)
+    check_step_text(path, text, heads, clean)
+    check_references(path, text, heads, clean)
+    return heads
 
 
-def _file_ids(result: LoadResult, records) -> None:
-    """Turn the model entity numbers a ``prescanned`` read left in ``origin.entity`` into the file's ids."""
+def _file_ids(result: LoadResult, heads) -> None:
+    """Turn the model entity numbers a ``prescanned`` read left in ``origin.entity`` into the file's ids (OCCT
+    numbers a model's entities in file order; None when the record there is not an ``ADVANCED_FACE``)."""
     from dataclasses import replace
 
-    from .step_text import face_id_from_model
-
     for net in result.nets:
-        origin = replace(net.origin, entity=face_id_from_model(records, net.origin.entity))
+        number = net.origin.entity
+        ident = None
+        if number is not None and 0 < number <= len(heads) and heads[number - 1][1].upper() == "ADVANCED_FACE":
+            ident = int(heads[number - 1][0])
+        origin = replace(net.origin, entity=ident)
         object.__setattr__(net, "origin", origin)  # just unpickled, not shared: no need to validate the net again
 
 
@@ -154,7 +157,7 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
     dropped: list[str] = []
     ids = None
     if fmt == "step" and not prescanned:
-        ids = _prescan(path)
+        ids = ["#" + i for i, _ in _prescan(path)]
     from . import occ, step
 
     if fmt == "step":

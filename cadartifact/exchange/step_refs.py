@@ -29,7 +29,8 @@ import re
 from operator import itemgetter
 
 from ..errors import FileFormatError
-from .step_scan import collapse_grids, data_section, parse_parameters, record_heads
+from .step_scan import clean_data, collapse_grids, data_section, parse_parameters, record_heads
+from .step_text import text_entity_lines
 
 __all__ = ["SCHEMA", "SURFACES", "CURVES", "check_references", "reference_problem"]
 
@@ -107,14 +108,18 @@ _BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + pattern.pattern + r
           for keyword, pattern in _FAST.items()}
 _BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + _POINT3.pattern + r"(?=;|\Z)")
 _DIGITS = re.compile(r"\d+")
+_END = re.compile(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z")
 
 
 class _Records:
-    """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed)."""
+    """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed).
+
+    ``data``: the section as :func:`~.step_scan.clean_data` gives it (a ``;`` ends a statement, always);
+    lines are counted on the file's own ``text``."""
 
     def __init__(self, text: str, data: str, heads: list[tuple[str, str]]):
         self.text, self.data, self.heads = text, data, heads
-        self.offset = len(text) - len(data)
+        self._lines: dict[str, int] | None = None
         self.kind = dict(heads)
         # statement i + 1 of the section is record i, unless a ';' inside a string or comment shifts them:
         # each use checks the statement's head and falls back to an exact index once
@@ -170,9 +175,12 @@ class _Records:
         return self.exact
 
     def line(self, ident: str) -> int | None:
-        """The 1-based line of ``#ident =`` in the file."""
-        found = re.search(r"(?:^|;)\s*(#" + ident + r"\s*=)", self.data)
-        return None if found is None else self.text.count("\n", 0, self.offset + found.start(1)) + 1
+        """The 1-based line of ``#ident =`` in the file (an index of the text's lines, built on first use)."""
+        if self._lines is None:
+            self._lines = {}
+            for i, line, _ in text_entity_lines(self.text):
+                self._lines.setdefault(str(i), line)
+        return self._lines.get(ident)
 
     def names(self, ident: str) -> list[str]:
         """The keyword of a simple instance, the part keywords of a complex one."""
@@ -362,7 +370,7 @@ def _missing_reference(records: _Records) -> str | None:
     return None
 
 
-def check_references(path, text: str, heads: list[tuple[str, str]] | None = None) -> None:
+def check_references(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None) -> None:
     """Raise :class:`FileFormatError` for the first broken reference of a STEP text (see the module notes).
 
     Parameters
@@ -372,17 +380,20 @@ def check_references(path, text: str, heads: list[tuple[str, str]] | None = None
     text : str
         The STEP file's text (latin-1 decoded).
     heads : list of (str, str), optional
-        :func:`~.step_scan.record_heads` of its DATA section, if known.
+        :func:`~.step_scan.record_heads` of ``clean``, if known.
+    clean : str, optional
+        :func:`~.step_scan.clean_data` of its DATA section, if known.
 
     Raises
     ------
     FileFormatError
         ``"PATH: #ID is referenced by KEYWORD #OWNER (line N) as ROLE, and ..."``.
     """
-    data = data_section(text)
-    if not re.search(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z", data):
+    if not _END.search(text, max(0, len(text) - 4096)):
         return  # a truncated file: OCCT's parser says so (every reference past the cut would be "missing")
-    records = _Records(text, data, record_heads(data) if heads is None else heads)
+    if clean is None:
+        clean = clean_data(data_section(text))
+    records = _Records(text, clean, record_heads(clean) if heads is None else heads)
     problem = _chain_problem(records) or _missing_reference(records)
     if problem:
         raise FileFormatError(path, problem)

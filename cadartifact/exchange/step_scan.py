@@ -25,7 +25,7 @@ import re
 from ..errors import FileFormatError
 from .messages import quote
 
-__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "data_section", "declared_faces", "parse_parameters",
+__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "clean_data", "data_section", "entity_line_in", "declared_faces", "parse_parameters",
            "record_heads", "record_ids"]
 
 #: Largest magnitude of any real number (model units, knots, weights) a real model holds.
@@ -33,15 +33,17 @@ MAX_ABS = 1e12
 #: Largest B-spline degree accepted (OCCT's own limit is 25).
 MAX_DEGREE = 25
 
-_RECORD = re.compile(r"\s*#(\d+)\s*=\s*((?:[^;']|'(?:[^']|'')*')*);")
 _FACE = re.compile(r"#(\d+)\s*=\s*(ADVANCED_FACE|FACE_SURFACE)\s*\(")
-# candidates (fast to find, one pattern each): a positive exponent of 6 or more, 7+ digits before a point
-_CANDIDATES = (re.compile(r"[eE]\+?0*(?:[6-9]|[1-9][0-9])"), re.compile(r"[0-9]{7,}\."))
+# candidates (fast to find, one pattern each): a positive exponent of 6 or more; 13 digits in a row that do not
+# follow a point (an integer part of 1e12 or more, with a point or without: an integer where a real stands)
+_CANDIDATES = (re.compile(r"[eE]\+?0*(?:[6-9]|[1-9][0-9])"), re.compile(r"(?<![.0-9])[0-9]{13}"))
+# the NaN/INF words (strings are gone from the text they are looked for in)
+_WORDS = re.compile(r"(?<![\w.])(?:NAN|INF)", re.IGNORECASE)
 _HEAD = re.compile(r"\s*#(\d+)\s*=")
 # every real (and NaN/INF word) of a record's text, strings removed
-_REAL = re.compile(r"(?<![\w#.])[-+]?(?:\d+\.\d*|\.\d+)(?:[eE][-+]?\d+)?|(?<![\w.])(?:NAN|INF|INFINITY)(?![\w.])",
-                   re.IGNORECASE)
-_STRING = re.compile(r"'(?:[^']|'')*'")
+# (``1e300``, with no point, is not a STEP real, but OCCT's lexer takes it, and hangs on it: so are huge integers)
+_REAL = re.compile(r"(?<![\w#.])[-+]?(?:(?:\d+\.\d*|\.\d+)(?:[eE][-+]?\d+)?|\d+[eE][-+]?\d+|\d{13,})"
+                   r"|(?<![\w.])(?:NAN|INF|INFINITY)(?![\w.])", re.IGNORECASE)
 _TOKEN = re.compile(r"\s*(?:('(?:[^']|'')*')|(\.[A-Z_0-9]+\.)|(#\d+)|"
                      r"([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?)|([A-Za-z_][A-Za-z_0-9]*)|([(),$*]))")
 
@@ -113,6 +115,33 @@ def parse_parameters(text: str):
 def declared_faces(text: str) -> dict[int, str]:
     """``{entity id: "ADVANCED_FACE" | "FACE_SURFACE"}`` of the faces a STEP text declares (simple instances)."""
     return {int(m.group(1)): m.group(2) for m in _FACE.finditer(text)}
+
+
+# strings, emptied: no backtracking ('' escapes are two strings side by side, both emptied)
+_STRINGS_ONLY = re.compile(r"'[^']*'")
+# strings and comments, in one pass (only when a comment opens somewhere); an unterminated one runs to the end
+_STRINGS_COMMENTS = re.compile(r"'[^']*'|/\*[^*]*(?:\*+[^*/][^*]*)*(?:\*+/|\**\Z)")
+
+
+def clean_data(data: str) -> str:
+    """A DATA section (:func:`data_section`) with its strings emptied (``''``) and its comments removed.
+
+    What is left has a ``;`` only where a statement ends, a ``#`` only in ids and references and digits
+    only in numbers, ids and keywords, so the scans split and search it without tracking quotes (one
+    regex pass in C, no backtracking; a file's lines are counted on its own text, :func:`entity_line_in`).
+    An unterminated string is left as it is (OCCT's parser rejects the file).
+    """
+    if "/*" not in data:
+        return _STRINGS_ONLY.sub("''", data)
+    return _STRINGS_COMMENTS.sub(lambda m: "''" if m.group(0)[0] == "'" else " ", data)
+
+
+def entity_line_in(text: str, ident: str) -> int | None:
+    """The 1-based line of the record ``#ident =`` in a STEP text (exact: strings and comments skipped)."""
+    from .step_text import text_entity_lines
+
+    want = int(ident)
+    return next((line for i, line, _ in text_entity_lines(text) if i == want), None)
 
 
 def data_section(text: str) -> str:
@@ -283,7 +312,7 @@ def record_heads(data: str) -> list[tuple[str, str]]:
     return _HEADS.findall(data)
 
 
-def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None) -> list[str]:
+def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None) -> list[str]:
     """Raise :class:`FileFormatError` for a repeated entity id or the first impossible number or B-spline entity.
 
     Returns
@@ -298,92 +327,72 @@ def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None)
     text : str
         The STEP file's text (latin-1 decoded).
     heads : list of (str, str), optional
-        :func:`record_heads` of the text's DATA section, if known.
+        :func:`record_heads` of ``clean``, if known.
+    clean : str, optional
+        :func:`clean_data` of the text's DATA section, if known.
 
     Raises
     ------
     FileFormatError
-        ``"PATH: #ID: problem"`` (see the module notes).
+        ``"PATH: #ID (line N): problem"`` (see the module notes).
     """
-    data = _data_section(text)
-    ids = ["#" + i for i in _IDS.findall(data)] if heads is None else ["#" + i for i, _ in heads]
+    if clean is None:
+        clean = clean_data(_data_section(text))
+    ids = ["#" + i for i, _ in (record_heads(clean) if heads is None else heads)]
     if len(set(ids)) != len(ids):
         seen_ids: set[str] = set()
         twice = next(i for i in ids if i in seen_ids or seen_ids.add(i))
         raise FileFormatError(path, f"{twice} is defined twice (entity ids must be unique)")
-    upper = data.upper()
-    hits = sorted({m.start() for pattern in _CANDIDATES for m in pattern.finditer(data)}
-                  | set(_find_all(upper, "NAN")) | set(_find_all(upper, "INF")))
+
+    def where(ident: str) -> str:
+        line = entity_line_in(text, ident) if ident != "?" else None
+        return f"#{ident}" + (f" (line {line})" if line else "")
+
+    hits = sorted({m.start() for pattern in (*_CANDIDATES, _WORDS) for m in pattern.finditer(clean)})
     seen = -1
     for at in hits:
         if at < seen:
             continue
-        rec = _record_around(data, at)
-        if rec is None:
-            ident, body, seen = "?", data[max(0, at - 40):at + 40], at + 1
-        else:
-            ident, body, seen = rec
-        for tok in _REAL.finditer(_STRING.sub("''", body)):
+        ident, body, seen = _record_around(clean, at)
+        for tok in _REAL.finditer(body):
             value = _real(tok.group(0))
             if value is None or not math.isfinite(value) or abs(value) > MAX_ABS:
-                raise FileFormatError(path, f"#{ident}: number {quote(tok.group(0))} is not finite or exceeds "
-                                            f"{MAX_ABS:g} (no real model holds it)")
-    for ident, body, _ in _records_with(data, "B_SPLINE"):
+                raise FileFormatError(path, f"{where(ident)}: number {quote(tok.group(0))} is not finite or "
+                                            f"exceeds {MAX_ABS:g} (no real model holds it)")
+    for ident, body, _ in _records_with(clean, "B_SPLINE"):
         try:
             parts = parse_parameters(collapse_grids(body))
         except (ValueError, RecursionError) as exc:
-            raise FileFormatError(path, f"#{ident}: malformed B-spline entity ({exc})") from None
+            raise FileFormatError(path, f"{where(ident)}: malformed B-spline entity ({exc})") from None
         spline = _spline(parts)
         if spline is None:
             continue
         problem = spline_problem(*spline)
         if problem:
-            raise FileFormatError(path, f"#{ident}: {spline[0]}: {problem}")
+            raise FileFormatError(path, f"{where(ident)}: {spline[0]}: {problem}")
     return ids
 
 
-def _find_all(text: str, word: str):
-    pos = text.find(word)
-    while pos >= 0:
-        yield pos
-        pos = text.find(word, pos + 1)
-
-
-def _record_around(data: str, at: int):
-    """``(id, body, end)`` of the record holding position ``at``, or None (e.g. a ';' inside a string before it).
-
-    The record starts after the last ';' before ``at`` and ends at the first ';' after it that is
-    outside strings (an even number of quotes since the start: ``''`` escapes come in pairs).
-    """
-    start = data.rfind(";", 0, at) + 1
-    head = _HEAD.match(data, start)
-    if head is None or data.count("'", start, at) % 2:
-        return None
-    end = data.find(";", at)
-    while end >= 0 and data.count("'", start, end) % 2:
-        end = data.find(";", end + 1)
-    if end < 0:
-        return None
-    return head.group(1), data[head.end():end], end + 1
-
-
-def _records_with(data: str, word: str):
-    """``(id, body, end)`` of each record whose text holds ``word`` (once each), found from ``word`` (fast)."""
+def _records_with(clean: str, word: str):
+    """``(id, body, end)`` (:func:`_record_around`) of each statement of a :func:`clean_data` text holding ``word``."""
     pos = 0
-    while True:
-        hit = data.find(word, pos)
-        if hit < 0:
-            return
-        rec = _record_around(data, hit)
-        if rec is None:  # a ';' in a string before the word: the slow, exact way
-            m = next((r for r in _RECORD.finditer(data, max(0, data.rfind("#", 0, hit) - 100_000), hit + 1)
-                      if r.end() > hit), None)
-            rec = None if m is None else (m.group(1), m.group(2), m.end())
-        if rec is None:
-            pos = hit + len(word)
-            continue
+    while (hit := clean.find(word, pos)) >= 0:
+        rec = _record_around(clean, hit)
         yield rec
         pos = rec[2]
+
+
+def _record_around(clean: str, at: int) -> tuple[str, str, int]:
+    """``(id, body, end)`` of the statement of a :func:`clean_data` text holding position ``at``: its id (``"?"``
+    when it is not a record ``#id = ...``), its text after ``=`` (the whole statement when not a record) and
+    where the next statement starts."""
+    start = clean.rfind(";", 0, at) + 1
+    end = clean.find(";", at)
+    end = len(clean) if end < 0 else end
+    head = _HEAD.match(clean, start, end)
+    if head is None:
+        return "?", clean[start:end], end + 1
+    return head.group(1), clean[head.end():end], end + 1
 
 
 def _real(token: str) -> float | None:

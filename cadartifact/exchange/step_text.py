@@ -11,7 +11,7 @@ import functools
 import os
 import re
 
-__all__ = ["entity_lines", "entity_line", "face_id_from_model"]
+__all__ = ["entity_lines", "entity_line", "face_id_from_model", "text_entity_lines"]
 
 _RECORD = re.compile(r"#(\d+)\s*=\s*([A-Za-z_][A-Za-z0-9_]*|\()")
 
@@ -40,6 +40,11 @@ def _entity_lines(path: str, mtime: int, size: int) -> tuple:
             text = fh.read()
     except OSError:
         return ()
+    return text_entity_lines(text)
+
+
+def text_entity_lines(text: str) -> tuple:
+    """:func:`entity_lines` of a STEP text (one linear pass: the tokens' regex cannot backtrack)."""
     # a record counts only at the start of a statement (nothing but blanks, comments and strings since
     # the last ';'); the regex skips the text between tokens, which is scanned only while at a start
     out = []
