@@ -104,6 +104,11 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
         result = isolation.call(*read_request(path, fmt, convert), path=path, what="STEP", timeout=timeout,
                                 during=scan)
         _file_ids(result, heads)
+    elif isolation.enabled() and fmt == "iges":
+        from .iges_refs import check_iges_text
+
+        result = isolation.call(*read_request(path, fmt, convert), path=path, what="IGES", timeout=timeout,
+                                during=lambda: check_iges_text(path))
     elif isolation.enabled():
         result = isolation.call(*read_request(path, fmt, convert), path=path, what=fmt.upper(), timeout=timeout)
     else:
@@ -163,6 +168,10 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
     if fmt == "step":
         shape, face_name, dropped = step.read_step_audited(path, ids, model_numbers=prescanned)
     elif fmt == "iges":
+        if not prescanned:
+            from .iges_refs import check_iges_text
+
+            check_iges_text(path)
         shape, face_name, dropped = step.read_iges_audited(path)
     else:
         shape, face_name = step.read_brep(path)
@@ -278,24 +287,29 @@ def occ_surface(net: ControlNet):
     return _surface(net)
 
 
+#: The function the reader child runs to evaluate (``module:function``; fault-injection tests replace it).
+EVALUATE = "cadartifact.exchange.occ:evaluate_grid"
+
+
 def evaluate_grid(net: ControlNet, u, v):
     """OCCT's evaluation of the net's surface on the outer grid ``u x v``: ``(len(u), len(v), 3)``.
 
-    See :func:`cadartifact.exchange.occ.evaluate_grid`. When this process has not imported OCP but
-    the reader child (:mod:`.isolation`) is running, the child evaluates (same function, same
-    numbers): a pipe round trip instead of importing OCP here, which takes about a second (the gate's
-    peak locations, the advice's verification after a read).
+    See :func:`cadartifact.exchange.occ.evaluate_grid`. OCCT evaluates in the reader child
+    (:mod:`.isolation`, same function, same numbers), like its reads: a crash or a hang there (a
+    surface OCCT cannot evaluate) raises :class:`~cadartifact.exchange.isolation.ChildFailed` naming the
+    file and the face, which costs that face an error entry and not the run (the gate's peak locations,
+    the advice's verification). The child is the warm one of the read (a pipe round trip), or a new one.
+    In the child itself, or with ``CADARTIFACT_READ_ISOLATION=0``, OCCT evaluates in this process.
     """
-    import sys
-
     from . import isolation
 
-    if "OCP" not in sys.modules and isolation.warm():
+    if isolation.enabled() and not isolation.serving():
         import numpy as np
 
         args = (net, np.asarray(u, dtype=float), np.asarray(v, dtype=float))
-        return isolation.call("cadartifact.exchange.occ:evaluate_grid", args, path=net.origin.file or "<net>",
-                              what="OCCT")
+        face = net.origin.face
+        actor = "OCCT's evaluation of " + (f"face {face}" if face is not None else "the surface")
+        return isolation.call(EVALUATE, args, path=net.origin.file or "<net>", what="OCCT", actor=actor)
     from .occ import evaluate_grid as _evaluate
 
     return _evaluate(net, u, v)
