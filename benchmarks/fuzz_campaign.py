@@ -3,7 +3,8 @@
     python benchmarks/fuzz_campaign.py [-n 10000] [--seed 14] [--all] [--read-timeout 10]
 
 Generates ``n`` inputs with ``tests/fuzzing.py`` (round-robin over its mutation kinds, sources at
-random: the samples and the real files under 150 KB, or every real file with ``--all``) and gates
+random: the samples, IGES files written from them and from MAINBODY_BACK (``fuzzing.iges_sources``; ``--no-iges``
+leaves them out), and the real files under 150 KB, or every real file with ``--all``) and gates
 each in this process with :func:`cadartifact.gate.run.gate_file` (the STEP reader runs in its child
 process). Prints the count per outcome class (pass / warn / fail / error:<why>) and per mutation
 kind, and every contract violation (:func:`fuzzing.check_entry`): an unexpected exception, a report
@@ -38,6 +39,7 @@ def main(argv=None) -> int:
     parser.add_argument("--all", action="store_true", help="also the real files over 150 KB (slow)")
     parser.add_argument("--read-timeout", type=float, default=10.0, help="seconds per file for the reader")
     parser.add_argument("--tol", type=float, default=0.05)
+    parser.add_argument("--no-iges", action="store_true", help="no IGES sources")
     args = parser.parse_args(argv)
 
     from cadartifact.gate.run import gate_file
@@ -46,6 +48,9 @@ def main(argv=None) -> int:
     warnings.simplefilter("ignore")
     settings = FileSettings(tolerance=args.tol)
     sources = fuzzing.default_sources(small=not args.all)
+    iges_folder = tempfile.TemporaryDirectory(prefix="cadartifact-fuzz-iges-")
+    if not args.no_iges:
+        sources += fuzzing.iges_sources(Path(iges_folder.name))
     print(f"fuzz campaign: {args.n} inputs, seed {args.seed}, {len(sources)} sources "
           f"({', '.join(s.name for s in sources)}), read timeout {args.read_timeout:g} s", flush=True)
     classes: collections.Counter = collections.Counter()
@@ -77,6 +82,7 @@ def main(argv=None) -> int:
             if (i + 1) % 1000 == 0:
                 print(f"  {i + 1} inputs, {time.perf_counter() - start:.0f} s, {len(violations)} violations",
                       flush=True)
+    iges_folder.cleanup()
     elapsed = time.perf_counter() - start
     print(f"\n{args.n} inputs in {elapsed:.0f} s ({1e3 * elapsed / max(args.n, 1):.0f} ms each; "
           f"slowest {slowest[0]:.1f} s: {slowest[1]})")
