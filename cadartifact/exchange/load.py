@@ -129,8 +129,9 @@ def _prescan(path: Path) -> list[tuple[str, str]]:
         text = fh.read().decode("latin-1")
     clean = clean_data(data_section(text))
     heads = record_heads(clean)
-    check_step_text(path, text, heads, clean)
-    check_references(path, text, heads, clean)
+    arities: dict = {}  # the B-spline surfaces' parameter counts: parsed once, by the number scan
+    check_step_text(path, text, heads, clean, arities)
+    check_references(path, text, heads, clean, arities)
     return heads
 
 

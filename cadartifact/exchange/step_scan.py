@@ -314,7 +314,8 @@ def record_heads(data: str) -> list[tuple[str, str]]:
     return _HEADS.findall(data)
 
 
-def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None) -> list[str]:
+def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None,
+                    arities: dict | None = None) -> list[str]:
     """Raise :class:`FileFormatError` for a repeated entity id or the first impossible number or B-spline entity.
 
     Returns
@@ -332,6 +333,9 @@ def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None,
         :func:`record_heads` of ``clean``, if known.
     clean : str, optional
         :func:`clean_data` of the text's DATA section, if known.
+    arities : dict, optional
+        Filled with ``{id: parameter count}`` of the simple B-spline surface records (parsed here once, for
+        :func:`~.step_refs.check_references`).
 
     Raises
     ------
@@ -369,6 +373,9 @@ def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None,
         spline = _spline(parts)
         if spline is None:
             continue
+        if arities is not None and len(parts) == 1 and parts[0][0] in ("B_SPLINE_SURFACE_WITH_KNOTS",
+                                                                        "B_SPLINE_SURFACE"):
+            arities[ident] = len(parts[0][1])
         problem = spline_problem(*spline)
         if problem:
             raise FileFormatError(path, f"{where(ident)}: {spline[0]}: {problem}")
