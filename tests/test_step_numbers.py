@@ -75,3 +75,56 @@ def test_the_cli_fails_in_one_line_before_occt_hangs(tmp_path, number, monkeypat
     assert r.exit_code == 2 and r.stdout == "", r.output
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and str(path) in lines[0] and "#23 (line" in lines[0] and "Traceback" not in r.stderr
+
+
+def _spline_records():
+    """The B-spline records (grids collapsed) of the samples and real files, each also mutated the ways the
+    bounds tests mutate them (a knot pair swapped, a multiplicity raised, a degree changed, a knot made huge)."""
+    from cadartifact.exchange.step_scan import _records_with, clean_data, collapse_grids, data_section
+
+    files = sorted((ROOT / "samples").glob("*.step"))
+    real = ROOT.parent / "shared" / "realdata" / "step"
+    if real.exists():
+        files += sorted(real.glob("*.st*p"))
+    for path in files:
+        clean = clean_data(data_section(path.read_bytes().decode("latin-1")))
+        for _, body, _ in _records_with(clean, "B_SPLINE"):
+            rec = collapse_grids(body)
+            yield rec
+            lists = list(re.finditer(r"\(([^()]*)\)", rec))
+            for m in lists[:4]:
+                items = m.group(1).split(",")
+                if len(items) >= 2:
+                    swapped = [items[1], items[0]] + items[2:]
+                    yield rec[:m.start(1)] + ",".join(swapped) + rec[m.end(1):]
+                    yield rec[:m.start(1)] + ",".join(["9"] + items[1:]) + rec[m.end(1):]
+                    yield rec[:m.start(1)] + ",".join(["1.E13"] + items[1:]) + rec[m.end(1):]
+                    yield rec[:m.start(1)] + ",".join(["NAN"] + items[1:]) + rec[m.end(1):]
+            yield re.sub(r"(WITH_KNOTS\(\s*''\s*,\s*)\d+", r"\g<1>26", rec, count=1)
+
+
+def test_the_fast_b_spline_checks_agree_with_the_full_parse():
+    """The number scan's fast road (simple records converted by C calls, ``_possible``) says "no problem" only
+    where the full parse and ``spline_problem`` say so, on every B-spline record of the samples and real files
+    and on mutations of each."""
+    from cadartifact.exchange.step_scan import _fast_spline, _possible, _spline, parse_parameters, spline_problem
+
+    fast_used = checked = 0
+    for rec in _spline_records():
+        try:
+            full = _spline(parse_parameters(rec))
+        except ValueError:
+            full = None
+        fast = _fast_spline(rec)
+        if fast is not None:
+            fast_used += 1
+            assert full is not None and fast[0] == full[0], rec[:200]
+            for key in ("degrees", "mults", "knots"):
+                assert fast[1][key] == full[1][key], (key, rec[:200])
+        if full is not None:
+            checked += 1
+            if _possible(*full):
+                assert spline_problem(*full) is None, rec[:200]
+            if fast is not None and _possible(*fast):
+                assert spline_problem(*full) is None, rec[:200]
+    assert fast_used >= 20 and checked >= 100

@@ -20,7 +20,9 @@ reference the reader compares its transferred faces with.
 from __future__ import annotations
 
 import math
+import operator
 import re
+from itertools import chain
 
 from ..errors import FileFormatError
 from .messages import quote
@@ -32,6 +34,8 @@ __all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "clean_data", "data_secti
 MAX_ABS = 1e12
 #: Largest B-spline degree accepted (OCCT's own limit is 25).
 MAX_DEGREE = 25
+#: Parameters of a simple ``B_SPLINE_SURFACE_WITH_KNOTS`` record (the name, 7 of the surface, 5 of the knots).
+SURFACE_WITH_KNOTS_ARITY = 13
 
 _FACE = re.compile(r"#(\d+)\s*=\s*(ADVANCED_FACE|FACE_SURFACE)\s*\(")
 # candidates, found on the cleaned text as upper-case bytes (same offsets; a literal first byte: fast): a positive
@@ -245,6 +249,54 @@ def _number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
+def _possible(kind: str, attrs: dict) -> bool:
+    """True when :func:`spline_problem` would find nothing, decided by C-level loops (``map``, ``min``, ``fsum``)
+    instead of a Python test per knot and weight; False when unsure (then :func:`spline_problem` says what)."""
+    try:
+        dims = 2 if "SURFACE" in kind else 1
+        degrees = attrs.get("degrees") or []
+        if len(degrees) != dims or set(map(type, degrees)) != {int} or min(degrees) < 1 or max(degrees) > MAX_DEGREE:
+            return False
+        shape = _grid_shape(attrs.get("poles"), dims)
+        if shape is None:
+            return False
+        if "mults" in attrs:
+            mults, knots = attrs["mults"], attrs["knots"]
+            if len(mults) != dims or len(knots) != dims:
+                return False
+            for p, n, m, k in zip(degrees, shape, mults, knots):
+                if type(m) is not list or type(k) is not list or len(m) != len(k) or len(k) < 2:
+                    return False
+                if not set(map(type, m)) <= _INT or not set(map(type, k)) <= _NUMBER_TYPES:
+                    return False
+                if min(m) < 1 or max(m) > p + 1 or sum(m) != n + p + 1:
+                    return False
+                # NaN: max may pass it over, fsum does not
+                if not max(map(abs, k)) <= MAX_ABS or not math.isfinite(math.fsum(k)):
+                    return False
+                if not all(map(operator.le, k, k[1:])):
+                    return False
+        if "weights" in attrs:
+            w = attrs["weights"]
+            if type(w) is not list or len(w) != shape[0]:
+                return False
+            if dims == 2:
+                if set(map(type, w)) != {list} or set(map(len, w)) != {shape[1]}:
+                    return False
+                w = list(chain.from_iterable(w))
+            if not w or not set(map(type, w)) <= _NUMBER_TYPES:
+                return False
+            if not (min(w) >= 1 / MAX_ABS and max(w) <= MAX_ABS and math.isfinite(math.fsum(w))):
+                return False
+        return True
+    except (TypeError, ValueError, OverflowError):
+        return False
+
+
+_INT = frozenset({int})
+_NUMBER_TYPES = frozenset({int, float})
+
+
 def spline_problem(kind: str, attrs: dict) -> str | None:
     """What makes a normalised B-spline entity impossible, or None."""
     dims = 2 if "SURFACE" in kind else 1
@@ -366,8 +418,14 @@ def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None,
                 raise FileFormatError(path, f"{where(ident)}: number {quote(tok.group(0))} is not finite or "
                                             f"exceeds {MAX_ABS:g} (no real model holds it)")
     for ident, body, _ in _records_with(clean, "B_SPLINE"):
-        try:
-            parts = parse_parameters(collapse_grids(body))
+        collapsed = collapse_grids(body)
+        spline = _fast_spline(collapsed)
+        if spline is not None and _possible(*spline):  # well-formed and possible: the common case
+            if arities is not None and spline[0] == "B_SPLINE_SURFACE_WITH_KNOTS":
+                arities[ident] = SURFACE_WITH_KNOTS_ARITY
+            continue
+        try:  # the full parse: other records, and the message of a problem
+            parts = parse_parameters(collapsed)
         except (ValueError, RecursionError) as exc:
             raise FileFormatError(path, f"{where(ident)}: malformed B-spline entity ({exc})") from None
         spline = _spline(parts)
@@ -376,10 +434,43 @@ def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None,
         if arities is not None and len(parts) == 1 and parts[0][0] in ("B_SPLINE_SURFACE_WITH_KNOTS",
                                                                         "B_SPLINE_SURFACE"):
             arities[ident] = len(parts[0][1])
-        problem = spline_problem(*spline)
+        problem = None if _possible(*spline) else spline_problem(*spline)
         if problem:
             raise FileFormatError(path, f"{where(ident)}: {spline[0]}: {problem}")
     return ids
+
+
+# the well-formed simple B-spline-with-knots records (grids collapsed): their lists converted by C calls, not
+# tokenised; anything else (complex instances, odd spellings) takes the full parse
+_REAL_ITEM = r"\s*[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?\s*"
+_REALS = re.compile(_REAL_ITEM + r"(?:," + _REAL_ITEM + r")*")
+_INTS = re.compile(r"\s*\d+\s*(?:,\s*\d+\s*)*")
+_FLAG = r"\s*,\s*\.[A-Z_]+\."
+_LIST = r"\s*,\s*\(([^()]*)\)"
+_FAST_SURFACE = re.compile(r"\s*B_SPLINE_SURFACE_WITH_KNOTS\s*\(\s*''\s*,\s*(\d+)\s*,\s*(\d+)\s*,\s*(\.GRID_\d+_\d+\.)"
+                           + _FLAG * 4 + _LIST * 4 + _FLAG + r"\s*\)\s*")
+_FAST_CURVE = re.compile(r"\s*B_SPLINE_CURVE_WITH_KNOTS\s*\(\s*''\s*,\s*(\d+)\s*,\s*(\.GRID_\d+\.)"
+                         + _FLAG * 3 + _LIST * 2 + _FLAG + r"\s*\)\s*")
+
+
+def _fast_spline(collapsed: str) -> tuple[str, dict] | None:
+    """:func:`_spline` of a well-formed simple ``B_SPLINE_SURFACE_WITH_KNOTS`` / ``B_SPLINE_CURVE_WITH_KNOTS`` record
+    (:func:`collapse_grids` applied), without the tokenizer; None for any other record."""
+    m = _FAST_SURFACE.fullmatch(collapsed)
+    if m is not None:
+        name, dims, g = "B_SPLINE_SURFACE_WITH_KNOTS", 2, m.groups()
+        degrees, poles, lists = [int(g[0]), int(g[1])], g[2], g[3:]
+    else:
+        m = _FAST_CURVE.fullmatch(collapsed)
+        if m is None:
+            return None
+        name, dims, g = "B_SPLINE_CURVE_WITH_KNOTS", 1, m.groups()
+        degrees, poles, lists = [int(g[0])], g[1], g[2:]
+    mults, knots = lists[:dims], lists[dims:]
+    if not all(_INTS.fullmatch(x) for x in mults) or not all(_REALS.fullmatch(x) for x in knots):
+        return None
+    return name, {"degrees": degrees, "poles": poles, "mults": [list(map(int, x.split(","))) for x in mults],
+                  "knots": [list(map(float, x.split(","))) for x in knots]}
 
 
 def _candidates(clean: str) -> set[int]:
