@@ -128,3 +128,25 @@ def test_the_fast_b_spline_checks_agree_with_the_full_parse():
             if fast is not None and _possible(*fast):
                 assert spline_problem(*full) is None, rec[:200]
     assert fast_used >= 20 and checked >= 100
+
+
+def test_the_faces_lines_a_read_remembers_are_the_full_index_s(tmp_path):
+    """The read indexes its faces' lines from the cleaned text (no second tokenizing pass): the same lines as the
+    index of every record, also when a string spans lines (then the full index is used)."""
+    from cadartifact.exchange import step_text
+    from cadartifact.exchange.load import _prescan
+
+    files = sorted((ROOT / "samples").glob("*.step"))
+    real = ROOT.parent / "shared" / "realdata" / "step"
+    if real.exists():
+        files += sorted(real.glob("*.st*p"))
+    multiline = tmp_path / "hood.step"  # a string across lines, and one holding a face's head
+    multiline.write_text(HOOD.read_bytes().decode("latin-1").replace(
+        "CARTESIAN_POINT('',", "CARTESIAN_POINT('a\nb;#999 = ADVANCED_FACE(',", 1), encoding="latin-1")
+    for path in files + [multiline]:
+        _prescan(path)
+        faces = [i for i, _, kind in step_text.entity_lines(path) if kind == "ADVANCED_FACE"]
+        full = step_text._lines_by_id(path)
+        assert faces and all(step_text.entity_line(path, i) == full[i] for i in faces), path
+        remembered = any(key[0] == str(path) for key in step_text._face_lines)
+        assert remembered == (path != multiline), path  # a head inside a string: the full index instead

@@ -124,14 +124,17 @@ def _prescan(path: Path) -> list[tuple[str, str]]:
     text (:func:`~cadartifact.exchange.step_scan.clean_data`). Returns the record heads ``[(id, KEYWORD)]``."""
     from .step_refs import check_references
     from .step_scan import check_step_text, clean_data, data_section, record_heads
+    from .step_text import remember_face_lines
 
     with open(path, "rb") as fh:
         text = fh.read().decode("latin-1")
-    clean = clean_data(data_section(text))
+    data = data_section(text)
+    clean = clean_data(data)
     heads = record_heads(clean)
     arities: dict = {}  # the B-spline surfaces' parameter counts: parsed once, by the number scan
     check_step_text(path, text, heads, clean, arities)
     check_references(path, text, heads, clean, arities)
+    remember_face_lines(path, text, data, clean)  # the faces' lines for reports, without a second full pass
     return heads
 
 
