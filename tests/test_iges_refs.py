@@ -80,7 +80,7 @@ def test_without_the_check_occt_reads_a_file_of_no_face(hood, tmp_path, monkeypa
     """Why the check exists: OCCT's read of the broken file loses the face and names nothing."""
     import cadartifact.exchange.iges_refs as refs
 
-    monkeypatch.setattr(refs, "check_iges_text", lambda path: None)
+    monkeypatch.setattr(refs, "check_iges_text", lambda path: (0, "faces"))  # no check, no count
     path = tmp_path / "m.igs"
     path.write_text(_with_surface(hood, "4"), encoding="latin-1")
     monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
@@ -88,3 +88,34 @@ def test_without_the_check_occt_reads_a_file_of_no_face(hood, tmp_path, monkeypa
         warnings.simplefilter("ignore")
         result = read(path)
     assert result.nets == [] and result.skipped == {} and os.path.exists(path)
+
+
+def test_faces_the_directory_declares_and_the_transfer_lost_are_counted_dropped(hood, tmp_path, monkeypatch):
+    """A byte flipped in a loop's curve made OCCT transfer 24 of the 31 faces of an IGES file, naming none (the
+    fuzz campaign): the faces the directory declares are compared with those transferred, and the rest are
+    dropped faces with a warning (the gate fails the file)."""
+    import json
+
+    from typer.testing import CliRunner
+
+    import cadartifact.exchange.iges_refs as refs
+    from cadartifact.cli.app import app
+    from cadartifact.exchange.files import LoadResult
+
+    got = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=24, skipped={"plane": 3},
+                                                  warnings=[]), (31, "faces (type 510)"))
+    assert got.faces_total == 31 and got.skipped == {"plane": 3, "dropped": 7}
+    assert got.warnings == ["m.igs: 7 of the 31 faces (type 510) the IGES file declares are not in OCCT's transferred "
+                            "shape, and OCCT named none (corrupt parameter data?)"]
+    path = tmp_path / "hood.igs"
+    path.write_text(hood, encoding="latin-1")
+    assert refs.declared_faces(hood) == (1, "trimmed or bounded surfaces (types 144, 143)")
+    real = refs.declared_faces
+    monkeypatch.setattr(refs, "declared_faces", lambda text: (real(text)[0] + 2, real(text)[1]))  # two faces lost
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = read(path)
+    assert result.skipped.get("dropped") == 2 and result.faces_total == 3 and len(result.nets) == 1
+    r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1e6", "--format", "json", "--jobs", "1"])
+    entry = json.loads(r.stdout)["files"][0]
+    assert r.exit_code == 2 and entry["verdict"] == "error" and "2 of the 3" in entry["error"]

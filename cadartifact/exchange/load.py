@@ -105,10 +105,12 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
                                 during=scan)
         _file_ids(result, heads)
     elif isolation.enabled() and fmt == "iges":
-        from .iges_refs import check_iges_text
+        from .iges_refs import check_iges_text, faces_missing
 
+        declared: list = []
         result = isolation.call(*read_request(path, fmt, convert), path=path, what="IGES", timeout=timeout,
-                                during=lambda: check_iges_text(path))
+                                during=lambda: declared.append(check_iges_text(path)))
+        result = faces_missing(path, result, declared[0])
     elif isolation.enabled():
         result = isolation.call(*read_request(path, fmt, convert), path=path, what=fmt.upper(), timeout=timeout)
     else:
@@ -175,7 +177,7 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
         if not prescanned:
             from .iges_refs import check_iges_text
 
-            check_iges_text(path)
+            declared = check_iges_text(path)
         shape, face_name, dropped = step.read_iges_audited(path)
     else:
         shape, face_name = step.read_brep(path)
@@ -192,7 +194,12 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
         hint = "" if convert or dropped else "; try convert=True (--convert) for revolution/extrusion/offset faces"
         messages.append(f"{path}: no analysable face among {total} faces (skipped: {kinds}){hint}")
-    return LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
+    result = LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
+    if fmt == "iges" and not prescanned:
+        from .iges_refs import faces_missing
+
+        result = faces_missing(path, result, declared)
+    return result
 
 
 def load(path: str | os.PathLike, *, convert: bool = False) -> list[ControlNet]:
