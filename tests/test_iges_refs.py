@@ -119,3 +119,14 @@ def test_faces_the_directory_declares_and_the_transfer_lost_are_counted_dropped(
     r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1e6", "--format", "json", "--jobs", "1"])
     entry = json.loads(r.stdout)["files"][0]
     assert r.exit_code == 2 and entry["verdict"] == "error" and "2 of the 3" in entry["error"]
+
+
+def test_a_non_ascii_digit_in_a_directory_entry_is_no_type_and_no_crash(hood):
+    """The campaign's one unexpected exception: a flipped byte made a directory field '50²' (``str.isdigit`` is
+    true, ``int`` fails); such a field is no entity type, and a pointer field no pointer."""
+    text = hood.replace("     144       1", "     14²       1", 1)
+    assert "two entity types" in iges_problem(text)
+    lines = hood.split("\n")
+    i = next(k for k, ln in enumerate(lines) if ln.startswith("     144       1"))
+    lines[i] = lines[i][:8] + "       ²" + lines[i][16:]
+    assert "no parameter data pointer" in iges_problem("\n".join(lines))

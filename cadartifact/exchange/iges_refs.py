@@ -34,7 +34,8 @@ _BOUNDARY = frozenset({141})
 _LOOP = frozenset({508})
 _FACE = frozenset({510})
 
-_NUMBER = re.compile(r"\s*[-+]?\d+\s*\Z")
+_NUMBER = re.compile(r"\s*[-+]?[0-9]+\s*\Z")
+_TYPE = re.compile(r"-?[0-9]+")
 
 
 def _pointer_slots(kind: int, params: list[str]):
@@ -76,7 +77,7 @@ def iges_problem(text: str) -> str | None:
     for k in range(count):
         a, b = d_lines[2 * k], d_lines[2 * k + 1]
         t1, t2 = a[:8].strip(), b[:8].strip()
-        types.append(int(t1) if t1.lstrip("-").isdigit() else None)
+        types.append(int(t1) if _TYPE.fullmatch(t1) else None)  # ASCII digits only ('50²' is not a type)
         if t1 != t2 and (t1 in _CHAIN or t2 in _CHAIN):
             return (f"IGES entity D{2 * k + 1} (line {first_d + 2 * k}): its directory entry gives two entity types "
                     f"({t1 or 'none'} and {t2 or 'none'})")
@@ -89,10 +90,9 @@ def iges_problem(text: str) -> str | None:
             continue
         d = 2 * k + 1
         a, b = d_lines[2 * k], d_lines[2 * k + 1]
-        try:
-            start, n_lines = int(a[8:16]), int(b[24:32])
-        except ValueError:
+        if not (_NUMBER.match(a[8:16]) and _NUMBER.match(b[24:32])):
             return f"{label(d)}: its directory entry has no parameter data pointer"
+        start, n_lines = int(a[8:16]), int(b[24:32])
         record = "".join(ln[:64] for ln in p_lines[start - 1:start - 1 + n_lines]) if start > 0 else ""
         params = record.split(end, 1)[0].split(delimiter)[1:]  # after the entity type
         for i, role, allowed, zero in _pointer_slots(kind, params):
