@@ -31,9 +31,14 @@ REALDATA = ROOT.parent / "shared" / "realdata"
 
 KINDS = ("flip", "truncate", "delete-line", "duplicate-line", "nan", "inf", "1e308", "1e154", "broken-ref",
          "decreasing-knots", "multiplicity", "degree", "zero-weight", "obj-index", "odd-name", "empty",
-         "wrong-ext", "delete-referenced", "wrong-type-ref", "self-ref", "empty-point", "corrupt-keyword")
+         "wrong-ext", "delete-referenced", "wrong-type-ref", "self-ref", "empty-point", "corrupt-keyword",
+         "iges-missing-ref", "iges-wrong-type-ref", "iges-self-ref", "iges-null-entity", "iges-corrupt-type")
 #: The kinds that break the chain that makes a face (issue 27): every one is an error naming the entity.
 CHAIN_KINDS = ("delete-referenced", "wrong-type-ref", "self-ref", "empty-point", "corrupt-keyword")
+#: The same breaks of an IGES file's directory (on the pointers of its 144/143/510/514 entities): a pointer to
+#: no entity (past the directory, an even number), to an entity of the wrong type, to the entity itself; the
+#: referenced entity made a null entity (type 0: deleted); a chain entity's type corrupted on one of its lines.
+IGES_KINDS = ("iges-missing-ref", "iges-wrong-type-ref", "iges-self-ref", "iges-null-entity", "iges-corrupt-type")
 
 #: Faces a STEP text declares (simple instances), counted independently of the reader.
 _STEP_FACE = re.compile(rb"#\d+\s*=\s*(?:ADVANCED_FACE|FACE_SURFACE)\s*\(")
@@ -62,10 +67,79 @@ def default_sources(*, small: bool = True) -> list[Path]:
     return files
 
 
+def iges_sources(folder: Path) -> list[Path]:
+    """IGES files written by OCCT from the STEP samples into ``folder``, as faces (mode 0: trimmed surfaces, 144)
+    and as B-rep (mode 1: shells of faces, 514/510)."""
+    import warnings
+
+    from OCP.IGESControl import IGESControl_Writer
+
+    from cadartifact.exchange.load import read
+    from cadartifact.exchange.occ import make_face
+
+    folder.mkdir(parents=True, exist_ok=True)
+    out = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for src in sorted((ROOT / "samples").glob("*.step")):
+            nets = read(src).nets
+            for mode in (0, 1):
+                writer = IGESControl_Writer("MM", mode)
+                for net in nets:
+                    writer.AddShape(make_face(net))
+                writer.ComputeModel()
+                path = folder / f"{src.stem}_{'faces' if mode == 0 else 'brep'}.igs"
+                if writer.Write(str(path)):
+                    out.append(path)
+        # a whole real model (shells of faces of every kind), when present
+        real = REALDATA / "step" / "MAINBODY_BACK.stp"
+        if real.exists():
+            from OCP.STEPControl import STEPControl_Reader
+
+            from cadartifact.exchange.occ import quiet_occt
+
+            reader = STEPControl_Reader()
+            with quiet_occt():
+                reader.ReadFile(str(real))
+                reader.TransferRoots()
+                for mode in (0, 1):
+                    writer = IGESControl_Writer("MM", mode)
+                    writer.AddShape(reader.OneShape())
+                    writer.ComputeModel()
+                    path = folder / f"{real.stem}_{'faces' if mode == 0 else 'brep'}.igs"
+                    if writer.Write(str(path)):
+                        out.append(path)
+    return out
+
+
+def _iges_directory(data: bytes) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
+    """Spans (start, end of line) of the D and P section lines of an IGES text."""
+    d, p = [], []
+    pos = 0
+    while pos < len(data):
+        end = data.find(b"\n", pos)
+        end = len(data) if end < 0 else end
+        line = data[pos:end].rstrip(b"\r")
+        if len(line) >= 73:
+            (d if line[72:73] == b"D" else p if line[72:73] == b"P" else []).append((pos, pos + len(line)))
+        pos = end + 1
+    return d, p
+
+
+def _iges_type(data: bytes, span) -> int | None:
+    field = data[span[0]:span[0] + 8].strip()
+    return int(field) if field.lstrip(b"-").isdigit() else None
+
+
 def declared_faces(data: bytes, fmt: str) -> int:
-    """Faces the text declares: STEP face records or OBJ ``f`` statements (continuation lines joined)."""
+    """Faces the text declares: STEP face records, IGES faces (510 entities, else trimmed and bounded surfaces,
+    144 and 143) or OBJ ``f`` statements (continuation lines joined)."""
     if fmt == "step":
         return len(_STEP_FACE.findall(data))
+    if fmt == "iges":
+        d, _ = _iges_directory(data)
+        types = [_iges_type(data, d[k]) for k in range(0, len(d) - 1, 2)]
+        return types.count(510) or types.count(144) + types.count(143)
     text = data.decode("utf-8", errors="replace").replace("\\\n", " ")
     return sum(1 for line in text.splitlines() if line.split("#", 1)[0].split()[:1] == ["f"])
 
@@ -162,6 +236,56 @@ def chain_links(data: bytes) -> list[tuple[str, bytes, bytes, int]]:
     return [link for link in links if link[2] in records]
 
 
+def _iges_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
+    """One break of an IGES file's chain (see :data:`IGES_KINDS`), keeping the 80-column layout."""
+    d, p = _iges_directory(data)
+    count = len(d) // 2
+    types = [_iges_type(data, d[2 * k]) for k in range(count)]
+    chain = [k for k, t in enumerate(types) if t in (144, 143, 510, 514)]
+    if not chain:
+        return data
+    k = rng.choice(chain)
+    owner = 2 * k + 1
+    if kind == "iges-corrupt-type":
+        start = d[2 * k + rng.randrange(2)][0]
+        return _replace_span(data, start, start + 8, str(types[k] + rng.choice([1, -1, 1000])).rjust(8).encode())
+    try:
+        first = int(data[d[2 * k][0] + 8:d[2 * k][0] + 16])
+    except ValueError:
+        return data
+    if not 0 < first <= len(p):
+        return data
+    a, b = p[first - 1]
+    text = data[a:a + 64]
+    fields = text.split(b";")[0].split(b",")
+    slot = {144: 1, 143: 2, 510: 1, 514: 2}[types[k]]  # the surface (144, 143, 510) or the first face (514)
+    if slot >= len(fields) or not fields[slot].strip().isdigit():
+        return data
+    target = int(fields[slot])
+    if kind == "iges-null-entity":  # the referenced entity deleted: a null entity (type 0) on both lines
+        if not 0 < target <= 2 * count or target % 2 == 0:
+            return data
+        for line in (target - 1, target):
+            start = d[line][0]
+            data = _replace_span(data, start, start + 8, b"0".rjust(8))
+        return data
+    if kind == "iges-missing-ref":
+        new = rng.choice([2 * count + 1, 2 * count + 101, 2, 0 if types[k] != 514 else 4])
+    elif kind == "iges-self-ref":
+        new = owner
+    else:  # iges-wrong-type-ref: an entity of a type that cannot stand there
+        allowed = {510} if types[k] == 514 else {108, 114, 118, 120, 122, 128, 140, 190, 192, 194, 196, 198}
+        others = [2 * j + 1 for j, t in enumerate(types) if t not in allowed and j != k]
+        if not others:
+            return data
+        new = rng.choice(others)
+    fields[slot] = str(new).encode()
+    record = b",".join(fields) + b";" + (text.split(b";", 1)[1] if b";" in text else b"")
+    if len(record.rstrip()) > 64:
+        return data
+    return _replace_span(data, a, a + 64, record.rstrip().ljust(64))
+
+
 def _chain_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
     """One break of the chain that makes a face (see :data:`CHAIN_KINDS`); ``data`` unchanged when none applies."""
     links = chain_links(data)
@@ -195,8 +319,11 @@ def _chain_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
 
 def mutate(data: bytes, fmt: str, kind: str, rng: random.Random) -> tuple[str, bytes]:
     """One mutation of a good ``fmt`` ("step" or "obj") file: ``(file name, content)``."""
-    ext = "." + ("stp" if fmt == "step" and rng.random() < 0.2 else fmt)
+    ext = "." + ("stp" if fmt == "step" and rng.random() < 0.2 else "igs" if fmt == "iges" else fmt)
     name = f"mutant{ext}"
+    if fmt == "iges" and kind not in IGES_KINDS and kind not in ("truncate", "delete-line", "duplicate-line",
+                                                                 "odd-name", "empty", "wrong-ext"):
+        kind = "flip"  # the STEP and OBJ kinds: a byte flip instead
     if kind == "flip":
         buf = bytearray(data)
         for _ in range(rng.randint(1, 4)):
@@ -270,6 +397,8 @@ def mutate(data: bytes, fmt: str, kind: str, rng: random.Random) -> tuple[str, b
         return name, _replace_span(data, m.start(1), m.end(1), b" ".join(items))
     if kind in CHAIN_KINDS and fmt == "step":
         return name, _chain_mutation(data, kind, rng)
+    if kind in IGES_KINDS and fmt == "iges":
+        return name, _iges_mutation(data, kind, rng)
     if kind == "odd-name":
         base = rng.choice(["with space", "ünïcödé", "-dash", "quote'\"", "semi;colon", "x" * 200])
         raw = rng.choice([base.encode("utf-8"), b"bad\xff\xfe"])
@@ -277,7 +406,7 @@ def mutate(data: bytes, fmt: str, kind: str, rng: random.Random) -> tuple[str, b
     if kind == "empty":
         return name, b""
     if kind == "wrong-ext":
-        return "mutant" + (".obj" if fmt == "step" else ".step"), data
+        return "mutant" + (".obj" if fmt in ("step", "iges") else ".step"), data
     # a kind that does not apply to this format: a byte flip instead
     return mutate(data, fmt, "flip", rng)
 
@@ -291,7 +420,7 @@ def mutations(sources, n: int, seed: int = 14, kinds=KINDS):
         src = Path(rng.choice(list(sources)))
         if src not in cache:
             cache[src] = src.read_bytes()
-        fmt = "obj" if src.suffix.lower() == ".obj" else "step"
+        fmt = {".obj": "obj", ".igs": "iges", ".iges": "iges"}.get(src.suffix.lower(), "step")
         name, data = mutate(cache[src], fmt, kind, random.Random(rng.getrandbits(64)))
         yield Case(source=src.name, kind=kind, name=name, data=data)
 
@@ -312,6 +441,7 @@ def classify(entry: dict, case: Case) -> str:
     for needle, label in (("crashed", "error:crash"), ("gave no answer", "error:timeout"),
                           ("analysis failed (", "error:unexpected-exception"), ("was dropped", "error:dropped"),
                           ("is referenced by", "error:reference"), ("the schema gives", "error:reference"),
+                          ("its directory entry", "error:reference"),
                           ("not finite or exceeds", "error:bounds"), ("B_SPLINE", "error:bounds"),
                           ("OCCT's parser rejected", "error:parse"), ("line ", "error:obj-syntax")):
         if needle in text:
@@ -334,7 +464,7 @@ def silent_loss(entry: dict, baseline: int | None) -> bool:
 def check_entry(entry: dict, path: Path, case: Case) -> list[str]:
     """Contract violations of one gate entry (empty when the outcome is documented)."""
     problems = []
-    fmt = "obj" if path.suffix.lower() == ".obj" else "step" if path.suffix.lower() in (".step", ".stp") else None
+    fmt = {".obj": "obj", ".step": "step", ".stp": "step", ".igs": "iges", ".iges": "iges"}.get(path.suffix.lower())
     try:
         json.dumps(entry, allow_nan=False)
     except ValueError:

@@ -65,7 +65,8 @@ def test_first_read_names_the_one_file(tmp_path, monkeypatch):
         (tmp_path / name).write_text("x")
     assert first_read(["cadartifact", "gate", "a.step", "--tol", "0.05"]) == (
         READ_FUNCTION, (Path("a.step"), "step", False, True))
-    assert first_read(["cadartifact", "advise", "b.IGS", "--convert"]) == (READ_FUNCTION, (Path("b.IGS"), "iges", True))
+    # IGES, like STEP, is read "prescanned": its directory is checked in this process while the child reads
+    assert first_read(["cadartifact", "advise", "b.IGS", "--convert"]) == (READ_FUNCTION, (Path("b.IGS"), "iges", True, True))
     assert first_read(["cadartifact", "gate", "c.brep", "--no-convert"]) == (READ_FUNCTION, (Path("c.brep"), "brep",
                                                                                                False))
     assert first_read(["cadartifact", "gate", "a.step", "d.step", "--jobs", "1"]) is None  # which first: not guessed

@@ -397,7 +397,7 @@ def test_an_unexpected_exception_is_one_line_and_exit_2(monkeypatch):
 
 
 def test_collapsed_pole_grids_give_the_same_checks_as_the_full_parse():
-    from cadartifact.exchange.step_scan import (_data_section, _grid_shape, _records_with, _spline,
+    from cadartifact.exchange.step_scan import (_data_section, _grid_shape, _records_with, _spline, clean_data,
                                                 collapse_grids, parse_parameters, spline_problem)
 
     files = sorted((ROOT / "samples").glob("*.step"))
@@ -405,7 +405,7 @@ def test_collapsed_pole_grids_give_the_same_checks_as_the_full_parse():
         files += sorted((REALDATA / "step").glob("*.st*p"))
     seen = 0
     for path in files:
-        data = _data_section(path.read_text(encoding="latin-1"))
+        data = clean_data(_data_section(path.read_text(encoding="latin-1")))
         for _, body, _ in _records_with(data, "B_SPLINE"):
             for text in (body, body.replace("(#", "(#1,#", 1)):  # and with one row made ragged
                 fast, full = _spline(parse_parameters(collapse_grids(text))), _spline(parse_parameters(text))

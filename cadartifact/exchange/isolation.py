@@ -31,8 +31,8 @@ import time
 from . import reader_start
 from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
 
-__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "call", "enabled", "prestart", "read_timeout", "warm",
-           "set_idle_imports", "shutdown"]
+__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "ChildFailed", "call", "enabled", "prestart",
+           "read_timeout", "serving", "warm", "set_idle_imports", "shutdown"]
 
 #: Seconds a reader may take on one file before it is stopped.
 DEFAULT_TIMEOUT = 120.0
@@ -42,6 +42,17 @@ ENV_TIMEOUT = "CADARTIFACT_READ_TIMEOUT"
 ENV_ISOLATION = reader_start.ENV_ISOLATION
 
 _HEADER = reader_start.HEADER
+_serving = False  # True in the child process itself (it serves requests: it runs OCCT in its own process)
+
+
+class ChildFailed(FileFormatError):
+    """The child process crashed or gave no answer in time while working on a request (OCCT's fault, or the
+    input's): the request's file or face is an error, the run goes on with a new child."""
+
+
+def serving() -> bool:
+    """Whether this process is the child (requests it gets run here: there is no child of the child)."""
+    return _serving
 
 
 def enabled() -> bool:
@@ -202,7 +213,8 @@ def _died_message(child: _Child) -> str:
     return f"exit status {code}"
 
 
-def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float | None = None, during=None):
+def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float | None = None, during=None,
+         actor: str | None = None):
     """Run ``module:function(*args)`` in the reader child process and return its result.
 
     Parameters
@@ -220,13 +232,18 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
     during : callable, optional
         Work of this process's own, run once while the child works on the request (the two
         overlap on two cores). When it raises, the child is stopped and its answer never read.
+    actor : str, optional
+        Who failed, in the errors (default ``"the WHAT reader"``, with a hint about the timeout); e.g.
+        ``"OCCT's evaluation of face 3"``.
 
     Raises
     ------
     CadArtifactError
         What the function raised (same class and message), or what ``during`` raised.
+    ChildFailed
+        The child crashed or gave no answer in time (a :class:`FileFormatError`).
     FileFormatError
-        The child crashed, gave no answer in time, or failed unexpectedly.
+        The child failed unexpectedly.
     """
     global _child, _busy
     if _busy == threading.get_ident():  # from `during`: the child works on this thread's request (the Lock would hang)
@@ -276,9 +293,11 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                 child.kill()
                 _child = None
                 waited = START_TIMEOUT if limit is None or not child.ready else limit
-                raise FileFormatError(path, f"the {what} reader gave no answer in {waited:g} s and was stopped "
-                                      f"(corrupt file? for a very large file raise {ENV_TIMEOUT} or "
-                                      "--read-timeout)") from None
+                if actor is not None:
+                    raise ChildFailed(path, f"{actor} gave no answer in {waited:g} s and was stopped") from None
+                raise ChildFailed(path, f"the {what} reader gave no answer in {waited:g} s and was stopped "
+                                  f"(corrupt file? for a very large file raise {ENV_TIMEOUT} or "
+                                  "--read-timeout)") from None
             except (BrokenPipeError, ConnectionResetError):
                 reply = None
                 if not child.ready and attempt == 0:  # the child did not start: try once more
@@ -289,9 +308,10 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                 why = _died_message(child)
                 child.kill()
                 _child = None
-                raise FileFormatError(path, f"the {what} reader crashed on this file ({why})")
+                raise ChildFailed(path, f"{actor} crashed ({why})" if actor is not None
+                                  else f"the {what} reader crashed on this file ({why})")
             break
-    return _unpack(reply, path, what)
+    return _unpack(reply, path, what, actor)
 
 
 def error_fields(exc: CadArtifactError) -> tuple:
@@ -333,19 +353,21 @@ def rebuilt_error(module: str, name: str, path, problem, message: str, attrs: di
     return exc
 
 
-def _unpack(reply: bytes, path, what: str):
+def _unpack(reply: bytes, path, what: str, actor: str | None = None):
     kind, *rest = pickle.loads(reply)
     if kind == "ok":
         return rest[0]
     if kind == "error":
         raise rebuilt_error(*rest)
     name, message = rest
-    raise FileFormatError(path, f"the {what} reader failed ({name}: {' '.join(message.split())[:200]})")
+    raise FileFormatError(path, f"{actor or f'the {what} reader'} failed ({name}: {' '.join(message.split())[:200]})")
 
 
 # ---------------------------------------------------------------- child side
 def _serve() -> None:
     """The child's loop: one request frame in, one reply frame out, until the pipe closes."""
+    global _serving
+    _serving = True
     fd_in, fd_out = os.dup(0), os.dup(1)
     devnull = os.open(os.devnull, os.O_RDWR)
     for fd in (0, 1, 2):  # OCCT writes to the console directly; nothing may reach the protocol pipe

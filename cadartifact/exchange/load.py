@@ -94,18 +94,23 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     check_file(path)
     isolation.read_timeout(timeout)  # a bad timeout is a usage error before any work
     if isolation.enabled() and fmt == "step":
-        # the text checks and the entity index run here while the child reads (two cores, one file)
-        from .step_text import entity_lines
-
-        records = []
+        # the text checks run here while the child reads (two cores, one file); their record heads map the
+        # model's entity numbers to the file's ids
+        heads: list = []
 
         def scan():
-            _prescan(path)
-            records.extend(entity_lines(path))
+            heads.extend(_prescan(path))
 
         result = isolation.call(*read_request(path, fmt, convert), path=path, what="STEP", timeout=timeout,
                                 during=scan)
-        _file_ids(result, records)
+        _file_ids(result, heads)
+    elif isolation.enabled() and fmt == "iges":
+        from .iges_refs import check_iges_text, faces_missing
+
+        declared: list = []
+        result = isolation.call(*read_request(path, fmt, convert), path=path, what="IGES", timeout=timeout,
+                                during=lambda: declared.append(check_iges_text(path)))
+        result = faces_missing(path, result, declared[0])
     elif isolation.enabled():
         result = isolation.call(*read_request(path, fmt, convert), path=path, what=fmt.upper(), timeout=timeout)
     else:
@@ -115,28 +120,37 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     return result
 
 
-def _prescan(path: Path) -> list[str]:
+def _prescan(path: Path) -> list[tuple[str, str]]:
     """The STEP text's checks: impossible numbers (:func:`~cadartifact.exchange.step_scan.check_step_text`), then
-    broken references (:func:`~cadartifact.exchange.step_refs.check_references`). Returns the record ids."""
+    broken references (:func:`~cadartifact.exchange.step_refs.check_references`), on one cleaned copy of the
+    text (:func:`~cadartifact.exchange.step_scan.clean_data`). Returns the record heads ``[(id, KEYWORD)]``."""
     from .step_refs import check_references
-    from .step_scan import check_step_text, data_section, record_heads
+    from .step_scan import check_step_text, clean_data, data_section, record_heads
+    from .step_text import remember_face_lines
 
     with open(path, "rb") as fh:
         text = fh.read().decode("latin-1")
-    heads = record_heads(data_section(text))
-    ids = check_step_text(path, text, heads)
-    check_references(path, text, heads)
-    return ids
+    data = data_section(text)
+    clean = clean_data(data)
+    heads = record_heads(clean)
+    arities: dict = {}  # the B-spline surfaces' parameter counts: parsed once, by the number scan
+    check_step_text(path, text, heads, clean, arities)
+    check_references(path, text, heads, clean, arities)
+    remember_face_lines(path, text, data, clean)  # the faces' lines for reports, without a second full pass
+    return heads
 
 
-def _file_ids(result: LoadResult, records) -> None:
-    """Turn the model entity numbers a ``prescanned`` read left in ``origin.entity`` into the file's ids."""
+def _file_ids(result: LoadResult, heads) -> None:
+    """Turn the model entity numbers a ``prescanned`` read left in ``origin.entity`` into the file's ids (OCCT
+    numbers a model's entities in file order; None when the record there is not an ``ADVANCED_FACE``)."""
     from dataclasses import replace
 
-    from .step_text import face_id_from_model
-
     for net in result.nets:
-        origin = replace(net.origin, entity=face_id_from_model(records, net.origin.entity))
+        number = net.origin.entity
+        ident = None
+        if number is not None and 0 < number <= len(heads) and heads[number - 1][1].upper() == "ADVANCED_FACE":
+            ident = int(heads[number - 1][0])
+        origin = replace(net.origin, entity=ident)
         object.__setattr__(net, "origin", origin)  # just unpickled, not shared: no need to validate the net again
 
 
@@ -154,12 +168,16 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
     dropped: list[str] = []
     ids = None
     if fmt == "step" and not prescanned:
-        ids = _prescan(path)
+        ids = ["#" + i for i, _ in _prescan(path)]
     from . import occ, step
 
     if fmt == "step":
         shape, face_name, dropped = step.read_step_audited(path, ids, model_numbers=prescanned)
     elif fmt == "iges":
+        if not prescanned:
+            from .iges_refs import check_iges_text
+
+            declared = check_iges_text(path)
         shape, face_name, dropped = step.read_iges_audited(path)
     else:
         shape, face_name = step.read_brep(path)
@@ -176,7 +194,12 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
         hint = "" if convert or dropped else "; try convert=True (--convert) for revolution/extrusion/offset faces"
         messages.append(f"{path}: no analysable face among {total} faces (skipped: {kinds}){hint}")
-    return LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
+    result = LoadResult(path=path, nets=nets, faces_total=total, skipped=skipped, warnings=messages)
+    if fmt == "iges" and not prescanned:
+        from .iges_refs import faces_missing
+
+        result = faces_missing(path, result, declared)
+    return result
 
 
 def load(path: str | os.PathLike, *, convert: bool = False) -> list[ControlNet]:
@@ -275,24 +298,29 @@ def occ_surface(net: ControlNet):
     return _surface(net)
 
 
+#: The function the reader child runs to evaluate (``module:function``; fault-injection tests replace it).
+EVALUATE = "cadartifact.exchange.occ:evaluate_grid"
+
+
 def evaluate_grid(net: ControlNet, u, v):
     """OCCT's evaluation of the net's surface on the outer grid ``u x v``: ``(len(u), len(v), 3)``.
 
-    See :func:`cadartifact.exchange.occ.evaluate_grid`. When this process has not imported OCP but
-    the reader child (:mod:`.isolation`) is running, the child evaluates (same function, same
-    numbers): a pipe round trip instead of importing OCP here, which takes about a second (the gate's
-    peak locations, the advice's verification after a read).
+    See :func:`cadartifact.exchange.occ.evaluate_grid`. OCCT evaluates in the reader child
+    (:mod:`.isolation`, same function, same numbers), like its reads: a crash or a hang there (a
+    surface OCCT cannot evaluate) raises :class:`~cadartifact.exchange.isolation.ChildFailed` naming the
+    file and the face, which costs that face an error entry and not the run (the gate's peak locations,
+    the advice's verification). The child is the warm one of the read (a pipe round trip), or a new one.
+    In the child itself, or with ``CADARTIFACT_READ_ISOLATION=0``, OCCT evaluates in this process.
     """
-    import sys
-
     from . import isolation
 
-    if "OCP" not in sys.modules and isolation.warm():
+    if isolation.enabled() and not isolation.serving():
         import numpy as np
 
         args = (net, np.asarray(u, dtype=float), np.asarray(v, dtype=float))
-        return isolation.call("cadartifact.exchange.occ:evaluate_grid", args, path=net.origin.file or "<net>",
-                              what="OCCT")
+        face = net.origin.face
+        actor = "OCCT's evaluation of " + (f"face {face}" if face is not None else "the surface")
+        return isolation.call(EVALUATE, args, path=net.origin.file or "<net>", what="OCCT", actor=actor)
     from .occ import evaluate_grid as _evaluate
 
     return _evaluate(net, u, v)

@@ -78,9 +78,9 @@ def request_key(function: str, args: tuple) -> bytes:
 def read_request(path, fmt: str, convert: bool) -> tuple[str, tuple]:
     """``(function, args)`` of the child's read of a B-rep file (:func:`cadartifact.exchange.read` sends it).
 
-    A STEP file's text is checked by the caller while the child reads (``prescanned``)."""
+    A STEP or IGES file's text is checked by the caller while the child reads (``prescanned``)."""
     path = Path(path)
-    return (READ_FUNCTION, (path, fmt, bool(convert), True) if fmt == "step" else (path, fmt, bool(convert)))
+    return (READ_FUNCTION, (path, fmt, bool(convert), True) if fmt in ("step", "iges") else (path, fmt, bool(convert)))
 
 
 def start(early: tuple | None = None, idle: tuple = ()) -> None:

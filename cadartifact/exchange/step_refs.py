@@ -26,10 +26,12 @@ is wrong, so the scan costs a few per cent of the read (``benchmarks/bench_load.
 from __future__ import annotations
 
 import re
+from itertools import compress
 from operator import itemgetter
 
 from ..errors import FileFormatError
-from .step_scan import collapse_grids, data_section, parse_parameters, record_heads
+from .step_scan import clean_data, collapse_grids, data_section, parse_parameters, record_heads
+from .step_text import text_entity_lines
 
 __all__ = ["SCHEMA", "SURFACES", "CURVES", "check_references", "reference_problem"]
 
@@ -107,14 +109,20 @@ _BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + pattern.pattern + r
           for keyword, pattern in _FAST.items()}
 _BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + _POINT3.pattern + r"(?=;|\Z)")
 _DIGITS = re.compile(r"\d+")
+_ON_CHAIN = frozenset({*SCHEMA, *SURFACE_ARITY, "("})
+_END = re.compile(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z")
 
 
 class _Records:
-    """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed)."""
+    """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed).
 
-    def __init__(self, text: str, data: str, heads: list[tuple[str, str]]):
+    ``data``: the section as :func:`~.step_scan.clean_data` gives it (a ``;`` ends a statement, always);
+    lines are counted on the file's own ``text``."""
+
+    def __init__(self, text: str, data: str, heads: list[tuple[str, str]], arities: dict | None = None):
         self.text, self.data, self.heads = text, data, heads
-        self.offset = len(text) - len(data)
+        self.arities = arities or {}
+        self._lines: dict[str, int] | None = None
         self.kind = dict(heads)
         # statement i + 1 of the section is record i, unless a ';' inside a string or comment shifts them:
         # each use checks the statement's head and falls back to an exact index once
@@ -170,16 +178,19 @@ class _Records:
         return self.exact
 
     def line(self, ident: str) -> int | None:
-        """The 1-based line of ``#ident =`` in the file."""
-        found = re.search(r"(?:^|;)\s*(#" + ident + r"\s*=)", self.data)
-        return None if found is None else self.text.count("\n", 0, self.offset + found.start(1)) + 1
+        """The 1-based line of ``#ident =`` in the file (an index of the text's lines, built on first use)."""
+        if self._lines is None:
+            self._lines = {}
+            for i, line, _ in text_entity_lines(self.text):
+                self._lines.setdefault(str(i), line)
+        return self._lines.get(ident)
 
     def names(self, ident: str) -> list[str]:
         """The keyword of a simple instance, the part keywords of a complex one."""
         kind = self.kind[ident]
         if kind != "(":
             return [kind]
-        return re.findall(r"([A-Za-z_][A-Za-z_0-9]*)\s*\(", _STRINGS_AND_COMMENTS.sub("''", self.body(ident)))
+        return re.findall(r"([A-Za-z_][A-Za-z_0-9]*)\s*\(", self.body(ident))  # a cleaned text: no strings to skip
 
     def label(self, ident: str) -> str:
         """``KEYWORD #id (line n)``."""
@@ -237,9 +248,9 @@ def _slow_refs(records: _Records, ident: str, slots: tuple) -> list[tuple[str, t
 def _chain_problem(records: _Records) -> str | None:
     """The first broken link of the chains that make the faces (by entity type, then file order), or None."""
     by_keyword: dict[str, list[int]] = {}  # keyword -> indices in heads
-    for i, (_, keyword) in enumerate(records.heads):
-        if keyword in SCHEMA or keyword in SURFACE_ARITY or keyword == "(":
-            by_keyword.setdefault(keyword, []).append(i)
+    keywords = list(map(itemgetter(1), records.heads))
+    for i in compress(range(len(keywords)), map(_ON_CHAIN.__contains__, keywords)):  # the chain's records (C loops)
+        by_keyword.setdefault(keywords[i], []).append(i)
     for keyword, slots in SCHEMA.items():
         problem = _records_problem(records, keyword, slots, by_keyword.get(keyword, []))
         if problem:
@@ -300,28 +311,33 @@ def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
         keyword = records.kind[ident]
         if keyword not in SURFACE_ARITY:
             continue
-        try:
-            args = parse_parameters(collapse_grids(_STRINGS_AND_COMMENTS.sub("''", records.body(ident))))[0][1]
-        except (ValueError, RecursionError) as exc:
-            return f"{records.label(ident)} is malformed ({exc})"
-        if len(args) != SURFACE_ARITY[keyword]:
-            return (f"{records.label(ident)} has {len(args)} parameters, the schema gives {keyword} "
+        count = records.arities.get(ident)  # what the number scan's parse of the record found, if it ran
+        if count is None:
+            try:
+                count = len(parse_parameters(collapse_grids(records.body(ident)))[0][1])
+            except (ValueError, RecursionError) as exc:
+                return f"{records.label(ident)} is malformed ({exc})"
+        if count != SURFACE_ARITY[keyword]:
+            return (f"{records.label(ident)} has {count} parameters, the schema gives {keyword} "
                     f"{SURFACE_ARITY[keyword]}")
     kind = records.kind
-    bodies = [records.body(ident) for ident in surfaces]
-    bodies = [_STRINGS_AND_COMMENTS.sub("''", b) if "'" in b or "/*" in b else b for b in bodies]
+    bodies = [records.body(ident) for ident in surfaces]  # a cleaned text: no strings or comments
     poles = list(dict.fromkeys(_REFS_ANYWHERE.findall(";".join(bodies))))  # each once, in file order
 
     def owner(pole: str) -> str:
         """The first surface that names ``pole`` (for the message)."""
         return next(i for i, b in zip(surfaces, bodies) if re.search("#" + pole + r"(?!\d)", b))
 
-    for pole in [p for p in poles if kind.get(p) != "CARTESIAN_POINT"]:
-        problem = reference_problem(records, pole, "a pole", {"CARTESIAN_POINT"}, owner(pole))
-        if problem:
-            return problem
-    position, statements, last = records.position, records.statements, len(records.statements) - 1
-    joined = ";".join([statements[min(position[p] + 1, last)] for p in poles])
+    if set(map(kind.get, poles)) - {"CARTESIAN_POINT"}:  # some pole is not a point (C loops when all are)
+        for pole in [p for p in poles if kind.get(p) != "CARTESIAN_POINT"]:
+            problem = reference_problem(records, pole, "a pole", {"CARTESIAN_POINT"}, owner(pole))
+            if problem:
+                return problem
+    if not poles:
+        return None
+    # statement i + 1 is record i (split at ';' of a cleaned text); each pole's statement, by C calls only
+    picked = itemgetter(*map(records.position.__getitem__, poles))(records.statements[1:])
+    joined = picked if len(poles) == 1 else ";".join(picked)
     if _BATCH_POINT.findall(joined) == poles:  # every pole's own statement, a well-formed 3D point
         return None
     for pole in poles:
@@ -357,12 +373,13 @@ def _missing_reference(records: _Records) -> str | None:
             if head is None or head.group(1) not in records.kind:
                 continue
             owner = head.group(1)
-            if re.search(r"#" + target + r"(?!\d)", _STRINGS_AND_COMMENTS.sub("''", records.body(owner))):
+            if re.search(r"#" + target + r"(?!\d)", records.body(owner)):
                 return f"#{target} is referenced by {records.label(owner)}, and is not in the file"
     return None
 
 
-def check_references(path, text: str, heads: list[tuple[str, str]] | None = None) -> None:
+def check_references(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None,
+                     arities: dict | None = None) -> None:
     """Raise :class:`FileFormatError` for the first broken reference of a STEP text (see the module notes).
 
     Parameters
@@ -372,17 +389,23 @@ def check_references(path, text: str, heads: list[tuple[str, str]] | None = None
     text : str
         The STEP file's text (latin-1 decoded).
     heads : list of (str, str), optional
-        :func:`~.step_scan.record_heads` of its DATA section, if known.
+        :func:`~.step_scan.record_heads` of ``clean``, if known.
+    clean : str, optional
+        :func:`~.step_scan.clean_data` of its DATA section, if known.
+    arities : dict, optional
+        ``{id: parameter count}`` of the simple B-spline surface records, as
+        :func:`~.step_scan.check_step_text` found them (they are parsed once).
 
     Raises
     ------
     FileFormatError
         ``"PATH: #ID is referenced by KEYWORD #OWNER (line N) as ROLE, and ..."``.
     """
-    data = data_section(text)
-    if not re.search(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z", data):
+    if not _END.search(text, max(0, len(text) - 4096)):
         return  # a truncated file: OCCT's parser says so (every reference past the cut would be "missing")
-    records = _Records(text, data, record_heads(data) if heads is None else heads)
+    if clean is None:
+        clean = clean_data(data_section(text))
+    records = _Records(text, clean, record_heads(clean) if heads is None else heads, arities)
     problem = _chain_problem(records) or _missing_reference(records)
     if problem:
         raise FileFormatError(path, problem)

@@ -20,28 +20,36 @@ reference the reader compares its transferred faces with.
 from __future__ import annotations
 
 import math
+import operator
 import re
+from itertools import chain
 
 from ..errors import FileFormatError
 from .messages import quote
 
-__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "data_section", "declared_faces", "parse_parameters",
+__all__ = ["MAX_ABS", "MAX_DEGREE", "check_step_text", "clean_data", "data_section", "entity_line_in", "declared_faces", "parse_parameters",
            "record_heads", "record_ids"]
 
 #: Largest magnitude of any real number (model units, knots, weights) a real model holds.
 MAX_ABS = 1e12
 #: Largest B-spline degree accepted (OCCT's own limit is 25).
 MAX_DEGREE = 25
+#: Parameters of a simple ``B_SPLINE_SURFACE_WITH_KNOTS`` record (the name, 7 of the surface, 5 of the knots).
+SURFACE_WITH_KNOTS_ARITY = 13
 
-_RECORD = re.compile(r"\s*#(\d+)\s*=\s*((?:[^;']|'(?:[^']|'')*')*);")
 _FACE = re.compile(r"#(\d+)\s*=\s*(ADVANCED_FACE|FACE_SURFACE)\s*\(")
-# candidates (fast to find, one pattern each): a positive exponent of 6 or more, 7+ digits before a point
-_CANDIDATES = (re.compile(r"[eE]\+?0*(?:[6-9]|[1-9][0-9])"), re.compile(r"[0-9]{7,}\."))
+# candidates, found on the cleaned text as upper-case bytes (same offsets; a literal first byte: fast): a positive
+# exponent of 6 or more; 13 digits in a row after neither a digit nor a point (an integer part of 1e12 or more,
+# with a point or without: 9999999999999 where a real stands), found as " " + 13 "0" once digits are "0" and
+# every other byte but the point a blank; the NaN/INF words
+_EXPONENT = re.compile(rb"E\+?0*(?:[6-9]|[1-9][0-9])")
+_DIGITS_ONLY = bytes(0x30 if 0x30 <= i <= 0x39 else 0x2E if i == 0x2E else 0x20 for i in range(256))
+_LONG_INTEGER = b" " + b"0" * 13
 _HEAD = re.compile(r"\s*#(\d+)\s*=")
 # every real (and NaN/INF word) of a record's text, strings removed
-_REAL = re.compile(r"(?<![\w#.])[-+]?(?:\d+\.\d*|\.\d+)(?:[eE][-+]?\d+)?|(?<![\w.])(?:NAN|INF|INFINITY)(?![\w.])",
-                   re.IGNORECASE)
-_STRING = re.compile(r"'(?:[^']|'')*'")
+# (``1e300``, with no point, is not a STEP real, but OCCT's lexer takes it, and hangs on it: so are huge integers)
+_REAL = re.compile(r"(?<![\w#.])[-+]?(?:(?:\d+\.\d*|\.\d+)(?:[eE][-+]?\d+)?|\d+[eE][-+]?\d+|\d{13,})"
+                   r"|(?<![\w.])(?:NAN|INF|INFINITY)(?![\w.])", re.IGNORECASE)
 _TOKEN = re.compile(r"\s*(?:('(?:[^']|'')*')|(\.[A-Z_0-9]+\.)|(#\d+)|"
                      r"([-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?)|([A-Za-z_][A-Za-z_0-9]*)|([(),$*]))")
 
@@ -113,6 +121,33 @@ def parse_parameters(text: str):
 def declared_faces(text: str) -> dict[int, str]:
     """``{entity id: "ADVANCED_FACE" | "FACE_SURFACE"}`` of the faces a STEP text declares (simple instances)."""
     return {int(m.group(1)): m.group(2) for m in _FACE.finditer(text)}
+
+
+# strings, emptied: no backtracking ('' escapes are two strings side by side, both emptied)
+_STRINGS_ONLY = re.compile(r"'[^']*'")
+# strings and comments, in one pass (only when a comment opens somewhere); an unterminated one runs to the end
+_STRINGS_COMMENTS = re.compile(r"'[^']*'|/\*[^*]*(?:\*+[^*/][^*]*)*(?:\*+/|\**\Z)")
+
+
+def clean_data(data: str) -> str:
+    """A DATA section (:func:`data_section`) with its strings emptied (``''``) and its comments removed.
+
+    What is left has a ``;`` only where a statement ends, a ``#`` only in ids and references and digits
+    only in numbers, ids and keywords, so the scans split and search it without tracking quotes (one
+    regex pass in C, no backtracking; a file's lines are counted on its own text, :func:`entity_line_in`).
+    An unterminated string is left as it is (OCCT's parser rejects the file).
+    """
+    if "/*" not in data:
+        return _STRINGS_ONLY.sub("''", data)
+    return _STRINGS_COMMENTS.sub(lambda m: "''" if m.group(0)[0] == "'" else " ", data)
+
+
+def entity_line_in(text: str, ident: str) -> int | None:
+    """The 1-based line of the record ``#ident =`` in a STEP text (exact: strings and comments skipped)."""
+    from .step_text import text_entity_lines
+
+    want = int(ident)
+    return next((line for i, line, _ in text_entity_lines(text) if i == want), None)
 
 
 def data_section(text: str) -> str:
@@ -214,6 +249,54 @@ def _number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
+def _possible(kind: str, attrs: dict) -> bool:
+    """True when :func:`spline_problem` would find nothing, decided by C-level loops (``map``, ``min``, ``fsum``)
+    instead of a Python test per knot and weight; False when unsure (then :func:`spline_problem` says what)."""
+    try:
+        dims = 2 if "SURFACE" in kind else 1
+        degrees = attrs.get("degrees") or []
+        if len(degrees) != dims or set(map(type, degrees)) != {int} or min(degrees) < 1 or max(degrees) > MAX_DEGREE:
+            return False
+        shape = _grid_shape(attrs.get("poles"), dims)
+        if shape is None:
+            return False
+        if "mults" in attrs:
+            mults, knots = attrs["mults"], attrs["knots"]
+            if len(mults) != dims or len(knots) != dims:
+                return False
+            for p, n, m, k in zip(degrees, shape, mults, knots):
+                if type(m) is not list or type(k) is not list or len(m) != len(k) or len(k) < 2:
+                    return False
+                if not set(map(type, m)) <= _INT or not set(map(type, k)) <= _NUMBER_TYPES:
+                    return False
+                if min(m) < 1 or max(m) > p + 1 or sum(m) != n + p + 1:
+                    return False
+                # NaN: max may pass it over, fsum does not
+                if not max(map(abs, k)) <= MAX_ABS or not math.isfinite(math.fsum(k)):
+                    return False
+                if not all(map(operator.le, k, k[1:])):
+                    return False
+        if "weights" in attrs:
+            w = attrs["weights"]
+            if type(w) is not list or len(w) != shape[0]:
+                return False
+            if dims == 2:
+                if set(map(type, w)) != {list} or set(map(len, w)) != {shape[1]}:
+                    return False
+                w = list(chain.from_iterable(w))
+            if not w or not set(map(type, w)) <= _NUMBER_TYPES:
+                return False
+            if not (min(w) >= 1 / MAX_ABS and max(w) <= MAX_ABS and math.isfinite(math.fsum(w))):
+                return False
+        return True
+    except (TypeError, ValueError, OverflowError):
+        return False
+
+
+_INT = frozenset({int})
+_NUMBER_TYPES = frozenset({int, float})
+
+
 def spline_problem(kind: str, attrs: dict) -> str | None:
     """What makes a normalised B-spline entity impossible, or None."""
     dims = 2 if "SURFACE" in kind else 1
@@ -283,7 +366,8 @@ def record_heads(data: str) -> list[tuple[str, str]]:
     return _HEADS.findall(data)
 
 
-def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None) -> list[str]:
+def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None,
+                    arities: dict | None = None) -> list[str]:
     """Raise :class:`FileFormatError` for a repeated entity id or the first impossible number or B-spline entity.
 
     Returns
@@ -298,92 +382,134 @@ def check_step_text(path, text: str, heads: list[tuple[str, str]] | None = None)
     text : str
         The STEP file's text (latin-1 decoded).
     heads : list of (str, str), optional
-        :func:`record_heads` of the text's DATA section, if known.
+        :func:`record_heads` of ``clean``, if known.
+    clean : str, optional
+        :func:`clean_data` of the text's DATA section, if known.
+    arities : dict, optional
+        Filled with ``{id: parameter count}`` of the simple B-spline surface records (parsed here once, for
+        :func:`~.step_refs.check_references`).
 
     Raises
     ------
     FileFormatError
-        ``"PATH: #ID: problem"`` (see the module notes).
+        ``"PATH: #ID (line N): problem"`` (see the module notes).
     """
-    data = _data_section(text)
-    ids = ["#" + i for i in _IDS.findall(data)] if heads is None else ["#" + i for i, _ in heads]
+    if clean is None:
+        clean = clean_data(_data_section(text))
+    ids = ["#" + i for i, _ in (record_heads(clean) if heads is None else heads)]
     if len(set(ids)) != len(ids):
         seen_ids: set[str] = set()
         twice = next(i for i in ids if i in seen_ids or seen_ids.add(i))
         raise FileFormatError(path, f"{twice} is defined twice (entity ids must be unique)")
-    upper = data.upper()
-    hits = sorted({m.start() for pattern in _CANDIDATES for m in pattern.finditer(data)}
-                  | set(_find_all(upper, "NAN")) | set(_find_all(upper, "INF")))
+
+    def where(ident: str) -> str:
+        line = entity_line_in(text, ident) if ident != "?" else None
+        return f"#{ident}" + (f" (line {line})" if line else "")
+
+    hits = sorted(_candidates(clean))
     seen = -1
     for at in hits:
         if at < seen:
             continue
-        rec = _record_around(data, at)
-        if rec is None:
-            ident, body, seen = "?", data[max(0, at - 40):at + 40], at + 1
-        else:
-            ident, body, seen = rec
-        for tok in _REAL.finditer(_STRING.sub("''", body)):
+        ident, body, seen = _record_around(clean, at)
+        for tok in _REAL.finditer(body):
             value = _real(tok.group(0))
             if value is None or not math.isfinite(value) or abs(value) > MAX_ABS:
-                raise FileFormatError(path, f"#{ident}: number {quote(tok.group(0))} is not finite or exceeds "
-                                            f"{MAX_ABS:g} (no real model holds it)")
-    for ident, body, _ in _records_with(data, "B_SPLINE"):
-        try:
-            parts = parse_parameters(collapse_grids(body))
+                raise FileFormatError(path, f"{where(ident)}: number {quote(tok.group(0))} is not finite or "
+                                            f"exceeds {MAX_ABS:g} (no real model holds it)")
+    for ident, body, _ in _records_with(clean, "B_SPLINE"):
+        collapsed = collapse_grids(body)
+        spline = _fast_spline(collapsed)
+        if spline is not None and _possible(*spline):  # well-formed and possible: the common case
+            if arities is not None and spline[0] == "B_SPLINE_SURFACE_WITH_KNOTS":
+                arities[ident] = SURFACE_WITH_KNOTS_ARITY
+            continue
+        try:  # the full parse: other records, and the message of a problem
+            parts = parse_parameters(collapsed)
         except (ValueError, RecursionError) as exc:
-            raise FileFormatError(path, f"#{ident}: malformed B-spline entity ({exc})") from None
+            raise FileFormatError(path, f"{where(ident)}: malformed B-spline entity ({exc})") from None
         spline = _spline(parts)
         if spline is None:
             continue
-        problem = spline_problem(*spline)
+        if arities is not None and len(parts) == 1 and parts[0][0] in ("B_SPLINE_SURFACE_WITH_KNOTS",
+                                                                        "B_SPLINE_SURFACE"):
+            arities[ident] = len(parts[0][1])
+        problem = None if _possible(*spline) else spline_problem(*spline)
         if problem:
-            raise FileFormatError(path, f"#{ident}: {spline[0]}: {problem}")
+            raise FileFormatError(path, f"{where(ident)}: {spline[0]}: {problem}")
     return ids
 
 
-def _find_all(text: str, word: str):
+# the well-formed simple B-spline-with-knots records (grids collapsed): their lists converted by C calls, not
+# tokenised; anything else (complex instances, odd spellings) takes the full parse
+_REAL_ITEM = r"\s*[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?\s*"
+_REALS = re.compile(_REAL_ITEM + r"(?:," + _REAL_ITEM + r")*")
+_INTS = re.compile(r"\s*\d+\s*(?:,\s*\d+\s*)*")
+_FLAG = r"\s*,\s*\.[A-Z_]+\."
+_LIST = r"\s*,\s*\(([^()]*)\)"
+_FAST_SURFACE = re.compile(r"\s*B_SPLINE_SURFACE_WITH_KNOTS\s*\(\s*''\s*,\s*(\d+)\s*,\s*(\d+)\s*,\s*(\.GRID_\d+_\d+\.)"
+                           + _FLAG * 4 + _LIST * 4 + _FLAG + r"\s*\)\s*")
+_FAST_CURVE = re.compile(r"\s*B_SPLINE_CURVE_WITH_KNOTS\s*\(\s*''\s*,\s*(\d+)\s*,\s*(\.GRID_\d+\.)"
+                         + _FLAG * 3 + _LIST * 2 + _FLAG + r"\s*\)\s*")
+
+
+def _fast_spline(collapsed: str) -> tuple[str, dict] | None:
+    """:func:`_spline` of a well-formed simple ``B_SPLINE_SURFACE_WITH_KNOTS`` / ``B_SPLINE_CURVE_WITH_KNOTS`` record
+    (:func:`collapse_grids` applied), without the tokenizer; None for any other record."""
+    m = _FAST_SURFACE.fullmatch(collapsed)
+    if m is not None:
+        name, dims, g = "B_SPLINE_SURFACE_WITH_KNOTS", 2, m.groups()
+        degrees, poles, lists = [int(g[0]), int(g[1])], g[2], g[3:]
+    else:
+        m = _FAST_CURVE.fullmatch(collapsed)
+        if m is None:
+            return None
+        name, dims, g = "B_SPLINE_CURVE_WITH_KNOTS", 1, m.groups()
+        degrees, poles, lists = [int(g[0])], g[1], g[2:]
+    mults, knots = lists[:dims], lists[dims:]
+    if not all(_INTS.fullmatch(x) for x in mults) or not all(_REALS.fullmatch(x) for x in knots):
+        return None
+    return name, {"degrees": degrees, "poles": poles, "mults": [list(map(int, x.split(","))) for x in mults],
+                  "knots": [list(map(float, x.split(","))) for x in knots]}
+
+
+def _candidates(clean: str) -> set[int]:
+    """Offsets in a :func:`clean_data` text where a number out of bounds may be (each checked exactly)."""
+    upper = clean.encode("latin-1", "replace").upper()
+    hits = {m.start() for m in _EXPONENT.finditer(upper)}
+    hits.update(at + 1 for at in _find_all(upper.translate(_DIGITS_ONLY), _LONG_INTEGER))
+    for word in (b"NAN", b"INF"):
+        hits.update(_find_all(upper, word))
+    return hits
+
+
+def _find_all(text: bytes, word: bytes):
     pos = text.find(word)
     while pos >= 0:
         yield pos
         pos = text.find(word, pos + 1)
 
 
-def _record_around(data: str, at: int):
-    """``(id, body, end)`` of the record holding position ``at``, or None (e.g. a ';' inside a string before it).
-
-    The record starts after the last ';' before ``at`` and ends at the first ';' after it that is
-    outside strings (an even number of quotes since the start: ``''`` escapes come in pairs).
-    """
-    start = data.rfind(";", 0, at) + 1
-    head = _HEAD.match(data, start)
-    if head is None or data.count("'", start, at) % 2:
-        return None
-    end = data.find(";", at)
-    while end >= 0 and data.count("'", start, end) % 2:
-        end = data.find(";", end + 1)
-    if end < 0:
-        return None
-    return head.group(1), data[head.end():end], end + 1
-
-
-def _records_with(data: str, word: str):
-    """``(id, body, end)`` of each record whose text holds ``word`` (once each), found from ``word`` (fast)."""
+def _records_with(clean: str, word: str):
+    """``(id, body, end)`` (:func:`_record_around`) of each statement of a :func:`clean_data` text holding ``word``."""
     pos = 0
-    while True:
-        hit = data.find(word, pos)
-        if hit < 0:
-            return
-        rec = _record_around(data, hit)
-        if rec is None:  # a ';' in a string before the word: the slow, exact way
-            m = next((r for r in _RECORD.finditer(data, max(0, data.rfind("#", 0, hit) - 100_000), hit + 1)
-                      if r.end() > hit), None)
-            rec = None if m is None else (m.group(1), m.group(2), m.end())
-        if rec is None:
-            pos = hit + len(word)
-            continue
+    while (hit := clean.find(word, pos)) >= 0:
+        rec = _record_around(clean, hit)
         yield rec
         pos = rec[2]
+
+
+def _record_around(clean: str, at: int) -> tuple[str, str, int]:
+    """``(id, body, end)`` of the statement of a :func:`clean_data` text holding position ``at``: its id (``"?"``
+    when it is not a record ``#id = ...``), its text after ``=`` (the whole statement when not a record) and
+    where the next statement starts."""
+    start = clean.rfind(";", 0, at) + 1
+    end = clean.find(";", at)
+    end = len(clean) if end < 0 else end
+    head = _HEAD.match(clean, start, end)
+    if head is None:
+        return "?", clean[start:end], end + 1
+    return head.group(1), clean[head.end():end], end + 1
 
 
 def _real(token: str) -> float | None:

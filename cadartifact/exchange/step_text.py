@@ -11,7 +11,7 @@ import functools
 import os
 import re
 
-__all__ = ["entity_lines", "entity_line", "face_id_from_model"]
+__all__ = ["entity_lines", "entity_line", "face_id_from_model", "remember_face_lines", "text_entity_lines"]
 
 _RECORD = re.compile(r"#(\d+)\s*=\s*([A-Za-z_][A-Za-z0-9_]*|\()")
 
@@ -40,6 +40,11 @@ def _entity_lines(path: str, mtime: int, size: int) -> tuple:
             text = fh.read()
     except OSError:
         return ()
+    return text_entity_lines(text)
+
+
+def text_entity_lines(text: str) -> tuple:
+    """:func:`entity_lines` of a STEP text (one linear pass: the tokens' regex cannot backtrack)."""
     # a record counts only at the start of a statement (nothing but blanks, comments and strings since
     # the last ';'); the regex skips the text between tokens, which is scanned only while at a start
     out = []
@@ -64,10 +69,46 @@ def _entity_lines(path: str, mtime: int, size: int) -> tuple:
 
 
 def entity_line(path, entity: int | None) -> int | None:
-    """The line where ``#entity`` is defined, None when unknown."""
+    """The line where ``#entity`` is defined, None when unknown (a face's from :func:`remember_face_lines` when the
+    read left them, else from the index of every record)."""
     if entity is None:
         return None
+    try:
+        stat = os.stat(path)
+        known = _face_lines.get((os.fspath(path), stat.st_mtime_ns, stat.st_size))
+    except OSError:
+        known = None
+    if known is not None and entity in known:
+        return known[entity]
     return _lines_by_id(path).get(entity)
+
+
+_face_lines: dict = {}  # (path, mtime, size) -> {face id: line}, left by the read (a few files)
+_FACE_HEAD = re.compile(r";\s*#(\d+)\s*=\s*ADVANCED_FACE\b")
+
+
+def remember_face_lines(path, text: str, data: str, clean: str) -> None:
+    """Index the lines of the ``ADVANCED_FACE`` records of a STEP text for :func:`entity_line` without a full
+    tokenizing pass: their heads are found in the file's own DATA section ``data`` and trusted only when they are
+    exactly those found in ``clean`` (the same section with strings emptied and comments removed, where a head
+    cannot be inside a string); otherwise nothing is remembered and :func:`entity_line` builds the full index.
+    """
+    found = list(_FACE_HEAD.finditer(data))
+    if [m.group(1) for m in found] != _FACE_HEAD.findall(clean):
+        return
+    try:
+        stat = os.stat(path)
+    except OSError:
+        return
+    line, at = text.count("\n", 0, len(text) - len(data)) + 1, 0
+    lines = {}
+    for m in found:
+        line += data.count("\n", at, m.start(1))
+        at = m.start(1)
+        lines.setdefault(int(m.group(1)), line)
+    if len(_face_lines) > 16:
+        _face_lines.clear()
+    _face_lines[(os.fspath(path), stat.st_mtime_ns, stat.st_size)] = lines
 
 
 def _lines_by_id(path) -> dict:

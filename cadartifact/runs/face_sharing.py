@@ -24,6 +24,7 @@ import contextlib
 import os
 
 from ..errors import CadArtifactError, FileFormatError
+from ..exchange.isolation import ChildFailed
 from ..exchange.reader_start import ANALYSIS_MODULES
 
 __all__ = ["advise_faces", "analyse_faces", "enabled", "estimated_ms", "one_blas_thread", "per_instance",
@@ -354,6 +355,8 @@ def _budgeted(net, settings, verify: bool):
                                     f"(max |x| = {np.abs(net.points).max():.3g})"), False, None
         try:
             rec, current = face_entry(net, settings, verify)
+        except ChildFailed as exc:  # OCCT's evaluation crashed or hung in the child: it names the face
+            return exc, False, None
         except CadArtifactError as exc:
             return CadArtifactError(f"face {net.origin.face}: {exc}"), False, None
         located = _beyond(rec)
@@ -376,6 +379,8 @@ def _located(outcome, located: bool, current, net, key: str):
         return outcome
     try:
         outcome["peak_at"] = _peak_at(net, outcome["scheme"], key, current)
+    except ChildFailed as exc:  # OCCT's evaluation crashed or hung in the child: the face's error, named
+        return exc
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
         return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})")
     return outcome
@@ -383,10 +388,14 @@ def _located(outcome, located: bool, current, net, key: str):
 
 def _peak_at(net, scheme: str, key: str, current):
     """:func:`cadartifact.runs.records.peak_location`, or None where it cannot say (a location helps; it never fails
-    a run). Other exceptions pass: each caller words them as its document does."""
+    a run). Other exceptions pass: each caller words them as its document does; so does OCCT's evaluation
+    crashing or hanging in the reader child (:class:`~cadartifact.exchange.isolation.ChildFailed`): the face's
+    error, a face never passes on a location that could not be made."""
     from .records import peak_location
 
     try:
         return peak_location(net, scheme, key, current)
+    except ChildFailed:
+        raise
     except (CadArtifactError, ValueError, KeyError):
         return None

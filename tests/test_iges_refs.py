@@ -1,0 +1,132 @@
+"""IGES directory-entry integrity (issue 27): a pointer of the chain that makes a face that names no entity,
+the entity itself or an entity of the wrong type, and a directory entry whose two lines disagree on the type,
+are an error naming the entries and their lines, before OCCT (which read such files as files of no face)."""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+import pytest
+
+pytest.importorskip("OCP")
+
+from cadartifact.errors import FileFormatError  # noqa: E402
+from cadartifact.exchange.iges_refs import iges_problem  # noqa: E402
+from cadartifact.exchange.load import read  # noqa: E402
+
+from pathlib import Path  # noqa: E402
+
+SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+
+
+@pytest.fixture(scope="module")
+def hood(tmp_path_factory):
+    """The hood as an IGES trimmed surface (144 -> 128 surface, 142 boundary): its text."""
+    from OCP.IGESControl import IGESControl_Writer
+
+    from cadartifact.exchange.occ import make_face
+
+    path = tmp_path_factory.mktemp("iges") / "hood.igs"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        writer = IGESControl_Writer("MM", 0)
+        writer.AddShape(make_face(read(SAMPLES / "car_hood_coarse.step").nets[0]))
+        writer.ComputeModel()
+        assert writer.Write(str(path))
+    return path.read_text(encoding="latin-1")
+
+
+def _with_surface(text: str, pointer: str) -> str:
+    lines = text.split("\n")
+    i = next(k for k, ln in enumerate(lines) if ln.startswith("144,") and ln[72] == "P")
+    head, rest = lines[i][:64].split(",", 2)[0], lines[i][:64].split(",", 2)[2]
+    lines[i] = f"{head},{pointer},{rest}".rstrip().ljust(64) + lines[i][64:]
+    return "\n".join(lines)
+
+
+def test_the_written_file_is_intact(hood):
+    assert iges_problem(hood) is None
+
+
+@pytest.mark.parametrize("pointer, needle", [
+    ("99", "D99 is referenced by IGES entity D1 (type 144, line 6) as its surface, and is not in the file"),
+    ("4", "D4 is referenced by IGES entity D1 (type 144, line 6) as its surface, and is not in the file"),
+    ("1", "D1 is referenced by IGES entity D1 (type 144, line 6) as its surface, and is the entity itself, "
+          "which cannot stand there"),
+    ("5", "D5 is referenced by IGES entity D1 (type 144, line 6) as its surface, and is type 142 (line 10), "
+          "which cannot stand there (expected a surface type)"),
+    ("x", "IGES entity D1 (type 144, line 6): parameter 1 (its surface) is not a pointer"),
+])
+def test_a_broken_surface_pointer_is_an_error_naming_entries_and_lines(hood, tmp_path, monkeypatch, pointer, needle):
+    text = _with_surface(hood, pointer)
+    assert iges_problem(text) == needle
+    path = tmp_path / "m.igs"
+    path.write_text(text, encoding="latin-1")
+    with pytest.raises(FileFormatError, match=rf"^{path}: ") as err:
+        read(path)
+    assert str(err.value) == f"{path}: {needle}"
+    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")  # the same check on the in-process road
+    with pytest.raises(FileFormatError):
+        read(path)
+
+
+def test_a_type_corrupted_on_one_line_of_a_directory_entry(hood):
+    text = hood.replace("     144       1", "     145       1", 1)
+    assert iges_problem(text) == "IGES entity D1 (line 6): its directory entry gives two entity types (145 and 144)"
+
+
+def test_without_the_check_occt_reads_a_file_of_no_face(hood, tmp_path, monkeypatch):
+    """Why the check exists: OCCT's read of the broken file loses the face and names nothing."""
+    import cadartifact.exchange.iges_refs as refs
+
+    monkeypatch.setattr(refs, "check_iges_text", lambda path: (0, "faces"))  # no check, no count
+    path = tmp_path / "m.igs"
+    path.write_text(_with_surface(hood, "4"), encoding="latin-1")
+    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = read(path)
+    assert result.nets == [] and result.skipped == {} and os.path.exists(path)
+
+
+def test_faces_the_directory_declares_and_the_transfer_lost_are_counted_dropped(hood, tmp_path, monkeypatch):
+    """A byte flipped in a loop's curve made OCCT transfer 24 of the 31 faces of an IGES file, naming none (the
+    fuzz campaign): the faces the directory declares are compared with those transferred, and the rest are
+    dropped faces with a warning (the gate fails the file)."""
+    import json
+
+    from typer.testing import CliRunner
+
+    import cadartifact.exchange.iges_refs as refs
+    from cadartifact.cli.app import app
+    from cadartifact.exchange.files import LoadResult
+
+    got = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=24, skipped={"plane": 3},
+                                                  warnings=[]), (31, "faces (type 510)"))
+    assert got.faces_total == 31 and got.skipped == {"plane": 3, "dropped": 7}
+    assert got.warnings == ["m.igs: 7 of the 31 faces (type 510) the IGES file declares are not in OCCT's transferred "
+                            "shape, and OCCT named none (corrupt parameter data?)"]
+    path = tmp_path / "hood.igs"
+    path.write_text(hood, encoding="latin-1")
+    assert refs.declared_faces(hood) == (1, "trimmed or bounded surfaces (types 144, 143)")
+    real = refs.declared_faces
+    monkeypatch.setattr(refs, "declared_faces", lambda text: (real(text)[0] + 2, real(text)[1]))  # two faces lost
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = read(path)
+    assert result.skipped.get("dropped") == 2 and result.faces_total == 3 and len(result.nets) == 1
+    r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1e6", "--format", "json", "--jobs", "1"])
+    entry = json.loads(r.stdout)["files"][0]
+    assert r.exit_code == 2 and entry["verdict"] == "error" and "2 of the 3" in entry["error"]
+
+
+def test_a_non_ascii_digit_in_a_directory_entry_is_no_type_and_no_crash(hood):
+    """The campaign's one unexpected exception: a flipped byte made a directory field '50²' (``str.isdigit`` is
+    true, ``int`` fails); such a field is no entity type, and a pointer field no pointer."""
+    text = hood.replace("     144       1", "     14²       1", 1)
+    assert "two entity types" in iges_problem(text)
+    lines = hood.split("\n")
+    i = next(k for k, ln in enumerate(lines) if ln.startswith("     144       1"))
+    lines[i] = lines[i][:8] + "       ²" + lines[i][16:]
+    assert "no parameter data pointer" in iges_problem("\n".join(lines))

@@ -1,0 +1,106 @@
+"""OCCT's evaluation runs in the reader child (issue 27 item 2): a crash or a hang while verifying advice or
+locating a peak costs that face an error entry naming the file and the face, never the run.
+
+The same fault injection as the reader's (tests/test_reliability_fixes.py: a child that aborts, a child that
+sleeps past the timeout), here in the evaluator the child runs (``exchange.load.EVALUATE``, replaced by the
+functions of ``tests/eval_faults.py``, which fail on the hood's face only)."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+pytest.importorskip("OCP")
+
+from cadartifact.cli.app import app  # noqa: E402
+import importlib  # noqa: E402
+
+from cadartifact.exchange import isolation  # noqa: E402
+from cadartifact.exchange.isolation import ChildFailed  # noqa: E402
+
+TESTS = Path(__file__).resolve().parent
+SAMPLES = TESTS.parent / "samples"
+HOOD = SAMPLES / "car_hood_coarse.step"
+PANEL = SAMPLES / "wavy_panel_diagonal.step"
+load = importlib.import_module("cadartifact.exchange.load")  # the module (the package exports a function of its name)
+
+
+@pytest.fixture
+def fault(monkeypatch):
+    """``fault("crash" | "hang")``: the reader child's evaluator replaced by a faulty one."""
+    isolation.shutdown()  # the next child is started with this folder on its path
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(TESTS), os.environ.get("PYTHONPATH", "")]))
+    monkeypatch.setenv("CADARTIFACT_SHARE_FACES", "0")
+
+    def use(name: str, timeout: float | None = None):
+        monkeypatch.setattr(load, "EVALUATE", f"eval_faults:{name}")
+        if timeout is not None:
+            monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", str(timeout))
+
+    yield use
+    isolation.shutdown()
+
+
+def _grid(net):
+    (ku, kv), (p, q) = net.knots, net.degrees
+    return np.linspace(ku[p], ku[-p - 1], 5), np.linspace(kv[q], kv[-q - 1], 4)
+
+
+def test_a_crash_of_the_evaluation_is_an_error_naming_face_and_file_and_the_next_evaluation_works(fault):
+    fault("crash")
+    hood, panel = load.load(HOOD)[0], load.load(PANEL)[0]
+    with pytest.raises(ChildFailed, match=r"car_hood_coarse\.step: OCCT's evaluation of face 0 crashed \(SIGABRT\)"):
+        load.evaluate_grid(hood, *_grid(hood))
+    got = load.evaluate_grid(panel, *_grid(panel))  # a new child evaluates the next face
+    from cadartifact.exchange.occ import evaluate_grid
+
+    assert np.array_equal(got, evaluate_grid(panel, *_grid(panel)))
+
+
+def test_a_hang_of_the_evaluation_is_stopped_after_the_timeout(fault):
+    hood = load.load(HOOD)[0]
+    fault("hang", timeout=2)
+    with pytest.raises(ChildFailed, match=r"car_hood_coarse\.step: OCCT's evaluation of face 0 gave no answer in 2 s"):
+        load.evaluate_grid(hood, *_grid(hood))
+
+
+@pytest.mark.parametrize("kind, needle", [("crash", "crashed (SIGABRT)"), ("hang", "gave no answer in 3 s")])
+def test_the_gate_locating_a_peak_gives_the_face_an_error_entry_and_gates_the_next_file(fault, kind, needle):
+    fault(kind, timeout=3 if kind == "hang" else None)
+    # tolerance 0.05: both faces fail, so both peaks are located (OCCT evaluates a point of each)
+    r = CliRunner().invoke(app, ["gate", str(HOOD), str(PANEL), "--tol", "0.05", "--format", "json", "--jobs", "1"])
+    assert "Traceback" not in r.output
+    doc = json.loads(r.stdout)
+    assert r.exit_code == 2
+    hood, panel = doc["files"]
+    assert hood["verdict"] == "error" and hood["faces"] == []
+    assert hood["error"] == f"{HOOD}: OCCT's evaluation of face 0 {needle}" + ("" if kind == "crash" else " and was stopped")
+    assert panel["verdict"] == "fail" and panel["faces"][0]["peak_at"]["xyz"]  # located: the run went on
+
+
+@pytest.mark.parametrize("kind, needle", [("crash", "crashed (SIGABRT)"), ("hang", "gave no answer in 3 s")])
+def test_advise_verifying_on_occt_fails_in_one_line_naming_the_face(fault, kind, needle):
+    fault(kind, timeout=3 if kind == "hang" else None)
+    r = CliRunner().invoke(app, ["advise", str(HOOD), "--tol", "0.05", "--json"])
+    assert r.exit_code == 2 and r.stdout == "", r.output
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"{HOOD}: OCCT's evaluation of face 0 {needle}" in lines[0], r.stderr
+    # the same command with the real evaluator: advice verified on OCCT's surface
+    isolation.shutdown()
+    load.EVALUATE = "cadartifact.exchange.occ:evaluate_grid"
+    r = CliRunner().invoke(app, ["advise", str(HOOD), "--tol", "0.05", "--json"])
+    assert r.exit_code == 1, r.output  # the face exceeds the tolerance: advised, and verified on OCCT's surface
+    assert json.loads(r.stdout)["files"][0]["faces"][0]["advice"]["verification"]["method"] == "occt"
+
+
+def test_evaluation_runs_in_the_child_even_when_this_process_has_ocp(fault):
+    import OCP  # noqa: F401  (imported here: the evaluation still goes to the child)
+
+    fault("crash")
+    with pytest.raises(ChildFailed):
+        load.evaluate_grid(load.load(HOOD)[0], np.array([0.5]), np.array([0.5]))
