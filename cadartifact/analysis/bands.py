@@ -100,6 +100,18 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
     return out
 
 
+def baseband_bins(fu: AxisFrame, fv: AxisFrame) -> tuple[list, list]:
+    """Per direction, the fine-grid bins of the base band (``|f| < 1/2``; every bin of a direction with no
+    ripple band) and their frequencies: ``([ku, kv], [fu_k, fv_k])``."""
+    idx, freqs = [], []
+    for frame in (fu, fv):
+        f = _fine_freqs(frame)
+        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        idx.append(k)
+        freqs.append(f[k])
+    return idx, freqs
+
+
 def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndarray) -> dict:
     """The base-band bins of a half fine-grid spectrum, with a polynomial, for :func:`baseband_at`.
 
@@ -107,13 +119,7 @@ def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndar
     columns ``rfft2`` leaves out): no transform of the whole grid.
     """
     A, B = fu.K * fu.period, fv.K * fv.period
-    idx, freqs = [], []
-    for frame in (fu, fv):
-        f = _fine_freqs(frame)
-        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
-        idx.append(k)
-        freqs.append(f[k])
-    ku, kv = idx
+    (ku, kv), freqs = baseband_bins(fu, fv)
     direct = kv <= B // 2
     out = np.empty((len(ku), len(kv)) + half_spec.shape[2:], complex)
     out[:, direct] = half_spec[np.ix_(ku, kv[direct])]

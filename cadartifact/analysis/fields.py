@@ -36,7 +36,7 @@ import numpy as np
 
 from ..errors import check_option
 from .frames import AxisFrame
-from .bands import _baseband, _fine_freqs, _one_piece, band_split, lateral_factors, lateral_of
+from .bands import _baseband, _fine_freqs, _one_piece, baseband_bins, band_split, lateral_factors, lateral_of
 from .baseband import baseband_at
 from .settings import COMPONENTS, READINGS
 from .intent import Intent, _legendre, design_intent, from_homogeneous
@@ -336,13 +336,7 @@ def _baseband_of_rows(Su: np.ndarray, fu: AxisFrame, fv: AxisFrame, degree_v: in
     """:func:`_baseband` from the ``u`` half spectrum of the ``u``-bridged columns: the base-band rows
     (full spectrum, ``X[-k] = conj(X[k])`` for real columns), bridged and transformed along ``v``."""
     A = fu.K * fu.period
-    idx, freqs = [], []
-    for frame in (fu, fv):
-        f = _fine_freqs(frame)
-        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
-        idx.append(k)
-        freqs.append(f[k])
-    ku, kv = idx
+    (ku, kv), freqs = baseband_bins(fu, fv)
     direct = ku <= A // 2
     rows = np.empty((len(ku),) + Su.shape[1:], complex)
     rows[direct] = Su[ku[direct]]
