@@ -368,6 +368,9 @@ def _serve() -> None:
     """The child's loop: one request frame in, one reply frame out, until the pipe closes."""
     global _serving
     _serving = True
+    # run as ``python -m``, this module is ``__main__``: the requests import it again under its own name, and
+    # that copy must know it is the child too (else an evaluation here would start a child of the child)
+    importlib.import_module("cadartifact.exchange.isolation")._serving = True
     fd_in, fd_out = os.dup(0), os.dup(1)
     devnull = os.open(os.devnull, os.O_RDWR)
     for fd in (0, 1, 2):  # OCCT writes to the console directly; nothing may reach the protocol pipe
