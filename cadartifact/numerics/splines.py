@@ -30,6 +30,21 @@ def param_range(knots: np.ndarray, degree: int) -> tuple[float, float]:
     return float(t[degree]), float(t[len(t) - degree - 1])
 
 
+def _knot_spans(t: np.ndarray, p: int, x, periodic: bool) -> tuple[np.ndarray, np.ndarray, int]:
+    """``(x, s, nb)``: parameters clipped to the valid range (periodic: wrapped into it), the span index
+    ``s`` with ``t_s <= x < t_{s+1}`` in ``[p, nb - 1]`` (``x == hi`` belongs to the last span), and the
+    number ``nb`` of basis functions of the flat sequence."""
+    x = np.asarray(x, dtype=float).ravel()
+    lo, hi = param_range(t, p)
+    if periodic:
+        x = lo + np.mod(x - lo, hi - lo)
+        x = np.where(np.isclose(x, hi, rtol=0, atol=1e-14 * max(1.0, abs(hi))), lo, x)
+    else:
+        x = np.clip(x, lo, hi)
+    nb = len(t) - p - 1
+    return x, np.clip(np.searchsorted(t, x, side="right") - 1, p, nb - 1), nb
+
+
 def basis_matrix(knots: np.ndarray, degree: int, x: np.ndarray, n: int | None = None,
                  periodic: bool = False) -> np.ndarray:
     """B-spline basis functions evaluated at parameters ``x``.
@@ -58,19 +73,8 @@ def basis_matrix(knots: np.ndarray, degree: int, x: np.ndarray, n: int | None = 
     Cox-de Boor recursion ``N_{i,p} = (x-t_i)/(t_{i+p}-t_i) N_{i,p-1} + (t_{i+p+1}-x)/(t_{i+p+1}-t_{i+1}) N_{i+1,p-1}``
     with 0/0 = 0, vectorised over ``x`` (The NURBS Book, eq. 2.5).
     """
-    t = np.asarray(knots, dtype=float)
-    p = int(degree)
-    x = np.asarray(x, dtype=float).ravel()
-    lo, hi = param_range(t, p)
-    if periodic:
-        x = lo + np.mod(x - lo, hi - lo)
-        x = np.where(np.isclose(x, hi, rtol=0, atol=1e-14 * max(1.0, abs(hi))), lo, x)
-    else:
-        x = np.clip(x, lo, hi)
-    nb = len(t) - p - 1  # basis functions of the flat sequence
-    # span index s with t_s <= x < t_{s+1}, s in [p, nb-1]; x == hi belongs to the last span
-    s = np.searchsorted(t, x, side="right") - 1
-    s = np.clip(s, p, nb - 1)
+    t, p = np.asarray(knots, dtype=float), int(degree)
+    x, s, nb = _knot_spans(t, p, x, periodic)
     # triangular table N[a, r] for the p+1 non-zero functions s-p .. s (Piegl & Tiller A2.2)
     N = np.zeros((len(x), p + 1))
     N[:, 0] = 1.0
@@ -123,17 +127,8 @@ def basis_derivatives(knots: np.ndarray, degree: int, x: np.ndarray, n: int | No
     basis functions and knot differences, then ``N^(k)_{r,p} = p!/(p-k)! sum_j a_{k,j} N_{r+j,p-k}`` with the
     coefficients ``a`` of eq. 2.10 built by recurrence.
     """
-    t = np.asarray(knots, dtype=float)
-    p = int(degree)
-    x = np.asarray(x, dtype=float).ravel()
-    lo, hi = param_range(t, p)
-    if periodic:
-        x = lo + np.mod(x - lo, hi - lo)
-        x = np.where(np.isclose(x, hi, rtol=0, atol=1e-14 * max(1.0, abs(hi))), lo, x)
-    else:
-        x = np.clip(x, lo, hi)
-    nb = len(t) - p - 1
-    s = np.clip(np.searchsorted(t, x, side="right") - 1, p, nb - 1)
+    t, p = np.asarray(knots, dtype=float), int(degree)
+    x, s, nb = _knot_spans(t, p, x, periodic)
     k = len(x)
     ndu = np.zeros((k, p + 1, p + 1))
     ndu[:, 0, 0] = 1.0
