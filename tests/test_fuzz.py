@@ -30,6 +30,16 @@ READ_TIMEOUT = 15.0
 TOL = 0.05
 
 
+
+def _gate_case(case, folder, settings):
+    """``(path, entry)``: a mutated case written into ``folder`` and gated, its warnings silenced."""
+    from cadartifact.gate.run import gate_file
+
+    path = fuzzing.write_case(case, folder)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return path, gate_file(str(path), settings, read_timeout=READ_TIMEOUT)
+
 @pytest.fixture(scope="module")
 def sources():
     return fuzzing.default_sources(small=True)
@@ -49,16 +59,12 @@ def baseline(sources):
 
 @pytest.mark.parametrize("chunk", range(CHUNKS))
 def test_mutated_inputs_meet_the_contract_in_process(sources, baseline, tmp_path, chunk):
-    from cadartifact.gate.run import gate_file
     from cadartifact.gate.policy import FileSettings
 
     settings = FileSettings(tolerance=TOL)
     violations, classes = [], {}
     for i, case in enumerate(fuzzing.mutations(sources, PER_CHUNK, seed=1400 + chunk)):
-        path = fuzzing.write_case(case, tmp_path / str(i))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            entry = gate_file(str(path), settings, read_timeout=READ_TIMEOUT)
+        path, entry = _gate_case(case, tmp_path / str(i), settings)
         cls = fuzzing.classify(entry, case)
         classes[cls] = classes.get(cls, 0) + 1
         for problem in fuzzing.check_entry(entry, path, case):
@@ -74,17 +80,13 @@ def test_mutated_inputs_meet_the_contract_in_process(sources, baseline, tmp_path
 def test_every_break_of_the_chain_is_an_error_naming_the_entity(sources, tmp_path, kind):
     """Each chain mutation of every STEP source (samples, small real files), several seeds: an error entry
     whose message names the broken reference and the line of the entity that holds it."""
-    from cadartifact.gate.run import gate_file
     from cadartifact.gate.policy import FileSettings
 
     settings = FileSettings(tolerance=TOL)
     steps = [src for src in sources if src.suffix.lower() != ".obj"]
     cases = list(fuzzing.mutations(steps, 3 * len(steps), seed=2700 + fuzzing.CHAIN_KINDS.index(kind), kinds=(kind,)))
     for i, case in enumerate(cases):
-        path = fuzzing.write_case(case, tmp_path / str(i))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            entry = gate_file(str(path), settings, read_timeout=READ_TIMEOUT)
+        path, entry = _gate_case(case, tmp_path / str(i), settings)
         assert entry["verdict"] == "error", (case.source, kind, entry["verdict"])
         assert fuzzing.classify(entry, case) == "error:reference", entry["error"]
         assert re.search(r"#\d+ .*\(line \d+\)", entry["error"]), entry["error"]
@@ -134,7 +136,6 @@ def iges_sources(tmp_path_factory):
 def test_every_break_of_an_iges_chain_is_an_error_naming_the_entities(iges_sources, tmp_path, kind):
     """Each IGES directory mutation of every IGES source, two seeds: an error entry naming the directory
     entries (``D<n>``) and a line, never a file that lost a face without a word."""
-    from cadartifact.gate.run import gate_file
     from cadartifact.gate.policy import FileSettings
 
     settings = FileSettings(tolerance=TOL)
@@ -146,10 +147,7 @@ def test_every_break_of_an_iges_chain_is_an_error_naming_the_entities(iges_sourc
         if case.data == original:
             continue
         changed += 1
-        path = fuzzing.write_case(case, tmp_path / str(i))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            entry = gate_file(str(path), settings, read_timeout=READ_TIMEOUT)
+        path, entry = _gate_case(case, tmp_path / str(i), settings)
         assert entry["verdict"] == "error", (case.source, kind, entry["verdict"])
         assert fuzzing.classify(entry, case) == "error:reference", entry["error"]
         assert re.search(r"D\d+ .*line \d+", entry["error"]) and "\n" not in entry["error"], entry["error"]
