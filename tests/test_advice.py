@@ -309,3 +309,18 @@ def test_comparison_is_off_by_default_for_a_face_and_on_for_a_cage_or_a_named_sc
     assert named.comparison and named.comparison_note is None
     cage = advise(ControlNet(points=pts), 0.05, verify=False)
     assert cage.comparison and cage.comparison_note is None
+
+
+def test_rounding_does_not_pick_the_binding_direction_of_a_symmetric_face():
+    """The diagonal wave panel is symmetric under ``u <-> v`` and advised a square net: its two coarser
+    values are equal to rounding, and it binds ``u``, as does the same net moved by rounding (1e-13 of its
+    size, three draws)."""
+    net = ca.load(SAMPLES / "wavy_panel_diagonal.step")[0]
+    size = float(np.ptp(net.points.reshape(-1, 3), axis=0).max())
+    rng = np.random.default_rng(7)
+    for k in range(4):
+        moved = net if k == 0 else net.replace(points=net.points + rng.normal(scale=1e-13 * size, size=net.points.shape))
+        a = advise(moved, 0.05, compare=False, verify=False)
+        assert a.shape[0] == a.shape[1] and a.binding is not None
+        assert a.reasons["u"]["coarser_value"] == pytest.approx(a.reasons["v"]["coarser_value"], rel=1e-6)
+        assert a.binding == "u", k

@@ -442,7 +442,11 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str 
             why = f"{n_new - 1} points would also meet ({val:.4g}); the other direction binds"
         out[d] = {"today": int(n_today), "advised": int(n_new), "change": int(change),
                   "coarser_value": _f(val), "binding": bool(val is not None and val > t), "reason": why}
-    binding = max(worse, key=worse.get) if worse and not kept else None
+    binding = None
+    if worse and not kept:
+        # a tie to rounding (a face symmetric in u and v) binds u: rounding must not pick the direction
+        top = max(worse.values())
+        binding = next(d for d in "uv" if d in worse and worse[d] >= top * (1 - 1e-9))
     return binding, out
 
 

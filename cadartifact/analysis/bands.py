@@ -129,13 +129,24 @@ def _baseband(half_spec: np.ndarray, fu: AxisFrame, fv: AxisFrame, poly: np.ndar
     return {"spec": out, "freqs": freqs, "frames": (fu, fv), "poly": poly}
 
 
-def _dct1(a: np.ndarray, axis: int) -> np.ndarray:
+def _dct1(a: np.ndarray, axis: int = -1) -> np.ndarray:
     """DCT-I along ``axis`` (unnormalised, as ``scipy.fft.dct(type=1)``): the real half spectrum of the
     whole-sample even reflection, ``rfft([a_0 .. a_{N-1}, a_{N-2} .. a_1])``. Its own inverse up to
-    ``1 / (2 (N - 1))``. By numpy's FFT: importing ``scipy.fft`` costs a gate process 0.1-0.4 s."""
-    N = a.shape[axis]
-    inner = np.flip(np.take(a, np.arange(1, N - 1), axis=axis), axis)
-    return np.fft.rfft(np.concatenate([a, inner], axis=axis), axis=axis).real
+    ``1 / (2 (N - 1))``. By numpy's FFT: importing ``scipy.fft`` costs a gate process 0.1-0.4 s.
+
+    Fastest along the last axis of a C-contiguous array (the reflection is written straight into the
+    transform's buffer, and the FFT runs over contiguous lines)."""
+    a = np.moveaxis(a, axis, -1)
+    N = a.shape[-1]
+    ext = np.empty(a.shape[:-1] + (2 * (N - 1),))
+    ext[..., :N] = a
+    ext[..., N:] = a[..., N - 2:0:-1]
+    return np.moveaxis(np.fft.rfft(ext, axis=-1).real, -1, axis)
+
+
+def _transposed(a: np.ndarray) -> np.ndarray:
+    """``(c, m, n) -> (c, n, m)``, C-contiguous: the next transform runs along contiguous lines."""
+    return np.ascontiguousarray(a.transpose(0, 2, 1))
 
 
 def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
@@ -145,7 +156,18 @@ def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
     ``2 (N - 1)``) and periodically along a periodic one, weighted per frequency and transformed back. The
     DFT of a whole-sample symmetric sequence is its DCT-I (:func:`_dct1`), and the weights are even in each
     frequency, so the transforms go one direction at a time on real data instead of one complex 2-D transform
-    of the field reflected both ways (four times the samples): the same numbers to rounding.
+    of the field reflected both ways (four times the samples): the same numbers to rounding. The work is done
+    component by component, each transform along the last axis of a contiguous array (about 0.7 of the time
+    of transforms along strided axes on a 793 x 793 x 3 field).
+
+    Parameters
+    ----------
+    ripple : (a, b, 3) float
+    fu, fv : AxisFrame
+
+    Returns
+    -------
+    (a, b, 3) float
     """
     frames = (fu, fv)
     is_open = [not f.periodic and ripple.shape[a] > 2 for a, f in enumerate(frames)]
@@ -162,14 +184,24 @@ def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
             freqs.append(np.fft.rfftfreq(N, d=1.0 / f.K))
         else:
             freqs.append(np.fft.fftfreq(N, d=1.0 / f.K))
-    w = _band_masks(freqs[0], freqs[1], _one_piece(fu, fv))["lateral"][:, :, None]
+    w = _band_masks(freqs[0], freqs[1], _one_piece(fu, fv))["lateral"]
     A, B = ripple.shape[:2]
     if both_periodic:
-        return np.fft.irfft2(np.fft.rfft2(ripple, axes=(0, 1)) * w, s=(A, B), axes=(0, 1))
+        return np.fft.irfft2(np.fft.rfft2(ripple, axes=(0, 1)) * w[:, :, None], s=(A, B), axes=(0, 1))
+    r = np.moveaxis(ripple.reshape(A, B, -1), 2, 0)  # (c, a, b), a view
     if all(is_open):
-        spec = _dct1(_dct1(ripple, 0), 1) * w
-        return _dct1(_dct1(spec, 1), 0) / (4.0 * (A - 1) * (B - 1))
-    o = 0 if is_open[0] else 1
-    n_open = ripple.shape[o]
-    spec = np.fft.fft(_dct1(ripple, o), axis=1 - o) * w
-    return _dct1(np.fft.ifft(spec, axis=1 - o).real, o) / (2.0 * (n_open - 1))
+        s = _transposed(_dct1(r))  # along v, then (c, b, a)
+        s = _dct1(s) * w.T  # along u
+        s = _dct1(_transposed(_dct1(s)))  # back along u, then along v: (c, a, b)
+        s /= 4.0 * (A - 1) * (B - 1)
+    elif is_open[1]:  # u periodic
+        s = _transposed(_dct1(r))  # (c, b, a)
+        s = np.fft.ifft(np.fft.fft(s) * w.T).real
+        s = _dct1(_transposed(s)) / (2.0 * (B - 1))
+    else:  # v periodic
+        s = _dct1(_transposed(r))  # along u: (c, b, a)
+        s = _transposed(s)
+        s = _transposed(np.fft.ifft(np.fft.fft(s) * w).real)
+        s = _dct1(s) / (2.0 * (A - 1))  # (c, b, a)
+        s = s.transpose(0, 2, 1)
+    return np.moveaxis(s, 0, 2).reshape(ripple.shape)

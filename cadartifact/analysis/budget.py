@@ -211,9 +211,21 @@ def region_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray, region: s
 
 
 def _scalars(fields: ArtifactFields, component: str) -> dict:
-    normal = None if component == "vector" else intent_normals(fields.intent, 2 ** fields.levels)
-    out = {name: project(fields.bands[name], normal, component) for name in FIELD_NAMES}
-    out["deviation"] = project(fields.bands["total"] + fields.bands["signal_error"], normal, component)
+    if component == "vector":
+        out = {name: project(fields.bands[name], None, component) for name in FIELD_NAMES}
+        out["deviation"] = project(fields.bands["total"] + fields.bands["signal_error"], None, component)
+        return out
+    normal = intent_normals(fields.intent, 2 ** fields.levels)
+    has = np.einsum("...k,...k->...", normal, normal) != 0.0
+    if not has.all():
+        out = {name: project(fields.bands[name], normal, component, has) for name in FIELD_NAMES}
+        out["deviation"] = project(fields.bands["total"] + fields.bands["signal_error"], normal, component, has)
+        return out
+    # the normal part is linear where every sample has a normal: total and deviation are sums of parts
+    out = {name: project(fields.bands[name], normal, component, True)
+           for name in ("x1", "x2", "diagonal", "lateral", "signal_error")}
+    out["total"] = out["x1"] + out["x2"] + out["diagonal"]
+    out["deviation"] = out["total"] + out["signal_error"]
     return out
 
 

@@ -288,20 +288,28 @@ class Intent:
         spread = float(np.sqrt(np.mean(np.sum((P - P.mean(axis=0)) ** 2, axis=1))))
         if float(np.sqrt(np.mean(np.sum(self.residual ** 2, axis=-1)))) <= 1e-6 * spread:
             return 0.0
+        # The fine-grid intent is R = Au E Av^T (E the residual): the windowed transform along u of its
+        # centred columns is G E Av^T with G = rfft(diag(win) (I - 11^T/L) Au), and its power summed over
+        # the columns and components is diag(G Q G^H), Q = sum_c E_c Av^T Av E_c^T: no fine-grid array
+        # (the same numbers to rounding as transforming R, in a hundredth of the time on 100 x 100 nets).
         fu, fv = self.frames
-        R = sandwich(self.axes[0].at(fu.x), self.residual, self.axes[1].at(fv.x))
+        ops = (self.axes[0].at(fu.x), self.axes[1].at(fv.x))
+        E = np.asarray(self.residual, float)
+        E = E.reshape(E.shape[:2] + (-1,))
         his, tots = [0.0], [0.0]
         for axis, frame in enumerate(self.frames):
             if frame.spans < 10:  # the window cannot tell 0.35 from 0.4 cycles (resolution 1/L)
                 continue
             if _multiple_knots(self.net, axis):  # its points are not samples (a C1 arc's zigzag): nothing to judge
                 continue
-            a = np.moveaxis(R, axis, 0)
-            a = a - a.mean(axis=0)
-            win = np.ones(len(a)) if frame.periodic else np.hanning(len(a))
-            power = np.sum(np.abs(np.fft.rfft(a * win.reshape((-1,) + (1,) * (a.ndim - 1)), axis=0)) ** 2,
-                           axis=tuple(range(1, a.ndim)))
-            f = np.fft.rfftfreq(len(a), d=1.0 / frame.K)
+            A, other = ops[axis], ops[1 - axis]
+            Ea = np.moveaxis(E, axis, 0)  # (n_axis, n_other, c)
+            M = other.T @ other
+            Q = sum(Ea[:, :, c] @ M @ Ea[:, :, c].T for c in range(Ea.shape[2]))
+            win = np.ones(len(A)) if frame.periodic else np.hanning(len(A))
+            G = np.fft.rfft((A - A.mean(axis=0)) * win[:, None], axis=0)
+            power = np.maximum(np.sum((G @ Q) * G.conj(), axis=1).real, 0.0)
+            f = np.fft.rfftfreq(len(A), d=1.0 / frame.K)
             his.append(float(power[f >= UNDERSAMPLED_FREQUENCY].sum()))
             tots.append(float(power.sum()))
         return float(np.sqrt(max(his) / max(tots))) if max(tots) > 0 else 0.0  # 0: no direction could tell
