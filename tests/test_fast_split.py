@@ -90,3 +90,21 @@ def test_split_by_direction_equals_the_two_dimensional_transform(nu, nv, pu, pv,
     holder = F.ArtifactFields(x=fu.x, y=fv.x, surface=field, intent=smooth, baseband=bb)
     ref_holder = F.ArtifactFields(x=fu.x, y=fv.x, surface=field, intent=ref_smooth, baseband=ref_bb)
     np.testing.assert_allclose(baseband_at(holder, xs, ys), baseband_at(ref_holder, xs, ys), atol=1e-9 * size)
+
+
+@settings(max_examples=30, deadline=None)
+@given(nu=st.integers(3, 30), nv=st.integers(3, 30), m=st.integers(2, 9), n=st.integers(2, 9),
+       terms=st.integers(1, 3), seed=st.integers(0, 2 ** 31))
+def test_lateral_from_the_separable_form_equals_the_lateral_of_the_field(nu, nv, m, n, terms, seed):
+    """The forward transforms taken on the operators of ``sum_k A_k P B_k^T`` give the lateral part of the
+    field itself (both directions open; a periodic one ignores the separable form)."""
+    fu, fv = _frame(max(nu, 4), False, 3), _frame(max(nv, 4), False, 3)
+    rng = np.random.default_rng(seed)
+    P = rng.normal(size=(m, n, 3))
+    ops = [(rng.normal(size=(nu, m)), rng.normal(size=(nv, n))) for _ in range(terms)]
+    ripple = sum(F.sandwich(Au, P, Bv) for Au, Bv in ops)
+    np.testing.assert_allclose(lateral_of(ripple, fu, fv, (P, *ops)), _reflected_lateral(ripple, fu, fv),
+                               atol=1e-10 * max(1.0, float(np.abs(ripple).max())))
+    fp = _frame(max(nv, 4), True, 3)
+    np.testing.assert_allclose(lateral_of(ripple, fu, fp, (P, *ops)), _reflected_lateral(ripple, fu, fp),
+                               atol=1e-10 * max(1.0, float(np.abs(ripple).max())))

@@ -149,7 +149,7 @@ def _transposed(a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(a.transpose(0, 2, 1))
 
 
-def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
+def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame, terms: tuple | None = None) -> np.ndarray:
     """The lateral part of a domain ripple field (SPEC §3 weights per alias band).
 
     The field is continued by even reflection along each open direction (whole-sample symmetric, period
@@ -164,6 +164,10 @@ def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
     ----------
     ripple : (a, b, 3) float
     fu, fv : AxisFrame
+    terms : tuple, optional
+        ``(P, (A_1, B_1), (A_2, B_2), ...)`` with ``ripple = sum_k A_k P B_k^T`` (``P`` : (m, n, 3),
+        ``A_k`` : (a, m), ``B_k`` : (b, n)): the field's separable form, which spares its forward
+        transforms when both directions are open (the same numbers to rounding).
 
     Returns
     -------
@@ -186,6 +190,18 @@ def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame) -> np.ndarray:
             freqs.append(np.fft.fftfreq(N, d=1.0 / f.K))
     w = _band_masks(freqs[0], freqs[1], _one_piece(fu, fv))["lateral"]
     A, B = ripple.shape[:2]
+    if terms is not None and all(is_open):
+        # the forward DCT-I of sum_k A_k P B_k^T is sum_k DCT(A_k) P DCT(B_k)^T: the operators' columns are
+        # transformed instead of the field, and the field's two forward transforms are two products
+        from ..numerics.tensor import sandwich_left
+
+        points = terms[0]
+        s = sum(np.tensordot(sandwich_left(_dct1(Au, 0), points), _dct1(Bv, 0), axes=(1, 1))
+                for Au, Bv in terms[1:])  # (a, c, b)
+        s *= w[:, None, :]
+        s = _dct1(_dct1(s).transpose(1, 2, 0))  # back along v, then (c, b, a) and along u
+        s /= 4.0 * (A - 1) * (B - 1)
+        return s.transpose(2, 1, 0).reshape(ripple.shape)
     if both_periodic:
         return np.fft.irfft2(np.fft.rfft2(ripple, axes=(0, 1)) * w[:, :, None], s=(A, B), axes=(0, 1))
     r = np.moveaxis(ripple.reshape(A, B, -1), 2, 0)  # (c, a, b), a view

@@ -233,7 +233,7 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
     bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
     bands["total"] = bands["x1"] + bands["x2"] + bands["diagonal"]
     if lateral:
-        bands["lateral"] = lateral_of(bands["total"], fu, fv)
+        bands["lateral"] = lateral_of(bands["total"], fu, fv, (P, (Hu, Lv + Hv), (Lu, Hv)))
     return _assemble(intent, bands, smooth, smooth + bands["total"], "predicted", reading,
                      {"separable": (lu, lv), "points": P})
 
