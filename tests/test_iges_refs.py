@@ -130,3 +130,66 @@ def test_a_non_ascii_digit_in_a_directory_entry_is_no_type_and_no_crash(hood):
     i = next(k for k, ln in enumerate(lines) if ln.startswith("     144       1"))
     lines[i] = lines[i][:8] + "       ²" + lines[i][16:]
     assert "no parameter data pointer" in iges_problem("\n".join(lines))
+
+
+def test_more_faces_transferred_than_declared_is_said(hood, tmp_path, monkeypatch):
+    """The campaign's open case (MAINBODY_BACK's IGES B-rep with a broken pointer gave 33 faces of 31; a
+    duplicated directory line gave a one-face file 2): more faces in OCCT's transferred shape than the directory
+    declares is a warning naming both counts (the faces are kept: a legitimate file may instance a face twice)."""
+    import json
+    import sys
+
+    from typer.testing import CliRunner
+
+    import cadartifact.exchange.iges_refs as refs
+    from cadartifact.cli.app import app
+    from cadartifact.exchange.files import LoadResult
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import fuzzing
+
+    got = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=33, skipped={"plane": 3},
+                                                  warnings=[]), (31, "faces (type 510)"))
+    assert got.faces_total == 33 and got.skipped == {"plane": 3}
+    assert got.warnings == ["m.igs: OCCT's transferred shape has 33 faces, 2 more than the 31 faces (type 510) the "
+                            "IGES file declares (a face instanced more than once, or corrupt directory data?)"]
+    same = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=31, warnings=[]),
+                              (31, "faces (type 510)"))
+    assert same.warnings == []
+    none = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=2, warnings=[]),
+                              (0, "trimmed or bounded surfaces (types 144, 143)"))
+    assert none.warnings == []  # a file of untrimmed surfaces (128) declares no face: nothing to compare
+    real = refs.declared_faces
+    monkeypatch.setattr(fuzzing, "declared_faces", lambda data, fmt: 1)
+    for extra in (1, 2):  # 1 + extra faces written; the directory read as declaring 1 (as the corrupt files were)
+        twice = tmp_path / f"copies{extra}.igs"
+        _write_hood_copies(twice, 1 + extra)
+        assert real(twice.read_text(encoding="latin-1"))[0] == 1 + extra
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            assert not any("more than" in w for w in read(twice).warnings)  # as declared: nothing said
+            monkeypatch.setattr(refs, "declared_faces", lambda text: (1, real(text)[1]))
+            result = read(twice)
+        assert result.faces_total == 1 + extra
+        assert any(f"{extra} more than the 1 trimmed" in w for w in result.warnings), result.warnings
+        r = CliRunner().invoke(app, ["gate", str(twice), "--tol", "1e6", "--format", "json", "--jobs", "1"])
+        entry = json.loads(r.stdout)["files"][0]
+        assert entry["verdict"] != "error" and any(f"{extra} more than" in w for w in entry["warnings"])
+        case = fuzzing.Case(source="hood.igs", kind="duplicate-line", name=twice.name, data=b"")
+        assert fuzzing.check_entry(entry, twice, case) == []  # said: not a contract violation
+        monkeypatch.setattr(refs, "declared_faces", real)
+
+
+def _write_hood_copies(path: Path, copies: int) -> None:
+    from OCP.IGESControl import IGESControl_Writer
+
+    from cadartifact.exchange.occ import make_face
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        writer = IGESControl_Writer("MM", 0)
+        net = read(SAMPLES / "car_hood_coarse.step").nets[0]
+        for _ in range(copies):
+            writer.AddShape(make_face(net))
+        writer.ComputeModel()
+        assert writer.Write(str(path))

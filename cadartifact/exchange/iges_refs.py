@@ -152,11 +152,20 @@ def faces_missing(path, result, declared: tuple[int, str]):
     """``result`` (a :class:`~cadartifact.exchange.files.LoadResult`) with the faces an IGES file declares that are
     neither in OCCT's transferred shape nor named as dropped counted as ``skipped["dropped"]``, and a warning
     saying so (the gate fails such a file): OCCT loses faces without a word on some corrupt parameter data (a
-    byte flipped in a curve of a loop)."""
+    byte flipped in a curve of a loop).
+
+    More faces transferred than declared is said too (a warning, the faces are kept): a face instanced more than
+    once by a legitimate file, or corrupt directory data (a duplicated directory line made OCCT transfer 2 faces
+    of a file that declares 1, the fuzz campaign)."""
     from dataclasses import replace
 
     count, what = declared
     missing = count - result.faces_total
+    if missing < 0 and count:
+        warning = (f"{path}: OCCT's transferred shape has {result.faces_total} faces, {-missing} more than the "
+                   f"{count} {what} the IGES file declares (a face instanced more than once, or corrupt directory "
+                   "data?)")
+        return replace(result, warnings=[*result.warnings, warning])
     if missing <= 0:
         return result
     skipped = dict(result.skipped)
