@@ -61,17 +61,22 @@ def _env() -> dict:
     return env
 
 
-def gate_process(paths: list[Path], args, folder: Path, timeout: float) -> tuple[str, object]:
-    """Run one gate process on ``paths``: ``("ok", entries)``, or ``("crash"|"hang"|"traceback", detail)``."""
+def gate_process(paths: list[Path], args, folder: Path, timeout: float, deadline: float | None = None
+                 ) -> tuple[str, object]:
+    """Run one gate process on ``paths``: ``("ok", entries)``, or ``("crash"|"hang"|"traceback", detail)``, or
+    ``("late", None)`` when ``deadline`` (``time.perf_counter``) came first (the inputs are not counted)."""
     report = folder / "report.json"
     report.unlink(missing_ok=True)
     cmd = [sys.executable, "-m", "cadartifact", "gate", "--format", "json", "--output", str(report), "--jobs", "1",
            "--tol", repr(args.tol), "--read-timeout", repr(args.read_timeout), "--advise", args.advise,
            *map(str, paths)]
+    late = deadline is not None and deadline - time.perf_counter() < timeout
     try:
         proc = subprocess.run(cmd, cwd=folder, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              timeout=timeout)
+                              timeout=max(1.0, deadline - time.perf_counter()) if late else timeout)
     except subprocess.TimeoutExpired:
+        if late:
+            return "late", None
         return "hang", f"no report in {timeout:.0f} s"
     stderr = proc.stderr.decode("utf-8", "replace")
     if "Traceback (most recent call last)" in stderr:
@@ -97,7 +102,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-n", type=int, default=10_000, help="inputs (default 10 000)")
     parser.add_argument("--seed", type=int, default=14)
-    parser.add_argument("--batch", type=int, default=100, help="files per gate process (default 100)")
+    parser.add_argument("--batch", type=int, default=100, help="files per gate process (default 100; smaller near --max-seconds)")
     parser.add_argument("--all", action="store_true", help="also the real files over 150 KB (slow)")
     parser.add_argument("--read-timeout", type=float, default=10.0, help="seconds per file for the reader")
     parser.add_argument("--tol", type=float, default=0.05)
@@ -140,17 +145,27 @@ def main(argv=None) -> int:
             print(f"  stopped after {args.max_seconds:g} s (--max-seconds): {ran} of {args.n} inputs run", flush=True)
             stopped = True
             break
-        batch = [c for _, c in zip(range(min(args.batch, args.n - ran)), cases)]
+        size = min(args.batch, args.n - ran)
+        if args.max_seconds is not None and ran:  # a batch that fits in the time left, at the pace so far
+            pace = (time.perf_counter() - start) / ran
+            size = max(1, min(size, int((args.max_seconds - (time.perf_counter() - start)) / pace)))
+        batch = [c for _, c in zip(range(size), cases)]
         folder = work / "batch"
         shutil.rmtree(folder, ignore_errors=True)
         paths = [fuzzing.write_case(case, folder / str(ran + k)) for k, case in enumerate(batch)]
-        status, entries = gate_process(paths, args, folder, batch_timeout(len(paths)))
+        deadline = None if args.max_seconds is None else start + args.max_seconds + 120
+        status, entries = gate_process(paths, args, folder, batch_timeout(len(paths)), deadline)
+        if status == "late":  # --max-seconds (and 2 minutes of grace) reached inside this batch: not counted
+            print(f"  stopped by --max-seconds inside the batch at #{ran} ({len(batch)} inputs not counted)",
+                  flush=True)
+            stopped = True
+            break
         if status == "ok":
             results = [("ok", e) for e in entries]
         else:  # attribute it: one process per file (the other files get their entries)
             reruns += 1
             print(f"  batch at #{ran}: {status} ({entries}); re-run one file per process", flush=True)
-            results = [gate_process([p], args, folder, batch_timeout(1)) for p in paths]
+            results = [gate_process([p], args, folder, batch_timeout(1)) for p in paths]  # no deadline: attribute
         for k, (case, path, (status, entry)) in enumerate(zip(batch, paths, results)):
             i = ran + k
             label = f"#{i} {case.source} {case.kind}"
