@@ -5,6 +5,7 @@ are an error naming the entries and their lines, before OCCT (which read such fi
 from __future__ import annotations
 
 import os
+import re
 import warnings
 
 import pytest
@@ -193,3 +194,66 @@ def _write_hood_copies(path: Path, copies: int) -> None:
             writer.AddShape(make_face(net))
         writer.ComputeModel()
         assert writer.Write(str(path))
+
+
+def _with_number(text: str, value: str, rng) -> tuple[str, int]:
+    """``text`` with a random number of a random parameter line of its 128 surface replaced by ``value``; and the
+    file line (1-based) of that parameter line."""
+    lines = text.split("\n")
+    rows = [k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip().lstrip("0") == "3"]
+    while True:  # a number whose replacement still fits the line's 64 data columns
+        k = rng.choice(rows)
+        data = lines[k][:64].rstrip()
+        spans = [m.span() for m in re.finditer(r"(?<![0-9.H])[-+]?[0-9]+\.[0-9]*(?:[ED][-+]?[0-9]+)?", data)]
+        a, b = rng.choice(spans)
+        new = data[:a] + value + data[b:]
+        if len(new) <= 64:
+            break
+    lines[k] = new.ljust(64) + lines[k][64:]
+    return "\n".join(lines), k + 1
+
+
+@pytest.mark.parametrize("value", ["1.0D300", "1.0E+400", "-1.D99", "NAN", "INF", "-Infinity", "12345678901234",
+                                   "2.5E12", "1.E13", "9.99999D+99"])
+def test_an_iges_number_that_is_not_finite_or_huge_is_an_error_naming_the_entity_and_line(hood, value, tmp_path):
+    """The IGES number pre-scan (as STEP's): the message names the entity (the parameter line's directory pointer),
+    its type and the line; the gate gives an error entry, exit 2, one line, no report of faces."""
+    import json
+    import random
+
+    from typer.testing import CliRunner
+
+    from cadartifact.cli.app import app
+
+    rng = random.Random(value)
+    for _ in range(5):
+        text, line = _with_number(hood, value, rng)
+        assert iges_problem(text) == (f"IGES entity D3 (type 128, line {line}): number {value!r} is not finite or "
+                                      "exceeds 1e+12 (no real model holds it)")
+    path = tmp_path / "m.igs"
+    path.write_text(text, encoding="latin-1")
+    r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1", "--format", "json", "--jobs", "1"])
+    entry = json.loads(r.stdout)["files"][0]
+    assert r.exit_code == 2 and entry["verdict"] == "error" and entry["faces"] == []
+    assert entry["error"] == (f"{path}: IGES entity D3 (type 128, line {line}): number {value!r} is not finite or "
+                              "exceeds 1e+12 (no real model holds it)")
+
+
+@pytest.mark.parametrize("value", ["9.9E11", "1.0D-300", "1.0E+11", "-5.D-12", "123456789012", "0.12345678901234567"])
+def test_large_but_possible_iges_numbers_pass(hood, value):
+    import random
+
+    text, _ = _with_number(hood, value, random.Random(value))
+    assert iges_problem(text) is None
+
+
+def test_an_iges_hollerith_string_is_not_read_as_numbers(hood):
+    """A name (Hollerith ``nH...``) may hold INF, NaN or 1E300 as text: not numbers."""
+    lines = hood.split("\n")
+    k = next(k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip().lstrip("0") == "3")
+    data = lines[k][:64].rstrip()
+    if data.endswith(";"):
+        return
+    extra = "12HINF NAN 1E300"
+    lines.insert(k + 1, ("," + extra).ljust(64) + lines[k][64:])
+    assert iges_problem("\n".join(lines)) is None
