@@ -165,7 +165,8 @@ def main(argv=None) -> int:
         else:  # attribute it: one process per file (the other files get their entries)
             reruns += 1
             print(f"  batch at #{ran}: {status} ({entries}); re-run one file per process", flush=True)
-            results = [gate_process([p], args, folder, batch_timeout(1)) for p in paths]  # no deadline: attribute
+            alone = [gate_process([p], args, folder, batch_timeout(1)) for p in paths]  # no deadline: attribute
+            results = [(status, entry[0] if status == "ok" else entry) for status, entry in alone]
         for k, (case, path, (status, entry)) in enumerate(zip(batch, paths, results)):
             i = ran + k
             label = f"#{i} {case.source} {case.kind}"
