@@ -102,7 +102,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-n", type=int, default=10_000, help="inputs (default 10 000)")
     parser.add_argument("--seed", type=int, default=14)
-    parser.add_argument("--batch", type=int, default=100, help="files per gate process (default 100; smaller near --max-seconds)")
+    parser.add_argument("--batch", type=int, default=100,
+                        help="files per gate process (default 100; smaller near --max-seconds)")
     parser.add_argument("--all", action="store_true", help="also the real files over 150 KB (slow)")
     parser.add_argument("--read-timeout", type=float, default=10.0, help="seconds per file for the reader")
     parser.add_argument("--tol", type=float, default=0.05)
