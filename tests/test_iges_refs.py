@@ -5,6 +5,7 @@ are an error naming the entries and their lines, before OCCT (which read such fi
 from __future__ import annotations
 
 import os
+import re
 import warnings
 
 import pytest
@@ -130,3 +131,129 @@ def test_a_non_ascii_digit_in_a_directory_entry_is_no_type_and_no_crash(hood):
     i = next(k for k, ln in enumerate(lines) if ln.startswith("     144       1"))
     lines[i] = lines[i][:8] + "       ²" + lines[i][16:]
     assert "no parameter data pointer" in iges_problem("\n".join(lines))
+
+
+def test_more_faces_transferred_than_declared_is_said(hood, tmp_path, monkeypatch):
+    """The campaign's open case (MAINBODY_BACK's IGES B-rep with a broken pointer gave 33 faces of 31; a
+    duplicated directory line gave a one-face file 2): more faces in OCCT's transferred shape than the directory
+    declares is a warning naming both counts (the faces are kept: a legitimate file may instance a face twice)."""
+    import json
+    import sys
+
+    from typer.testing import CliRunner
+
+    import cadartifact.exchange.iges_refs as refs
+    from cadartifact.cli.app import app
+    from cadartifact.exchange.files import LoadResult
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import fuzzing
+
+    got = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=33, skipped={"plane": 3},
+                                                  warnings=[]), (31, "faces (type 510)"))
+    assert got.faces_total == 33 and got.skipped == {"plane": 3}
+    assert got.warnings == ["m.igs: OCCT's transferred shape has 33 faces, 2 more than the 31 faces (type 510) the "
+                            "IGES file declares (a face instanced more than once, or corrupt directory data?)"]
+    same = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=31, warnings=[]),
+                              (31, "faces (type 510)"))
+    assert same.warnings == []
+    none = refs.faces_missing("m.igs", LoadResult(path=Path("m.igs"), nets=[], faces_total=2, warnings=[]),
+                              (0, "trimmed or bounded surfaces (types 144, 143)"))
+    assert none.warnings == []  # a file of untrimmed surfaces (128) declares no face: nothing to compare
+    real = refs.declared_faces
+    monkeypatch.setattr(fuzzing, "declared_faces", lambda data, fmt: 1)
+    for extra in (1, 2):  # 1 + extra faces written; the directory read as declaring 1 (as the corrupt files were)
+        twice = tmp_path / f"copies{extra}.igs"
+        _write_hood_copies(twice, 1 + extra)
+        assert real(twice.read_text(encoding="latin-1"))[0] == 1 + extra
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            assert not any("more than" in w for w in read(twice).warnings)  # as declared: nothing said
+            monkeypatch.setattr(refs, "declared_faces", lambda text: (1, real(text)[1]))
+            result = read(twice)
+        assert result.faces_total == 1 + extra
+        assert any(f"{extra} more than the 1 trimmed" in w for w in result.warnings), result.warnings
+        r = CliRunner().invoke(app, ["gate", str(twice), "--tol", "1e6", "--format", "json", "--jobs", "1"])
+        entry = json.loads(r.stdout)["files"][0]
+        assert entry["verdict"] != "error" and any(f"{extra} more than" in w for w in entry["warnings"])
+        case = fuzzing.Case(source="hood.igs", kind="duplicate-line", name=twice.name, data=b"")
+        assert fuzzing.check_entry(entry, twice, case) == []  # said: not a contract violation
+        monkeypatch.setattr(refs, "declared_faces", real)
+
+
+def _write_hood_copies(path: Path, copies: int) -> None:
+    from OCP.IGESControl import IGESControl_Writer
+
+    from cadartifact.exchange.occ import make_face
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        writer = IGESControl_Writer("MM", 0)
+        net = read(SAMPLES / "car_hood_coarse.step").nets[0]
+        for _ in range(copies):
+            writer.AddShape(make_face(net))
+        writer.ComputeModel()
+        assert writer.Write(str(path))
+
+
+def _with_number(text: str, value: str, rng) -> tuple[str, int]:
+    """``text`` with a random number of a random parameter line of its 128 surface replaced by ``value``; and the
+    file line (1-based) of that parameter line."""
+    lines = text.split("\n")
+    rows = [k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip().lstrip("0") == "3"]
+    while True:  # a number whose replacement still fits the line's 64 data columns
+        k = rng.choice(rows)
+        data = lines[k][:64].rstrip()
+        spans = [m.span() for m in re.finditer(r"(?<![0-9.H])[-+]?[0-9]+\.[0-9]*(?:[ED][-+]?[0-9]+)?", data)]
+        a, b = rng.choice(spans)
+        new = data[:a] + value + data[b:]
+        if len(new) <= 64:
+            break
+    lines[k] = new.ljust(64) + lines[k][64:]
+    return "\n".join(lines), k + 1
+
+
+@pytest.mark.parametrize("value", ["1.0D300", "1.0E+400", "-1.D99", "NAN", "INF", "-Infinity", "12345678901234",
+                                   "2.5E12", "1.E13", "9.99999D+99"])
+def test_an_iges_number_that_is_not_finite_or_huge_is_an_error_naming_the_entity_and_line(hood, value, tmp_path):
+    """The IGES number pre-scan (as STEP's): the message names the entity (the parameter line's directory pointer),
+    its type and the line; the gate gives an error entry, exit 2, one line, no report of faces."""
+    import json
+    import random
+
+    from typer.testing import CliRunner
+
+    from cadartifact.cli.app import app
+
+    rng = random.Random(value)
+    for _ in range(5):
+        text, line = _with_number(hood, value, rng)
+        assert iges_problem(text) == (f"IGES entity D3 (type 128, line {line}): number {value!r} is not finite or "
+                                      "exceeds 1e+12 (no real model holds it)")
+    path = tmp_path / "m.igs"
+    path.write_text(text, encoding="latin-1")
+    r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1", "--format", "json", "--jobs", "1"])
+    entry = json.loads(r.stdout)["files"][0]
+    assert r.exit_code == 2 and entry["verdict"] == "error" and entry["faces"] == []
+    assert entry["error"] == (f"{path}: IGES entity D3 (type 128, line {line}): number {value!r} is not finite or "
+                              "exceeds 1e+12 (no real model holds it)")
+
+
+@pytest.mark.parametrize("value", ["9.9E11", "1.0D-300", "1.0E+11", "-5.D-12", "123456789012", "0.12345678901234567"])
+def test_large_but_possible_iges_numbers_pass(hood, value):
+    import random
+
+    text, _ = _with_number(hood, value, random.Random(value))
+    assert iges_problem(text) is None
+
+
+def test_an_iges_hollerith_string_is_not_read_as_numbers(hood):
+    """A name (Hollerith ``nH...``) may hold INF, NaN or 1E300 as text: not numbers."""
+    lines = hood.split("\n")
+    k = next(k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip().lstrip("0") == "3")
+    data = lines[k][:64].rstrip()
+    if data.endswith(";"):
+        return
+    extra = "12HINF NAN 1E300"
+    lines.insert(k + 1, ("," + extra).ljust(64) + lines[k][64:])
+    assert iges_problem("\n".join(lines)) is None

@@ -16,7 +16,16 @@ are read here from the text):
 - the pointers of a trimmed surface (144: its surface, outer and inner boundaries), a bounded surface
   (143: its surface, boundaries), a face (510: its surface, loops) and a shell (514: its faces) each name a
   directory entry of the file (a positive odd number within the directory), not the entity itself, of a
-  type that can stand there.
+  type that can stand there;
+- every number of the parameter data is finite and within :data:`~.step_scan.MAX_ABS` (``1.0D300``,
+  ``1.0E+400``, an integer part of 13 digits or more, ``NAN``, ``INF``), as the STEP pre-scan does; the message
+  names the entity (the directory pointer of the parameter line) and the line::
+
+      IGES entity D7 (type 128, line 52): number '1.0D300' is not finite or exceeds 1e+12 (no real model holds it)
+
+  Candidates are found by one regex pass over the parameter lines' data columns (a positive exponent of two
+  digits or more, a run of 13 digits after no point, the words NaN/INF); only an entity that holds one is
+  tokenized (Hollerith strings skipped) to confirm it.
 """
 
 from __future__ import annotations
@@ -35,6 +44,11 @@ _LOOP = frozenset({508})
 _FACE = frozenset({510})
 
 _NUMBER = re.compile(r"\s*[-+]?[0-9]+\s*\Z")
+# a number that may exceed MAX_ABS or not be finite: a positive exponent of 2+ digits, 13 digits after no point
+# or digit, a NaN or INF word (case-insensitive, as strtod takes them)
+_BIG = re.compile(r"[EeDd]\+?0*[1-9][0-9]|(?<![.0-9])[0-9]{13}|(?i:nan|inf)")
+# a parameter's token: a Hollerith count (its characters skipped), a number, or a NaN/INF word
+_TOKEN = re.compile(r"([0-9]+)H|([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?)|([-+]?(?i:nan|inf(?:inity)?))")
 _TYPE = re.compile(r"-?[0-9]+")
 
 
@@ -63,6 +77,50 @@ def _int(params: list[str], i: int) -> int | None:
     return int(params[i]) if i < len(params) and _NUMBER.match(params[i]) else None
 
 
+def _number_problem(lines: list[str], p_lines: list[str], types: list, first_d: int) -> str | None:
+    """The first number of the parameter data that is not finite or exceeds MAX_ABS, or None."""
+    from .step_scan import MAX_ABS
+
+    data = "\n".join(ln[:64] for ln in p_lines)  # the data columns only (not the pointers and sequence numbers)
+    if not _BIG.search(data):
+        return None
+    first_p = next(i for i, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P") + 1
+    seen = set()
+    for m in _BIG.finditer(data):
+        k = data.count("\n", 0, m.start())  # the parameter line of the candidate
+        de = p_lines[k][64:72].strip()
+        if de in seen:
+            continue
+        seen.add(de)
+        # the entity's record: its parameter lines (those that point back to its directory entry), tokenized
+        rows = [i for i, ln in enumerate(p_lines) if ln[64:72].strip() == de]
+        record = "".join(p_lines[i][:64] for i in rows)
+        pos = 0
+        while True:
+            t = _TOKEN.search(record, pos)
+            if t is None:
+                break
+            if t.group(1) is not None:  # a Hollerith string: its characters are not numbers
+                pos = t.end() + int(t.group(1))
+                continue
+            pos = t.end()
+            token = t.group(2) or t.group(3)
+            try:
+                value = float(token.replace("D", "E").replace("d", "e"))
+            except ValueError:
+                continue
+            if not (abs(value) <= MAX_ABS):
+                line = first_p + rows[min(t.start() // 64, len(rows) - 1)]
+                try:
+                    d = int(de)
+                    kind = types[(d - 1) // 2] if d > 0 and (d - 1) // 2 < len(types) else None
+                    who = f"IGES entity D{d} (type {kind}, line {line})"
+                except ValueError:
+                    who = f"IGES parameter data (line {line})"
+                return f"{who}: number {token!r} is not finite or exceeds {MAX_ABS:g} (no real model holds it)"
+    return None
+
+
 def iges_problem(text: str) -> str | None:
     """The first broken pointer of the chain that makes a face in an IGES text, or None (see the module notes)."""
     lines = text.splitlines()
@@ -81,6 +139,10 @@ def iges_problem(text: str) -> str | None:
         if t1 != t2 and (t1 in _CHAIN or t2 in _CHAIN):
             return (f"IGES entity D{2 * k + 1} (line {first_d + 2 * k}): its directory entry gives two entity types "
                     f"({t1 or 'none'} and {t2 or 'none'})")
+
+    problem = _number_problem(lines, p_lines, types, first_d)
+    if problem:
+        return problem
 
     def label(d: int) -> str:
         return f"IGES entity D{d} (type {types[(d - 1) // 2]}, line {first_d + d - 1})"
@@ -152,11 +214,20 @@ def faces_missing(path, result, declared: tuple[int, str]):
     """``result`` (a :class:`~cadartifact.exchange.files.LoadResult`) with the faces an IGES file declares that are
     neither in OCCT's transferred shape nor named as dropped counted as ``skipped["dropped"]``, and a warning
     saying so (the gate fails such a file): OCCT loses faces without a word on some corrupt parameter data (a
-    byte flipped in a curve of a loop)."""
+    byte flipped in a curve of a loop).
+
+    More faces transferred than declared is said too (a warning, the faces are kept): a face instanced more than
+    once by a legitimate file, or corrupt directory data (a duplicated directory line made OCCT transfer 2 faces
+    of a file that declares 1, the fuzz campaign)."""
     from dataclasses import replace
 
     count, what = declared
     missing = count - result.faces_total
+    if missing < 0 and count:
+        warning = (f"{path}: OCCT's transferred shape has {result.faces_total} faces, {-missing} more than the "
+                   f"{count} {what} the IGES file declares (a face instanced more than once, or corrupt directory "
+                   "data?)")
+        return replace(result, warnings=[*result.warnings, warning])
     if missing <= 0:
         return result
     skipped = dict(result.skipped)

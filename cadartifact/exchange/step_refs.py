@@ -79,10 +79,12 @@ SCHEMA: dict[str, tuple] = {
 SURFACE_ARITY = {"B_SPLINE_SURFACE_WITH_KNOTS": 13, "B_SPLINE_SURFACE": 8}
 
 _STRING = r"'(?:[^']|'')*'"
-_VALUE = r"(?:" + _STRING + r"|\$|\*|\.[A-Za-z_0-9]+\.|[-+]?\d+\.?\d*(?:[eE][-+]?\d+)?)"
-_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_POINT3 = re.compile(r"\s*CARTESIAN_POINT\s*\(\s*(?:" + _STRING + r"|\$)\s*,\s*\(\s*" + _NUM + r"\s*,\s*" + _NUM
-                     + r"\s*,\s*" + _NUM + r"\s*\)\s*\)\s*")
+# possessive quantifiers (Python 3.11): what they match is what the plain ones match here (a run of spaces or
+# digits is never followed by a token that starts with one), without the backtracking states (2x faster)
+_VALUE = r"(?:" + _STRING + r"|\$|\*|\.[A-Za-z_0-9]+\.|[-+]?+\d++(?:\.\d*+)?+(?:[eE][-+]?+\d++)?+)"
+_NUM = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
+_POINT3 = re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:" + _STRING + r"|\$)\s*+,\s*+\(\s*+" + _NUM + r"\s*+,\s*+"
+                     + _NUM + r"\s*+,\s*+" + _NUM + r"\s*+\)\s*+\)\s*+")
 _REFS_ANYWHERE = re.compile(r"#(\d+)")
 # a string ('' escapes a quote; an unterminated one runs to the end), a comment, or a statement end
 _STATEMENT_TOKENS = re.compile(r"'(?:[^']|'')*(?:'|\Z)|/\*.*?(?:\*/|\Z)|;", re.DOTALL)
@@ -97,18 +99,25 @@ def _fast_pattern(keyword: str, slots: tuple) -> re.Pattern:
         if slot is None:
             parts.append(_VALUE)
         elif slot[2]:
-            parts.append(r"\(\s*(#\d+(?:\s*,\s*#\d+)*)\s*\)")
+            parts.append(r"\(\s*+(#\d++(?:\s*+,\s*+#\d++)*+)\s*+\)")
         else:
-            parts.append(r"#(\d+)")
-    return re.compile(r"\s*" + keyword + r"\s*\(\s*" + r"\s*,\s*".join(parts) + r"\s*\)\s*")
+            parts.append(r"#(\d++)")
+    return re.compile(r"\s*+" + keyword + r"\s*+\(\s*+" + r"\s*+,\s*+".join(parts) + r"\s*+\)\s*+")
 
 
 _FAST = {keyword: _fast_pattern(keyword, slots) for keyword, slots in SCHEMA.items()}
 # the same, as one statement among statements joined by ';', with its id as the first group
-_BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + pattern.pattern + r"(?=;|\Z)")
+_BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + pattern.pattern + r"(?=;|\Z)")
           for keyword, pattern in _FAST.items()}
-_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*#(\d+)\s*=" + _POINT3.pattern + r"(?=;|\Z)")
+_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + _POINT3.pattern + r"(?=;|\Z)")
 _DIGITS = re.compile(r"\d+")
+# the point statement's shape (see _point_shapes_ok): in bytes, \s as a str pattern's \s over latin-1, 0 for \d+
+_ZERO_DIGITS = bytes.maketrans(b"123456789", b"000000000")
+_S = rb"[\t\n\x0b\x0c\r\x1c-\x1f \x85\xa0]*+"
+_NUM0 = rb"[-+]?+(?:0(?:\.0?+)?+|\.0)(?:[eE][-+]?+0)?+"
+_POINT_SHAPE = re.compile(_S + rb"#0" + _S + rb"=" + _S + rb"CARTESIAN_POINT" + _S + rb"\(" + _S + rb"(?:'(?:[^']|'')*'|\$)"
+                          + _S + rb"," + _S + rb"\(" + _S + _NUM0 + _S + rb"," + _S + _NUM0 + _S + rb"," + _S + _NUM0
+                          + _S + rb"\)" + _S + rb"\)" + _S)
 _ON_CHAIN = frozenset({*SCHEMA, *SURFACE_ARITY, "("})
 _END = re.compile(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z")
 
@@ -128,7 +137,17 @@ class _Records:
         # each use checks the statement's head and falls back to an exact index once
         self.statements = data.split(";")
         self._position: dict[str, int] | None = None
+        #: ``index[id]``: the record's position in ``heads`` (an array, from :func:`_references_defined`), or None
+        self.index = None
         self.exact: dict[str, tuple[int, int]] | None = None
+
+    @property
+    def aligned(self) -> bool:
+        """Whether statement ``i + 1`` of the section is record ``i`` for every record: as many statements as
+        records, plus ``DATA`` before them and ``ENDSEC``, ``END-ISO-10303-21`` and the end after them."""
+        statements = self.statements
+        return (len(statements) == len(self.heads) + 4
+                and [s.strip() for s in statements[-3:]] == ["ENDSEC", "END-ISO-10303-21", ""])
 
     @property
     def position(self) -> dict[str, int]:
@@ -139,7 +158,7 @@ class _Records:
 
     def body(self, ident: str) -> str:
         """The record's text after ``#ident =``."""
-        i = self.position[ident]
+        i = int(self.index[int(ident)]) if self.index is not None else self.position[ident]
         statement = self.statements[i + 1] if i + 1 < len(self.statements) else ""
         head, sep, body = statement.partition("=")
         if sep and head.strip() == "#" + ident and not body.count("'") % 2 and "/*" not in body:
@@ -262,6 +281,13 @@ def _chain_problem(records: _Records) -> str | None:
     return _surfaces_problem(records, surfaces)
 
 
+def _pick(records: _Records, indices: list[int]) -> str:
+    """The statements of records ``heads[i]`` for ``i`` in ``indices``, joined by ``;`` (by C calls)."""
+    statements = records.statements
+    picked = itemgetter(*[i + 1 for i in indices if i + 1 < len(statements)])(statements) if indices else ()
+    return ";".join(picked) if isinstance(picked, tuple) else picked
+
+
 def _records_problem(records: _Records, keyword: str, slots: tuple, indices: list[int]) -> str | None:
     """The first problem of the ``keyword`` records (``indices`` in heads): their parameters, then their references.
 
@@ -271,15 +297,15 @@ def _records_problem(records: _Records, keyword: str, slots: tuple, indices: lis
     if not indices:
         return None
     idents = [records.heads[i][0] for i in indices]
-    joined = ";".join(map(records.statement_at, indices))
+    joined = ";".join(map(records.statement_at, indices)) if len(indices) < 64 else _pick(records, indices)
     matched = _BATCH[keyword].findall(joined)
     groups = [slot for slot in slots if slot is not None]
     if len(groups) == 1:
         matched = [(owner, group) for owner, group in matched]
     owners = [m[0] for m in matched]
     # per reference slot, the targets (a list slot's references joined, split by one findall)
-    targets = [_DIGITS.findall(",".join(m[k + 1] for m in matched)) if slot[2] else [m[k + 1] for m in matched]
-               for k, slot in enumerate(groups)]
+    targets = [_DIGITS.findall(",".join(map(itemgetter(k + 1), matched))) if slot[2]
+               else list(map(itemgetter(k + 1), matched)) for k, slot in enumerate(groups)]
     late: list[tuple[str, str, tuple]] = []  # (owner, target, slot) of the records parsed one by one
     if owners != idents:  # some record is not well-formed (or not its own statement: found exactly below)
         well_formed = set(owners)
@@ -291,17 +317,25 @@ def _records_problem(records: _Records, keyword: str, slots: tuple, indices: lis
                 late.extend((ident, target, slot) for target, slot in slow)
     kind = records.kind
     for k, (role, allowed, many) in enumerate(groups):
-        for target in targets[k]:
-            if kind.get(target) not in allowed:
-                owner = next(m[0] for m in matched if target in (_DIGITS.findall(m[k + 1]) if many else [m[k + 1]]))
-                problem = reference_problem(records, target, role, allowed, owner)
-                if problem:
-                    return problem
+        if set(map(kind.get, targets[k])) <= allowed:
+            continue  # every target's type can stand there (C loops): the common case
+        for target in dict.fromkeys(targets[k]):
+            if kind.get(target) in allowed or _complex_allowed(records, target, allowed):
+                continue
+            owner = next(m[0] for m in matched if target in (_DIGITS.findall(m[k + 1]) if many else [m[k + 1]]))
+            problem = reference_problem(records, target, role, allowed, owner)
+            if problem:
+                return problem
     for owner, target, (role, allowed, _) in late:
         problem = reference_problem(records, target, role, allowed, owner)
         if problem:
             return problem
     return None
+
+
+def _complex_allowed(records: _Records, target: str, allowed) -> bool:
+    """Whether ``#target`` is a complex instance with a part of an ``allowed`` type (no owner needed to say so)."""
+    return records.kind.get(target) == "(" and any(name in allowed for name in records.names(target))
 
 
 def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
@@ -336,8 +370,16 @@ def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
     if not poles:
         return None
     # statement i + 1 is record i (split at ';' of a cleaned text); each pole's statement, by C calls only
-    picked = itemgetter(*map(records.position.__getitem__, poles))(records.statements[1:])
+    if records.index is not None:  # the records' positions by an array lookup (no dict of every id)
+        import numpy as np
+
+        where = (records.index[np.fromiter(map(int, poles), np.int64, len(poles))] + 1).tolist()
+    else:
+        where = [records.position[p] + 1 for p in poles]
+    picked = itemgetter(*where)(records.statements)
     joined = picked if len(poles) == 1 else ";".join(picked)
+    if records.aligned and _point_shapes_ok(joined):  # every pole's statement (its own), a well-formed 3D point
+        return None
     if _BATCH_POINT.findall(joined) == poles:  # every pole's own statement, a well-formed 3D point
         return None
     for pole in poles:
@@ -345,6 +387,21 @@ def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
             return (f"#{pole} is referenced by {records.label(owner(pole))} as a pole, and "
                     + _point_problem(records, pole))
     return None
+
+
+def _point_shapes_ok(joined: str) -> bool:
+    """Whether every statement of ``joined`` (``;``-separated) is a well-formed 3D ``CARTESIAN_POINT``: its digits
+    made ``0`` and each run of them one ``0`` (a C-level translate and one array pass), the few distinct shapes
+    left are matched by :data:`_POINT_SHAPE` (the point regex with ``0`` for a run of digits: a text matches the
+    one exactly when its shape matches the other). Ids are not compared: the caller picked each statement by
+    its record's position in an aligned section (:attr:`_Records.aligned`)."""
+    import numpy as np
+
+    raw = np.frombuffer(joined.encode("latin-1", "replace").translate(_ZERO_DIGITS), np.uint8)
+    zero = raw == 48
+    keep = np.ones(len(raw), bool)
+    keep[1:] = ~(zero[1:] & zero[:-1])
+    return all(map(_POINT_SHAPE.fullmatch, set(raw[keep].tobytes().split(b";"))))
 
 
 def _point_problem(records: _Records, ident: str) -> str:
@@ -378,6 +435,76 @@ def _missing_reference(records: _Records) -> str | None:
     return None
 
 
+#: ``#N`` ids longer than this (digits), spaces between ``#N`` and ``=`` beyond this: the exact scan decides.
+_ID_DIGITS = 12
+_SPACES_BEFORE_EQUALS = 16
+#: The characters ``\s`` matches in a latin-1 text (str patterns: the ASCII ones, the separators, NEL and NBSP).
+_SPACE_CODES = (9, 10, 11, 12, 13, 28, 29, 30, 31, 32, 133, 160)
+
+
+def _space_table():
+    import numpy as np
+
+    table = np.zeros(256, bool)
+    table[list(_SPACE_CODES)] = True
+    return table
+
+
+_SPACE = None
+
+
+def _references_defined(data: str, heads: list, records: _Records | None = None) -> bool:
+    """Whether every ``#N`` of ``data`` (a cleaned DATA section) names a record of ``heads``, decided by array
+    operations on the bytes around each ``#`` (no string per reference); False also when it cannot tell (an id
+    of more than :data:`_ID_DIGITS` digits or with a leading zero, more than :data:`_SPACES_BEFORE_EQUALS` spaces
+    before ``=``, a ``#N =`` that is not a record's head): the exact scan (:func:`_missing_reference`) then
+    decides, and names the reference. ``records``: given, its ``index`` is set (an id's position in ``heads``)
+    when the heads are exactly the ``#N =`` of the text."""
+    import numpy as np
+
+    global _SPACE
+    if _SPACE is None:
+        _SPACE = _space_table()
+    a = np.frombuffer((data + " " * 32).encode("latin-1", "replace"), np.uint8)
+    start = np.flatnonzero(a == 35) + 1  # after each '#'
+    if not len(start):
+        return True
+    value = np.zeros(len(start), np.int64)
+    length = np.zeros(len(start), np.int64)
+    code = a[start] - 48  # uint8 arithmetic: only '0'..'9' fall below 10
+    active = code < 10
+    if (active & (code == 0) & ((a[start + 1] - 48) < 10)).any():
+        return False  # '#007': a leading zero (the exact scan compares the digits as written)
+    for k in range(1, _ID_DIGITS + 2):  # one digit of every id at a time (ids have a few digits)
+        if not active.any():
+            break
+        if k > _ID_DIGITS:
+            return False  # an id of more digits than that: the exact scan
+        value[active] = value[active] * 10 + code[active]
+        length += active
+        code = a[start + k] - 48
+        active &= code < 10
+    value, after = value[length > 0], (start + length)[length > 0]  # '#' followed by no digit: not a reference
+    for k in range(_SPACES_BEFORE_EQUALS + 1):
+        more = _SPACE[a[after]]
+        if not more.any():
+            break
+        if k == _SPACES_BEFORE_EQUALS:
+            return False
+        after += more
+    defined = value[a[after] == 61]  # '#N =': a record's head
+    if len(defined) != len(heads):
+        return False  # a '#N =' that is not a record's head (a corrupted record): the exact scan
+    top = int(defined.max()) + 1
+    if top > 16 * len(a) + 1_000_000:  # sparse ids: a sorted search instead of a table by id
+        return bool(np.isin(value, defined).all())
+    index = np.full(top + 1, -1, np.int64)
+    index[defined] = np.arange(len(defined))  # the heads in file order are the '#N =' in file order
+    if records is not None and (index[defined] == np.arange(len(defined))).all():  # an id defined twice: no index
+        records.index = index
+    return bool((index[np.minimum(value, top)] >= 0).all())
+
+
 def check_references(path, text: str, heads: list[tuple[str, str]] | None = None, clean: str | None = None,
                      arities: dict | None = None) -> None:
     """Raise :class:`FileFormatError` for the first broken reference of a STEP text (see the module notes).
@@ -406,6 +533,9 @@ def check_references(path, text: str, heads: list[tuple[str, str]] | None = None
     if clean is None:
         clean = clean_data(data_section(text))
     records = _Records(text, clean, record_heads(clean) if heads is None else heads, arities)
-    problem = _chain_problem(records) or _missing_reference(records)
+    defined = _references_defined(clean, records.heads, records)  # first: its index serves the chain's scan
+    problem = _chain_problem(records)
+    if problem is None and not defined:
+        problem = _missing_reference(records)
     if problem:
         raise FileFormatError(path, problem)
