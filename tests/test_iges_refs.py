@@ -257,3 +257,42 @@ def test_an_iges_hollerith_string_is_not_read_as_numbers(hood):
     extra = "12HINF NAN 1E300"
     lines.insert(k + 1, ("," + extra).ljust(64) + lines[k][64:])
     assert iges_problem("\n".join(lines)) is None
+
+
+@pytest.mark.parametrize("which", range(8))
+@pytest.mark.parametrize("change", [(".", ","), (",", ".")])
+def test_a_number_split_or_merged_in_a_bspline_surface_record_is_an_error(hood, which, change):
+    """A decimal point turned into the delimiter (or a delimiter into a point) inside a type-128 record shifts
+    every later parameter, and OCCT reads another surface without a word (a fuzz campaign's false pass: a
+    failing face passed): the count its degrees give names the entity."""
+    lines = hood.split("\n")
+    de = next(ln[64:72].strip() for ln in lines if len(ln) >= 73 and ln[72] == "P" and ln[:64].startswith("128,"))
+    rows = [k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip() == de]
+    # the change-th occurrence past the header (K1, K2, M1, M2, PROP1..5 stay intact)
+    spots = [(k, i) for k in rows[1:] for i, ch in enumerate(lines[k][:64]) if ch == change[0]]
+    k, i = spots[(which * 7919) % len(spots)]
+    lines[k] = lines[k][:i] + change[1] + lines[k][i + 1:]
+    problem = iges_problem("\n".join(lines))
+    assert problem is not None and "type 128" in problem and "parameters where its degrees and counts" in problem
+
+
+def test_every_bspline_record_the_writer_makes_has_its_count(tmp_path):
+    """IGES written by OCCT from every sample, as faces and as B-rep: no count problem (no false alarm)."""
+    from OCP.IGESControl import IGESControl_Writer
+
+    from cadartifact.exchange.occ import make_face
+
+    for src in sorted(SAMPLES.glob("*.step")):
+        nets = read(src).nets
+        for mode in (0, 1):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                writer = IGESControl_Writer("MM", mode)
+                for net in nets:
+                    writer.AddShape(make_face(net))
+                writer.ComputeModel()
+                path = tmp_path / f"{src.stem}_{mode}.igs"
+                assert writer.Write(str(path))
+                text = path.read_text(encoding="latin-1")
+            assert iges_problem(text) is None, (src.name, mode)
+

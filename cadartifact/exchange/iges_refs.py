@@ -50,6 +50,7 @@ _BIG = re.compile(r"[EeDd]\+?0*[1-9][0-9]|(?<![.0-9])[0-9]{13}|(?i:nan|inf)")
 # a parameter's token: a Hollerith count (its characters skipped), a number, or a NaN/INF word
 _TOKEN = re.compile(r"([0-9]+)H|([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?)|([-+]?(?i:nan|inf(?:inity)?))")
 _TYPE = re.compile(r"-?[0-9]+")
+_HOLLERITH = re.compile(r"(?:^|[,;])\s*[0-9]+H")
 
 
 def _pointer_slots(kind: int, params: list[str]):
@@ -71,6 +72,35 @@ def _pointer_slots(kind: int, params: list[str]):
         n = _int(params, 0)
         return [(1 + 2 * k, "a face", _FACE, False) for k in range(max(0, n or 0))]
     return []
+
+
+def _bspline_count_problem(params: list[str]) -> str | None:
+    """Whether a rational B-spline surface record (type 128) has the parameters its degrees and counts give.
+
+    IGES 5.3 §4.24: ``K1, K2, M1, M2, PROP1..5``, then ``A + 1`` and ``B + 1`` knots (``A = N1 + 2 M1``,
+    ``N1 = 1 + K1 - M1``; ``B`` likewise), ``C = (K1 + 1)(K2 + 1)`` weights, ``3 C`` coordinates and four
+    parameter bounds; optionally followed by the two groups of additional pointers (a count, then that many).
+    A split or merged number (a decimal point turned into the delimiter) shifts every later parameter: OCCT
+    reads such a record without a word, as another surface.
+    """
+    head = [_int(params, i) for i in range(4)]
+    if any(h is None or h < 0 for h in head):
+        return "its degrees and counts (K1, K2, M1, M2) are not non-negative integers"
+    k1, k2, m1, m2 = head
+    if k1 > 1_000_000 or k2 > 1_000_000:
+        return None  # left to the reader's own limits
+    a, b, c = k1 + m1 + 1, k2 + m2 + 1, (k1 + 1) * (k2 + 1)
+    expected = 9 + (a + 1) + (b + 1) + 4 * c + 4
+    n = len(params)
+    if n == expected:
+        return None
+    if n > expected:  # the two groups of additional pointers: NB, back pointers, NP, property pointers
+        nb = _int(params, expected)
+        np_ = _int(params, expected + 1 + nb) if nb is not None and nb >= 0 else None
+        if np_ is not None and np_ >= 0 and n == expected + 2 + nb + np_:
+            return None
+    return (f"its record has {n} parameters where its degrees and counts (K1={k1}, K2={k2}, M1={m1}, M2={m2}) "
+            f"give {expected}: a number split or merged in the text")
 
 
 def _int(params: list[str], i: int) -> int | None:
@@ -148,7 +178,7 @@ def iges_problem(text: str) -> str | None:
         return f"IGES entity D{d} (type {types[(d - 1) // 2]}, line {first_d + d - 1})"
 
     for k, kind in enumerate(types):
-        if kind not in (144, 143, 510, 514):
+        if kind not in (128, 144, 143, 510, 514):
             continue
         d = 2 * k + 1
         a, b = d_lines[2 * k], d_lines[2 * k + 1]
@@ -157,6 +187,12 @@ def iges_problem(text: str) -> str | None:
         start, n_lines = int(a[8:16]), int(b[24:32])
         record = "".join(ln[:64] for ln in p_lines[start - 1:start - 1 + n_lines]) if start > 0 else ""
         params = record.split(end, 1)[0].split(delimiter)[1:]  # after the entity type
+        if kind == 128:
+            # a 128 record holds numbers only; one with a string (Hollerith) in it is not a shifted number
+            problem = None if _HOLLERITH.search(record) else _bspline_count_problem(params)
+            if problem:
+                return f"{label(d)}: {problem}"
+            continue
         for i, role, allowed, zero in _pointer_slots(kind, params):
             value = _int(params, i)
             if value is None:
