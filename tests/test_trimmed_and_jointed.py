@@ -303,3 +303,87 @@ def test_a_written_advised_face_is_built_over_the_region_its_trim_uses(tmp_path)
         t = np.asarray(back.knots[k])
         assert (t[0], t[-1]) == pytest.approx(used[k], abs=1e-9)
         assert used[k][0] - 1e-9 <= back.uv_bounds[2 * k] and back.uv_bounds[2 * k + 1] <= used[k][1] + 1e-9
+
+
+# ---------------------------------------------------------------- each piece's density on its own (item 2)
+@pytest.mark.parametrize("amps,kind,direction,spans,seed", [((3.0, 0.0), "C0", 0, 8, 3), ((0.0, 2.0), "G1", 1, 8, 5),
+                                                            ((0.0, 2.0, 0.0), "C0", 1, 8, 3),
+                                                            ((0.0, 2.5, 1.5), "G1", 0, 6, 7)])
+def test_pieces_of_different_needs_get_their_own_density_and_each_conforms(amps, kind, direction, spans, seed,
+                                                                          monkeypatch):
+    """One or two joins between wavy and flat pieces (a G1 join bends the piece after it: the flat ones come first
+    there): the per-piece plan keeps the joins, gives fewer points
+    than the proportional plan (the same advice with the per-piece search turned off), and every piece lies within
+    the tolerance on scipy's evaluation (plus today's ripple) and on the advice's own reading."""
+    from cadartifact.advice import per_piece as per_piece_mod
+
+    f = jointed_face(len(amps), direction, kind, spans=spans, seed=seed, amps=amps)
+    a = advise(f, T, compare=False)
+    assert a.meets_tolerance and a.verification["method"] == "occt" and a.verification["meets"]
+    d = a.to_dict()["joins"]["uv"[direction]]
+    assert d["plan"] == "per piece" and len(d["pieces"]) == len(amps)
+    p = f.degrees[direction]
+    today = [v for v, m in knot_multiplicities(f.knots[direction], p, f.shape[direction], False) if m >= p]
+    got = knot_multiplicities(a.advised_net.knots[direction], p, a.shape[direction], False)
+    assert sorted(round(v, 12) for v, m in got if m >= p) == sorted(round(v, 12) for v in today)
+    # the pieces' spans as the JSON says them, and their points sum to the direction's count
+    edges = [0.0, *today, 1.0]
+    t = np.unique(np.round(a.advised_net.knots[direction], 12))
+    for piece, lo, hi in zip(d["pieces"], edges[:-1], edges[1:]):
+        assert piece["range"] == pytest.approx([lo, hi])
+        assert len(t[(t > lo + 1e-12) & (t < hi - 1e-12)]) + 1 == piece["advised_spans"]
+        assert piece["meets_tolerance"] and piece["deviation"] <= T
+        # scipy's road, piece by piece
+        u = np.linspace(lo, hi, 41)
+        v = np.linspace(0.0, 1.0, 37)
+        uu, vv = (u, v) if direction == 0 else (v, u)
+        assert normal_distance(f, a.advised_net, uu, vv) <= T + a.current.stats["total"].peak + 1e-6
+    assert sum(piece["points"] for piece in d["pieces"]) == a.shape[direction]
+    # the flat piece needs fewer spans than the wavy one
+    flat = [piece["advised_spans"] for piece, amp in zip(d["pieces"], amps) if amp == 0.0]
+    wavy = [piece["advised_spans"] for piece, amp in zip(d["pieces"], amps) if amp > 0.0]
+    assert max(flat) < min(wavy)
+    monkeypatch.setattr(per_piece_mod, "per_piece", lambda *args, **kwargs: None)
+    prop = advise(f, T, compare=False)
+    assert prop.meets_tolerance and prop.to_dict()["joins"]["uv"[direction]]["plan"] == "proportional"
+    assert a.points < prop.points
+
+
+def test_the_per_piece_search_only_removes_spans_and_every_step_conforms():
+    """A synthetic test of the search on a scorer whose candidates conform when each piece has at least its need
+    (brute force knows the answer: exactly the needs, when the proportional answer covers them)."""
+    from cadartifact.advice.joins import JoinPlan
+    from cadartifact.advice.per_piece import per_piece
+
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        k = int(rng.integers(2, 5))
+        today = tuple(int(s) for s in rng.integers(2, 10, k))
+        need = [int(rng.integers(1, s + 1)) for s in today]
+        plan = JoinPlan(tuple(np.linspace(0, 1, k + 1)[1:-1]), 3, today, 0.0, 1.0)
+
+        class Fake:
+            degrees = (3, 3)
+            plans = (plan, None)
+
+            def with_plans(self, plans):
+                other = Fake()
+                other.plans = tuple(plans)
+                return other
+
+        def ok(sc, a, b):
+            per = sc.plans[0].per(a - 3 - plan.extra)
+            return all(x >= n for x, n in zip(per, need))
+
+        scale = max(n / s for n, s in zip(need, today))
+        total = int(np.ceil(scale * sum(today))) + 2
+        shape = (3 + plan.extra + total, 5)
+        while not ok(Fake(), *shape):
+            shape = (shape[0] + 1, 5)
+        out = per_piece(Fake(), ok, shape)
+        best = 3 + plan.extra + sum(need)
+        if best < shape[0]:
+            assert out is not None and out[1] == (best, 5)
+            assert list(out[0].plans[0].fixed) == need
+        else:
+            assert out is None
