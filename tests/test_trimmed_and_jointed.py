@@ -387,3 +387,33 @@ def test_the_per_piece_search_only_removes_spans_and_every_step_conforms():
             assert list(out[0].plans[0].fixed) == need
         else:
             assert out is None
+
+
+def _scored(monkeypatch):
+    from cadartifact.advice import scorer as scorer_mod
+
+    scored = set()
+    original = scorer_mod._Scorer.score
+
+    def counting(self, a, b):
+        scored.add((id(self), a, b))
+        return original(self, a, b)
+
+    monkeypatch.setattr(scorer_mod._Scorer, "score", counting)
+    return scored
+
+
+@pytest.mark.parametrize("pieces,kind,degree,spans,seed", [(2, "C0", 3, 4, 1), (3, "C0", 2, 8, 3),
+                                                           (2, "G1", 5, 4, 0)])
+def test_a_jointed_face_at_a_very_tight_tolerance_ends_within_a_normal_faces_cost(pieces, kind, degree, spans, seed,
+                                                                                 monkeypatch):
+    """t = 1e-5 on jointed faces (a C0 join had stalled the search): an answer or an honest no, scoring no more
+    candidates than a few times what a smooth face of the same size scores at the same tolerance."""
+    f = jointed_face(pieces, seed % 2, kind, degree=degree, spans=spans, seed=seed)
+    scored = _scored(monkeypatch)
+    a = advise(f, 1e-5, compare=False, verify=False)
+    jointed = len(scored)
+    assert a.meets_tolerance or a.no_density is not None
+    scored.clear()
+    advise(smooth_face(n=f.shape, degree=degree, seed=seed), 1e-5, compare=False, verify=False)
+    assert jointed <= 3 * max(len(scored), 20)
