@@ -417,3 +417,35 @@ def test_a_jointed_face_at_a_very_tight_tolerance_ends_within_a_normal_faces_cos
     scored.clear()
     advise(smooth_face(n=f.shape, degree=degree, seed=seed), 1e-5, compare=False, verify=False)
     assert jointed <= 3 * max(len(scored), 20)
+
+
+# ---------------------------------------------------------------- foreign-scheme faces keep their trims (item 5)
+@pytest.mark.parametrize("scheme", ["4-3", "kobbelt", "bilinear"])
+@pytest.mark.parametrize("seed", range(3))
+def test_a_face_read_under_another_scheme_keeps_its_trim(scheme, seed):
+    """A face with wild poles outside a random trim box, read under another scheme (its poles a cage): the reading
+    is the untrimmed reading's total ripple field restricted to the box, the box mapped to pole indices here by
+    the Greville abscissae (numpy, the test's own), and no more than the untrimmed reading."""
+    from cadartifact.analysis.fields import intent_normals, project
+
+    rng = np.random.default_rng(seed)
+    f = smooth_face(n=(12, 10), seed=seed)
+    P = np.array(f.points)
+    P[9:, :, 2] += 3.0 * (-1) ** np.arange(3)[:, None]  # wavy poles near u = 1, outside the trim
+    b = (float(rng.uniform(0.0, 0.2)), float(rng.uniform(0.45, 0.6)), float(rng.uniform(0.0, 0.3)),
+         float(rng.uniform(0.7, 1.0)))
+    g = f.replace(points=P, uv_bounds=b)
+    whole = ca.budget(g.replace(uv_bounds=None), scheme=scheme, tolerance=T, keep_fields=True)
+    trimmed = ca.budget(g, scheme=scheme, tolerance=T)
+    F = whole.fields
+    total = np.abs(project(F.bands["total"], intent_normals(F.intent, 2 ** F.levels), "normal"))
+    keep = []
+    for k, (x, (lo, hi)) in enumerate(zip((F.x, F.y), (b[:2], b[2:]))):
+        t, p, n = np.asarray(g.knots[k]), g.degrees[k], g.shape[k]
+        xi = np.array([np.mean(t[i + 1: i + p + 1]) for i in range(n)])
+        a0, a1 = np.interp([lo, hi], xi, np.arange(n))
+        keep.append((x >= a0 - 1e-9) & (x <= a1 + 1e-9))
+    expected = total[np.ix_(*keep)].max()
+    assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9, abs=1e-12)
+    assert trimmed.stats["total"].peak <= whole.stats["total"].peak + 1e-12
+    assert trimmed.stats["total"].peak < 0.9 * whole.stats["total"].peak  # the wild poles lie outside
