@@ -449,3 +449,47 @@ def test_a_face_read_under_another_scheme_keeps_its_trim(scheme, seed):
     assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9, abs=1e-12)
     assert trimmed.stats["total"].peak <= whole.stats["total"].peak + 1e-12
     assert trimmed.stats["total"].peak < 0.9 * whole.stats["total"].peak  # the wild poles lie outside
+
+
+# ---------------------------------------------------------------- a periodic trim across the opening (item 5)
+def _opened_cylinder(seed):
+    """A degree-3 periodic ring (one junction, at u = 0, where it is opened) swept along v: small ripple
+    everywhere, strong in the middle of the period (u in 0.4-0.65), medium near its end (u in 0.78-0.95)."""
+    p, period = 3, 10.0
+    base = [0, 0, 0] + list(range(1, 10))
+    n = len(base)
+    ku = np.array([base[k % n] + period * (k // n) for k in range(-p, n + p + 1)], float) / period
+    kv = clamped_uniform_knots(6, 3)
+    g = np.array([ku[i + 1: i + p + 1].mean() for i in range(n)]) % 1.0  # the poles' Greville abscissae
+    rng = np.random.default_rng(seed)
+    r = 10 + 0.002 * rng.normal(size=(n, 6))
+    r[(g > 0.4) & (g < 0.65)] += 1.0 * rng.normal(size=(int(((g > 0.4) & (g < 0.65)).sum()), 6))
+    r[(g > 0.78) & (g < 0.95)] += 0.3 * rng.normal(size=(int(((g > 0.78) & (g < 0.95)).sum()), 6))
+    th = 2 * np.pi * g
+    z = np.broadcast_to(np.arange(6.0)[None, :] * 3, (n, 6))
+    pts = np.stack([r * np.cos(th)[:, None], r * np.sin(th)[:, None], z], -1)
+    return ControlNet(points=pts, degrees=(p, p), knots=(ku, kv), periodic=(True, False))
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("bounds", [(-0.25, 0.3), (0.72, 1.3)])
+def test_a_periodic_trim_across_the_opening_keeps_both_parts(seed, bounds):
+    """The trim [-0.25, 0.3] (= [0.75, 1.3]) crosses the junction where the periodic direction is opened: the
+    reading is the untrimmed face's total ripple restricted to both parts (the test's own mask), more than the
+    longer part alone (which is all that was kept before) and less than the whole ring (the middle left out)."""
+    from cadartifact.analysis.fields import intent_normals, project
+
+    net = _opened_cylinder(seed)
+    b0, b1 = bounds
+    trimmed = ca.budget(net.replace(uv_bounds=(b0, b1, 0.0, 1.0)), tolerance=T)
+    whole = ca.budget(net, tolerance=T, keep_fields=True)
+    F = whole.fields
+    total = np.abs(project(F.bands["total"], intent_normals(F.intent, 2 ** F.levels), "normal")).max(axis=1)
+    u = (F.x - F.x[0]) / (F.x[-1] - F.x[0])  # the opened ring's grid covers one period, u = 0 to 1, evenly
+    lo, hi = b0 % 1.0, b1 % 1.0  # the trim across the opening: [lo, 1] and [0, hi]
+    first, second = total[u <= hi + 1e-9], total[u >= lo - 1e-9]
+    expected = max(first.max(), second.max())
+    assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9)
+    longer = first if hi > 1.0 - lo else second
+    assert trimmed.stats["total"].peak > 1.2 * longer.max()  # the shorter part carries the peak
+    assert trimmed.stats["total"].peak < whole.stats["total"].peak

@@ -191,6 +191,11 @@ def trim_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray) -> np.ndarr
             par = lo + np.mod(par - lo, per)
         tol = 1e-9 * max(1.0, abs(hi - lo))
         masks.append((par >= lo - tol) & (par <= hi + tol))
+    for axis, lo, hi in net.trim_gaps:  # a trim across a periodic opening: two ranges, the gap between left out
+        par = frames[axis].param((x, y)[axis])
+        tol = 1e-9 * max(1.0, abs(hi - lo))
+        out = ~((par > lo + tol) & (par < hi - tol))
+        masks[axis] = masks[axis] & out
     trim = masks[0][:, None] & masks[1][None, :]
     return trim if trim.any() else keep
 

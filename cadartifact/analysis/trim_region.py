@@ -9,7 +9,9 @@ A trim that reaches past a join (a knot of multiplicity ``>= p``) by less than t
 past any knot by less than :data:`ROUNDING` of the range (rounding: real exports show 1e-9), counts as not
 reaching it: the span beyond is dropped.
 
-Periodic directions are left whole (a trim across the seam would need the unrolled direction).
+Periodic directions are left whole here (a trim across the seam would need the unrolled direction); a periodic
+direction opened at a junction (:func:`cadartifact.analysis.pieces.split_net`) with a trim across the opening
+keeps both parts: the piece's ``trim_gaps`` leave out what lies between them.
 
 A face read under another scheme is a cage of its poles (pole ``i`` at index ``i``): its trim is carried over as
 the uv bounds mapped through the Greville abscissae of its knots (:func:`cage_bounds`), in the cage's index
