@@ -247,6 +247,10 @@ class ControlNet:
         Per direction u, v: ``"line"`` or ``"circle"`` when every isocurve along that direction is
         exactly one, ``"surface"`` (both directions) when the face is a canonical surface: the
         direction carries no artifact (SPEC §4). None otherwise.
+    trim_gaps : tuple of (int, float, float)
+        Parameter intervals ``(axis, lo, hi)`` within ``uv_bounds`` that the trimmed face does not use: a trim
+        across a periodic direction's opening, once the direction is opened at a junction, keeps two ranges
+        (:func:`cadartifact.analysis.pieces.split_net`). Empty otherwise.
 
     Notes
     -----
@@ -265,6 +269,7 @@ class ControlNet:
     origin: NetOrigin = field(default_factory=NetOrigin)
     canonical: str | None = None
     exact: tuple = (None, None)
+    trim_gaps: tuple = ()
 
     def __post_init__(self):
         where = self.origin.label()
@@ -287,6 +292,7 @@ class ControlNet:
         if extent == 0.0:
             raise InvalidNetError(f"{where}: degenerate net, all control points coincide")
         object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "trim_gaps", tuple((int(a), float(lo), float(hi)) for a, lo, hi in self.trim_gaps))
 
         if self.weights is not None:
             w = frozen_array(self.weights)

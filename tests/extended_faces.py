@@ -92,10 +92,11 @@ def extended_face(face: ControlNet, sides=("u0",), ext=0.02, bend=0.0, mult=None
     return ControlNet(points=P, degrees=face.degrees, knots=(tu, tv), uv_bounds=tuple(b), unit=face.unit)
 
 
-def jointed_face(pieces=2, direction=0, kind="C0", degree=3, spans=4, size=100.0, seed=0) -> ControlNet:
+def jointed_face(pieces=2, direction=0, kind="C0", degree=3, spans=4, size=100.0, seed=0, amps=None) -> ControlNet:
     """A face of ``pieces`` smooth pieces along ``direction`` (each ``spans`` uniform spans sampling its own bump)
     joined at knots of multiplicity ``degree``: a crease (``"C0"``: the pieces' tangents differ across the join)
-    or a G1 join (``"G1"``: the poles either side of the join collinear, at different distances)."""
+    or a G1 join (``"G1"``: the poles either side of the join collinear, at different distances). ``amps``: each
+    piece's bump amplitude and frequency factor (0: a flat piece, its slope only), instead of random ones."""
     rng = np.random.default_rng(seed)
     p = degree
     m = spans + p  # poles per piece along the direction
@@ -108,6 +109,8 @@ def jointed_face(pieces=2, direction=0, kind="C0", degree=3, spans=4, size=100.0
         gu = np.array([clamped_uniform_knots(m, p)[i + 1: i + p + 1].mean() for i in range(m)])
         X = x0 + gu
         amp, freq = rng.uniform(1.0, 3.0), rng.uniform(0.5, 1.2)
+        if amps is not None:
+            amp, freq = float(amps[k]), 2.5 * freq
         Z = amp * np.sin(freq * np.pi * (X[:, None] - x0)) * np.cos(np.pi * gv[None, :])
         Z += 6.0 * (-1) ** k * (X[:, None] - x0)  # each piece its own slope: the join is a crease
         pts = np.stack([size * np.broadcast_to(X[:, None], Z.shape), size * np.broadcast_to(gv[None, :], Z.shape),

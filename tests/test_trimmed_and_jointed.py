@@ -303,3 +303,193 @@ def test_a_written_advised_face_is_built_over_the_region_its_trim_uses(tmp_path)
         t = np.asarray(back.knots[k])
         assert (t[0], t[-1]) == pytest.approx(used[k], abs=1e-9)
         assert used[k][0] - 1e-9 <= back.uv_bounds[2 * k] and back.uv_bounds[2 * k + 1] <= used[k][1] + 1e-9
+
+
+# ---------------------------------------------------------------- each piece's density on its own (item 2)
+@pytest.mark.parametrize("amps,kind,direction,spans,seed", [((3.0, 0.0), "C0", 0, 8, 3), ((0.0, 2.0), "G1", 1, 8, 5),
+                                                            ((0.0, 2.0, 0.0), "C0", 1, 8, 3),
+                                                            ((0.0, 2.5, 1.5), "G1", 0, 6, 7)])
+def test_pieces_of_different_needs_get_their_own_density_and_each_conforms(amps, kind, direction, spans, seed,
+                                                                          monkeypatch):
+    """One or two joins between wavy and flat pieces (a G1 join bends the piece after it: the flat ones come first
+    there): the per-piece plan keeps the joins, gives fewer points
+    than the proportional plan (the same advice with the per-piece search turned off), and every piece lies within
+    the tolerance on scipy's evaluation (plus today's ripple) and on the advice's own reading."""
+    from cadartifact.advice import per_piece as per_piece_mod
+
+    f = jointed_face(len(amps), direction, kind, spans=spans, seed=seed, amps=amps)
+    a = advise(f, T, compare=False)
+    assert a.meets_tolerance and a.verification["method"] == "occt" and a.verification["meets"]
+    d = a.to_dict()["joins"]["uv"[direction]]
+    assert d["plan"] == "per piece" and len(d["pieces"]) == len(amps)
+    p = f.degrees[direction]
+    today = [v for v, m in knot_multiplicities(f.knots[direction], p, f.shape[direction], False) if m >= p]
+    got = knot_multiplicities(a.advised_net.knots[direction], p, a.shape[direction], False)
+    assert sorted(round(v, 12) for v, m in got if m >= p) == sorted(round(v, 12) for v in today)
+    # the pieces' spans as the JSON says them, and their points sum to the direction's count
+    edges = [0.0, *today, 1.0]
+    t = np.unique(np.round(a.advised_net.knots[direction], 12))
+    for piece, lo, hi in zip(d["pieces"], edges[:-1], edges[1:]):
+        assert piece["range"] == pytest.approx([lo, hi])
+        assert len(t[(t > lo + 1e-12) & (t < hi - 1e-12)]) + 1 == piece["advised_spans"]
+        assert piece["meets_tolerance"] and piece["deviation"] <= T
+        # scipy's road, piece by piece
+        u = np.linspace(lo, hi, 41)
+        v = np.linspace(0.0, 1.0, 37)
+        uu, vv = (u, v) if direction == 0 else (v, u)
+        assert normal_distance(f, a.advised_net, uu, vv) <= T + a.current.stats["total"].peak + 1e-6
+    assert sum(piece["points"] for piece in d["pieces"]) == a.shape[direction]
+    # the flat piece needs fewer spans than the wavy one
+    flat = [piece["advised_spans"] for piece, amp in zip(d["pieces"], amps) if amp == 0.0]
+    wavy = [piece["advised_spans"] for piece, amp in zip(d["pieces"], amps) if amp > 0.0]
+    assert max(flat) < min(wavy)
+    monkeypatch.setattr(per_piece_mod, "per_piece", lambda *args, **kwargs: None)
+    prop = advise(f, T, compare=False)
+    assert prop.meets_tolerance and prop.to_dict()["joins"]["uv"[direction]]["plan"] == "proportional"
+    assert a.points < prop.points
+
+
+def test_the_per_piece_search_only_removes_spans_and_every_step_conforms():
+    """A synthetic test of the search on a scorer whose candidates conform when each piece has at least its need
+    (brute force knows the answer: exactly the needs, when the proportional answer covers them)."""
+    from cadartifact.advice.joins import JoinPlan
+    from cadartifact.advice.per_piece import per_piece
+
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        k = int(rng.integers(2, 5))
+        today = tuple(int(s) for s in rng.integers(2, 10, k))
+        need = [int(rng.integers(1, s + 1)) for s in today]
+        plan = JoinPlan(tuple(np.linspace(0, 1, k + 1)[1:-1]), 3, today, 0.0, 1.0)
+
+        class Fake:
+            degrees = (3, 3)
+            plans = (plan, None)
+
+            def with_plans(self, plans):
+                other = Fake()
+                other.plans = tuple(plans)
+                return other
+
+        def ok(sc, a, b):
+            per = sc.plans[0].per(a - 3 - plan.extra)
+            return all(x >= n for x, n in zip(per, need))
+
+        scale = max(n / s for n, s in zip(need, today))
+        total = int(np.ceil(scale * sum(today))) + 2
+        shape = (3 + plan.extra + total, 5)
+        while not ok(Fake(), *shape):
+            shape = (shape[0] + 1, 5)
+        out = per_piece(Fake(), ok, shape)
+        best = 3 + plan.extra + sum(need)
+        if best < shape[0]:
+            assert out is not None and out[1] == (best, 5)
+            assert list(out[0].plans[0].fixed) == need
+        else:
+            assert out is None
+
+
+def _scored(monkeypatch):
+    from cadartifact.advice import scorer as scorer_mod
+
+    scored = set()
+    original = scorer_mod._Scorer.score
+
+    def counting(self, a, b):
+        scored.add((id(self), a, b))
+        return original(self, a, b)
+
+    monkeypatch.setattr(scorer_mod._Scorer, "score", counting)
+    return scored
+
+
+@pytest.mark.parametrize("pieces,kind,degree,spans,seed", [(2, "C0", 3, 4, 1), (3, "C0", 2, 8, 3),
+                                                           (2, "G1", 5, 4, 0)])
+def test_a_jointed_face_at_a_very_tight_tolerance_ends_within_a_normal_faces_cost(pieces, kind, degree, spans, seed,
+                                                                                 monkeypatch):
+    """t = 1e-5 on jointed faces (a C0 join had stalled the search): an answer or an honest no, scoring no more
+    candidates than a few times what a smooth face of the same size scores at the same tolerance."""
+    f = jointed_face(pieces, seed % 2, kind, degree=degree, spans=spans, seed=seed)
+    scored = _scored(monkeypatch)
+    a = advise(f, 1e-5, compare=False, verify=False)
+    jointed = len(scored)
+    assert a.meets_tolerance or a.no_density is not None
+    scored.clear()
+    advise(smooth_face(n=f.shape, degree=degree, seed=seed), 1e-5, compare=False, verify=False)
+    assert jointed <= 3 * max(len(scored), 20)
+
+
+# ---------------------------------------------------------------- foreign-scheme faces keep their trims (item 5)
+@pytest.mark.parametrize("scheme", ["4-3", "kobbelt", "bilinear"])
+@pytest.mark.parametrize("seed", range(3))
+def test_a_face_read_under_another_scheme_keeps_its_trim(scheme, seed):
+    """A face with wild poles outside a random trim box, read under another scheme (its poles a cage): the reading
+    is the untrimmed reading's total ripple field restricted to the box, the box mapped to pole indices here by
+    the Greville abscissae (numpy, the test's own), and no more than the untrimmed reading."""
+    from cadartifact.analysis.fields import intent_normals, project
+
+    rng = np.random.default_rng(seed)
+    f = smooth_face(n=(12, 10), seed=seed)
+    P = np.array(f.points)
+    P[9:, :, 2] += 3.0 * (-1) ** np.arange(3)[:, None]  # wavy poles near u = 1, outside the trim
+    b = (float(rng.uniform(0.0, 0.2)), float(rng.uniform(0.45, 0.6)), float(rng.uniform(0.0, 0.3)),
+         float(rng.uniform(0.7, 1.0)))
+    g = f.replace(points=P, uv_bounds=b)
+    whole = ca.budget(g.replace(uv_bounds=None), scheme=scheme, tolerance=T, keep_fields=True)
+    trimmed = ca.budget(g, scheme=scheme, tolerance=T)
+    F = whole.fields
+    total = np.abs(project(F.bands["total"], intent_normals(F.intent, 2 ** F.levels), "normal"))
+    keep = []
+    for k, (x, (lo, hi)) in enumerate(zip((F.x, F.y), (b[:2], b[2:]))):
+        t, p, n = np.asarray(g.knots[k]), g.degrees[k], g.shape[k]
+        xi = np.array([np.mean(t[i + 1: i + p + 1]) for i in range(n)])
+        a0, a1 = np.interp([lo, hi], xi, np.arange(n))
+        keep.append((x >= a0 - 1e-9) & (x <= a1 + 1e-9))
+    expected = total[np.ix_(*keep)].max()
+    assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9, abs=1e-12)
+    assert trimmed.stats["total"].peak <= whole.stats["total"].peak + 1e-12
+    assert trimmed.stats["total"].peak < 0.9 * whole.stats["total"].peak  # the wild poles lie outside
+
+
+# ---------------------------------------------------------------- a periodic trim across the opening (item 5)
+def _opened_cylinder(seed):
+    """A degree-3 periodic ring (one junction, at u = 0, where it is opened) swept along v: small ripple
+    everywhere, strong in the middle of the period (u in 0.4-0.65), medium near its end (u in 0.78-0.95)."""
+    p, period = 3, 10.0
+    base = [0, 0, 0] + list(range(1, 10))
+    n = len(base)
+    ku = np.array([base[k % n] + period * (k // n) for k in range(-p, n + p + 1)], float) / period
+    kv = clamped_uniform_knots(6, 3)
+    g = np.array([ku[i + 1: i + p + 1].mean() for i in range(n)]) % 1.0  # the poles' Greville abscissae
+    rng = np.random.default_rng(seed)
+    r = 10 + 0.002 * rng.normal(size=(n, 6))
+    r[(g > 0.4) & (g < 0.65)] += 1.0 * rng.normal(size=(int(((g > 0.4) & (g < 0.65)).sum()), 6))
+    r[(g > 0.78) & (g < 0.95)] += 0.3 * rng.normal(size=(int(((g > 0.78) & (g < 0.95)).sum()), 6))
+    th = 2 * np.pi * g
+    z = np.broadcast_to(np.arange(6.0)[None, :] * 3, (n, 6))
+    pts = np.stack([r * np.cos(th)[:, None], r * np.sin(th)[:, None], z], -1)
+    return ControlNet(points=pts, degrees=(p, p), knots=(ku, kv), periodic=(True, False))
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("bounds", [(-0.25, 0.3), (0.72, 1.3)])
+def test_a_periodic_trim_across_the_opening_keeps_both_parts(seed, bounds):
+    """The trim [-0.25, 0.3] (= [0.75, 1.3]) crosses the junction where the periodic direction is opened: the
+    reading is the untrimmed face's total ripple restricted to both parts (the test's own mask), more than the
+    longer part alone (which is all that was kept before) and less than the whole ring (the middle left out)."""
+    from cadartifact.analysis.fields import intent_normals, project
+
+    net = _opened_cylinder(seed)
+    b0, b1 = bounds
+    trimmed = ca.budget(net.replace(uv_bounds=(b0, b1, 0.0, 1.0)), tolerance=T)
+    whole = ca.budget(net, tolerance=T, keep_fields=True)
+    F = whole.fields
+    total = np.abs(project(F.bands["total"], intent_normals(F.intent, 2 ** F.levels), "normal")).max(axis=1)
+    u = (F.x - F.x[0]) / (F.x[-1] - F.x[0])  # the opened ring's grid covers one period, u = 0 to 1, evenly
+    lo, hi = b0 % 1.0, b1 % 1.0  # the trim across the opening: [lo, 1] and [0, hi]
+    first, second = total[u <= hi + 1e-9], total[u >= lo - 1e-9]
+    expected = max(first.max(), second.max())
+    assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9)
+    longer = first if hi > 1.0 - lo else second
+    assert trimmed.stats["total"].peak > 1.2 * longer.max()  # the shorter part carries the peak
+    assert trimmed.stats["total"].peak < whole.stats["total"].peak

@@ -33,7 +33,6 @@ from ..analysis.pieces import face_kind
 from .honest import unverified_note
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
-from .joins import piece_spans
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
@@ -315,6 +314,13 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             if b > low[1] and value(fine, a, b - 1) <= t:
                 b, changed = gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
     meets = value(fine, a, b) <= t and not hopeless
+    proportional = None
+    if meets and any(fine.plans):  # each piece's spans on their own: whichever plan has fewer points
+        from .per_piece import per_piece
+
+        found = per_piece(fine, lambda sc, x, y: value(sc, x, y) <= t, (a, b))
+        if found is not None:
+            proportional, (fine, (a, b)) = (int(a), int(b)), found
 
     today = fine.today()
     notes = list(current.notes)
@@ -397,9 +403,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     if hopeless:
         notes.insert(0, unverifiable_note(unc.peak, t, net.unit or "model units"))
     raw = stats["deviation" if objective == "deviation" else "total"].get(metric)
-    joins = {d: dict(plan.to_dict(), advised_spans=list(plan.spans) if kept else piece_spans(
-        n - fine.degrees[k] - len(plan.joins) * (plan.mult - 1), plan.spans))
-        for k, (d, plan, n) in enumerate(zip("uv", fine.plans, shape)) if plan is not None}
+    joins = _joins_report(fine, shape, kept, proportional, tolerance - margin, notes)
     return Advice(joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
                   uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), unc.peak, t),
@@ -408,6 +412,26 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
                   verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,
                   pending=pending)
+
+
+def _joins_report(fine, shape, kept, proportional, target, notes) -> dict:
+    """Per direction keeping its joins: the plan (``"today's"`` when kept, ``"per piece"`` when each piece's spans were found on their own
+    and saved points, else ``"proportional"``), the spans and, per piece, :func:`.per_piece.piece_report`."""
+    from .per_piece import piece_report
+
+    out = {}
+    for k, (d, plan, n) in enumerate(zip("uv", fine.plans, shape)):
+        if plan is None:
+            continue
+        entry = dict(plan.to_dict(), plan="today's" if kept else "per piece" if plan.fixed is not None else "proportional",
+                     advised_spans=list(plan.spans) if kept else plan.per(n - fine.degrees[k] - plan.extra))
+        entry["pieces"] = None if kept else piece_report(fine, shape, k, target)
+        out[d] = entry
+    if proportional is not None and not kept:
+        notes.append(f"each piece's spans found on its own: {shape[0]}x{shape[1]} ({shape[0] * shape[1]} points) "
+                     f"against {proportional[0]}x{proportional[1]} ({proportional[0] * proportional[1]}) with the "
+                     "pieces' spans in proportion")
+    return out
 
 
 def _advice_stats(advised, settings: RunSettings, score, known=None) -> dict:

@@ -7,8 +7,9 @@ proportion to today's spans of each piece (at least one each), so the density se
 
     n' = p + S + J (m - 1),    S = sum_k S_k,    S_k ~ S s_k / sum(s),
 
-``J`` the joins, ``s_k`` today's spans of piece ``k``. One uniform net across a crease cannot carry it, and the
-search never tries to.
+``J`` the joins, ``s_k`` today's spans of piece ``k``. From the count found, each piece's spans are then
+searched on their own (:mod:`.per_piece`): the advice is whichever of the two plans has fewer points within the
+tolerance. One uniform net across a crease cannot carry it, and the search never tries to.
 """
 
 from __future__ import annotations
@@ -43,6 +44,10 @@ class JoinPlan:
         Today's spans of each piece (``len(joins) + 1``): the proportions the candidate's spans follow.
     lo, hi : float
         The direction's parameter range.
+    fixed : tuple of int, optional
+        A candidate's own spans per piece (found piece by piece, :mod:`.per_piece`): a candidate of that many
+        spans in all has exactly these; of another count, its spans in proportion to these. None: in proportion
+        to today's (``spans``).
     """
 
     joins: tuple
@@ -50,6 +55,16 @@ class JoinPlan:
     spans: tuple
     lo: float
     hi: float
+    fixed: tuple | None = None
+
+    @property
+    def extra(self) -> int:
+        """Knots the joins add beyond one per join: ``J (m - 1)``."""
+        return len(self.joins) * (self.mult - 1)
+
+    def per(self, total: int) -> list[int]:
+        """A candidate's spans per piece for ``total`` spans in all (``fixed`` or today's in proportion)."""
+        return piece_spans(total, self.fixed if self.fixed is not None else self.spans)
 
     def min_points(self, degree: int) -> int:
         """Fewest points of a candidate that keeps the joins (one span per piece)."""
@@ -153,8 +168,7 @@ def piece_spans(total: int, weights) -> list[int]:
 def jointed_knots(n_new: int, degree: int, plan: JoinPlan) -> np.ndarray:
     """The candidate's flat knots: clamped, the joins at ``plan.mult``, uniform within each piece."""
     p = int(degree)
-    S = n_new - p - len(plan.joins) * (plan.mult - 1)
-    per = piece_spans(S, plan.spans)
+    per = plan.per(n_new - p - plan.extra)
     edges = [plan.lo, *plan.joins, plan.hi]
     t = [plan.lo] * (p + 1)
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
@@ -179,7 +193,7 @@ def jointed_axis(frame: AxisFrame, n_new: int, degree: int, K: int, plan: JoinPl
     def build():
         p = int(degree)
         t = jointed_knots(n_new, p, plan)
-        per = piece_spans(n_new - p - len(plan.joins) * (plan.mult - 1), plan.spans)
+        per = plan.per(n_new - p - plan.extra)
         edges = [plan.lo, *plan.joins, plan.hi]
         parts = []
         for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):

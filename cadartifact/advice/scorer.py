@@ -44,6 +44,17 @@ class _Scorer:
         self.plans = tuple(join_plan(work, k) if work.knots is not None else None
                            for k in (0, 1))
 
+    def with_plans(self, plans) -> "_Scorer":
+        """This scorer with other :class:`~.joins.JoinPlan` per direction (a per-piece candidate's): the intent
+        and the check grids' targets are shared, its scores are its own."""
+        import copy
+
+        other = copy.copy(self)
+        other.plans = tuple(plans)
+        other._scores = {}
+        other._halves = OperatorCache(8, shared=False)
+        return other
+
     def target(self, x: np.ndarray, y: np.ndarray):
         """The intent, its normals and the trim mask on the grid ``x x y`` (cached by grid size)."""
         key = _grid_key(x, y)

@@ -20,7 +20,7 @@ from .intent import design_intent
 from ..net import ControlNet
 from .pieces import gather_fields, split_net
 from .settings import RunSettings, resolve_scheme
-from .trim_region import used_net
+from .trim_region import cage_bounds, used_net
 
 __all__ = ["Budget", "Stat", "budget", "budget_for", "total_ripple"]
 
@@ -180,7 +180,7 @@ def border_margin(net: ControlNet, scheme) -> int:
 def trim_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Points of the grid ``x x y`` (analysis coordinates) inside the trimmed face's uv bounds."""
     keep = np.ones((len(x), len(y)), bool)
-    if net.uv_bounds is None or net.knots is None:
+    if net.uv_bounds is None:  # a cage read from a trimmed face carries its bounds in pole indices
         return keep
     u0, u1, v0, v1 = net.uv_bounds
     masks = []
@@ -191,6 +191,11 @@ def trim_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray) -> np.ndarr
             par = lo + np.mod(par - lo, per)
         tol = 1e-9 * max(1.0, abs(hi - lo))
         masks.append((par >= lo - tol) & (par <= hi + tol))
+    for axis, lo, hi in net.trim_gaps:  # a trim across a periodic opening: two ranges, the gap between left out
+        par = frames[axis].param((x, y)[axis])
+        tol = 1e-9 * max(1.0, abs(hi - lo))
+        out = ~((par > lo + tol) & (par < hi - tol))
+        masks[axis] = masks[axis] & out
     trim = masks[0][:, None] & masks[1][None, :]
     return trim if trim.any() else keep
 
@@ -254,7 +259,9 @@ def used_region(net: ControlNet, scheme, tolerance: float | None = None):
         return net, None
     if own:
         return used_net(net, tolerance)
-    return ControlNet(points=net.points, periodic=net.periodic, unit=net.unit, origin=net.origin), None
+    # a cage of its poles under another scheme keeps the face's trim (mapped to pole indices)
+    return ControlNet(points=net.points, periodic=net.periodic, unit=net.unit, origin=net.origin,
+                      uv_bounds=cage_bounds(net)), None
 
 
 def budget(net: ControlNet, scheme=None, tolerance: float | None = None, *, metric: str = "peak",

@@ -145,19 +145,26 @@ def split_net(net: ControlNet) -> list[Piece]:
         for b, (iv, kv, vlo, vhi, vp) in enumerate(axes[1]):
             pts = net.points[np.ix_(iu, iv)]
             w = None if net.weights is None else net.weights[np.ix_(iu, iv)]
-            bounds = None
+            bounds, gaps = None, []
             if net.uv_bounds is not None:
-                # a direction left whole keeps the face's bounds (a periodic one may cross its seam)
-                bu = (tuple(net.uv_bounds[:2]) if len(axes[0]) == 1 and up == net.periodic[0] else
-                      _clip(net.uv_bounds[0], net.uv_bounds[1], ulo, uhi, net.periodic[0], _period(net, 0)))
-                bv = (tuple(net.uv_bounds[2:]) if len(axes[1]) == 1 and vp == net.periodic[1] else
-                      _clip(net.uv_bounds[2], net.uv_bounds[3], vlo, vhi, net.periodic[1], _period(net, 1)))
-                if bu is None or bv is None:
+                # a direction left whole keeps the face's bounds (a periodic one may cross its seam); a periodic
+                # direction opened at a junction may keep two ranges of one piece (the trim across the opening)
+                bs = []
+                for k, (lo, hi, opened, whole) in enumerate(((ulo, uhi, up, len(axes[0]) == 1),
+                                                             (vlo, vhi, vp, len(axes[1]) == 1))):
+                    b0, b1 = net.uv_bounds[2 * k], net.uv_bounds[2 * k + 1]
+                    if whole and opened == net.periodic[k]:
+                        bs.append((b0, b1))
+                        continue
+                    ranges = _clip_ranges(b0, b1, lo, hi, net.periodic[k], _period(net, k))
+                    bs.append((ranges[0][0], ranges[-1][1]) if ranges else None)
+                    gaps += [(k, a[1], b[0]) for a, b in zip(ranges[:-1], ranges[1:])]
+                if bs[0] is None or bs[1] is None:
                     continue  # trimmed away
-                bounds = bu + bv
+                bounds = bs[0] + bs[1]
             piece = ControlNet(points=pts, weights=w, degrees=net.degrees, knots=(ku, kv), periodic=(up, vp),
                                uv_bounds=bounds, unit=net.unit, origin=net.origin, canonical=net.canonical,
-                               exact=net.exact)
+                               exact=net.exact, trim_gaps=tuple(gaps))
             out.append(Piece(piece, (ulo, vlo), (uhi, vhi), (a, b)))
     return out
 
@@ -179,6 +186,29 @@ def _clip(b0: float, b1: float, lo: float, hi: float, periodic: bool, period: fl
     if b - a <= 1e-12 * max(1.0, abs(hi - lo)):
         return None
     return (a, b)
+
+
+def _clip_ranges(b0: float, b1: float, lo: float, hi: float, periodic: bool, period: float | None = None) -> list:
+    """Every part of the face's trimmed range ``[b0, b1]`` within a piece's ``[lo, hi]``, in order: one (or
+    none) for an open direction; for a periodic one opened at a junction, the range shifted by whole periods, so
+    a trim across the opening keeps both of its parts."""
+    if not periodic:
+        got = _clip(b0, b1, lo, hi, False)
+        return [got] if got is not None else []
+    period = period or (hi - lo)
+    out = []
+    for k in (-2, -1, 0, 1, 2):
+        got = _clip(b0 + k * period, b1 + k * period, lo, hi, False)
+        if got is not None:
+            out.append(got)
+    out.sort()
+    merged = []
+    for a, b in out:
+        if merged and a <= merged[-1][1] + 1e-12 * max(1.0, abs(hi - lo)):
+            merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+        else:
+            merged.append((a, b))
+    return merged
 
 
 # ---------------------------------------------------------------- gathering the pieces' results

@@ -9,7 +9,13 @@ A trim that reaches past a join (a knot of multiplicity ``>= p``) by less than t
 past any knot by less than :data:`ROUNDING` of the range (rounding: real exports show 1e-9), counts as not
 reaching it: the span beyond is dropped.
 
-Periodic directions are left whole (a trim across the seam would need the unrolled direction).
+Periodic directions are left whole here (a trim across the seam would need the unrolled direction); a periodic
+direction opened at a junction (:func:`cadartifact.analysis.pieces.split_net`) with a trim across the opening
+keeps both parts: the piece's ``trim_gaps`` leave out what lies between them.
+
+A face read under another scheme is a cage of its poles (pole ``i`` at index ``i``): its trim is carried over as
+the uv bounds mapped through the Greville abscissae of its knots (:func:`cage_bounds`), in the cage's index
+coordinates, so the foreign scheme's reading covers the same part of the face.
 
 References
 ----------
@@ -24,7 +30,7 @@ import numpy as np
 
 from ..net import ControlNet, knot_runs, lifted
 
-__all__ = ["UsedRegion", "used_net", "insert_knot", "crop_direction"]
+__all__ = ["UsedRegion", "used_net", "insert_knot", "crop_direction", "cage_bounds"]
 
 #: Share of a direction's parameter range a trim may overshoot a knot and still count as stopping there.
 ROUNDING = 1e-7
@@ -211,3 +217,29 @@ def used_net(net: ControlNet, tolerance: float | None = None) -> tuple[ControlNe
         points = P
         weights = None if net.weights is None else np.full(P.shape[:2], float(np.asarray(net.weights).flat[0]))
     return net.replace(points=points, weights=weights, knots=tuple(knots)), region
+
+
+def cage_bounds(net: ControlNet) -> tuple[float, float, float, float] | None:
+    """A trimmed face's uv bounds in the index coordinates of its poles read as a cage (another scheme's net).
+
+    Along an open direction the parameter ``u`` maps to ``x`` by interpolating the pole indices over the
+    Greville abscissae ``xi_i = (t_{i+1} + ... + t_{i+p}) / p`` (the parameter each pole stands for); a periodic
+    direction is kept whole (``0`` to ``n``). None for a cage, a face without uv bounds, or one whose bounds
+    cover its surface.
+    """
+    if net.knots is None or net.uv_bounds is None:
+        return None
+    out, trimmed = [], False
+    for axis in (0, 1):
+        t, p, n = np.asarray(net.knots[axis], float), int(net.degrees[axis]), net.shape[axis]
+        if net.periodic[axis] or p < 1:
+            out += [0.0, float(n - (0 if net.periodic[axis] else 1))]
+            continue
+        lo, hi = float(t[p]), float(t[n])
+        b0, b1 = (float(b) for b in net.uv_bounds[2 * axis: 2 * axis + 2])
+        scale = ROUNDING * max(hi - lo, 1e-300)
+        trimmed = trimmed or b0 > lo + scale or b1 < hi - scale
+        xi = np.array([t[i + 1: i + p + 1].mean() for i in range(n)])
+        idx = np.arange(n, dtype=float)
+        out += [float(np.interp(max(b0, lo), xi, idx)), float(np.interp(min(b1, hi), xi, idx))]
+    return tuple(out) if trimmed else None

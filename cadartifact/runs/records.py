@@ -48,7 +48,10 @@ and adds ``outside_trim``, ``advice.joins``, ``advice.no_density``, ``advice.out
                      "comparison": {scheme: {"net", "points", "meets_tolerance", "objective",
                                              "advice" (true: this row is the advice itself)}},
                      "joins": {"u" | "v": {"joins": [float], "multiplicity", "today_spans": [int],
-                                           "advised_spans": [int]}} (directions whose joins the advice keeps),
+                                           "plan": "per piece" | "proportional" | "today's",
+                                           "advised_spans": [int],
+                                           "pieces": [{"range", "today_spans", "advised_spans", "points",
+                                                       "deviation", "meets_tolerance"}] | null}} (directions whose joins the advice keeps),
                      "outside_trim": {"u", "v", "share"} | null,
                      "no_density": {"why": ["crease" | "uncertainty" | "stops improving" | "growth limit"],
                                     "best": {"net", "value", "uncertainty"}, "reason": str} | null
