@@ -22,7 +22,7 @@ import numpy as np
 
 from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
 from ..analysis.baseband import baseband_at, release
-from .density_search import GROWTH, MAX_POINTS, _limits, _straight, corner, frontier, gallop  # noqa: F401 (_straight: face_instances)
+from .density_search import GROWTH, MAX_POINTS, _limits, _straight, corner, frontier, gallop, predicted_hint  # noqa: F401 (_straight: face_instances)
 from ..errors import OptionError, check_option
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
@@ -47,6 +47,9 @@ SEARCH_LEVELS = 2
 
 #: Nets above this many control points skip the scheme comparison unless asked for.
 COMPARE_MAX_POINTS = 2000
+
+#: Two directions' coarser values this close (relative) are a tie for the binding direction (:func:`_reasons`).
+TIE = 1e-9
 
 #: Greedy steps of the confirmation before it searches the fine grid's frontier from where it stands.
 GREEDY_STEPS = 4
@@ -290,8 +293,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         # a feasible corner by bounded doubling (a direction that stops improving stops growing), then its frontier
         found, reachable, trail = corner(lambda x, y: value(coarse, x, y, own_ripple=False), t, low, high,
                                          work.shape)
+        hint = predicted_hint(value(coarse, *found, own_ripple=False), t, found, coarse.degrees, low)
         a, b = frontier(lambda x, y: value(coarse, x, y, own_ripple=False) <= t, low, high, work.shape,
-                        found=found)[0] if reachable else found
+                        found=found, hint=hint)[0] if reachable else found
         # confirm on the fine grid: grow until it agrees (a few greedy steps, then a bounded corner and frontier of
         # the fine grid's own test from there: the own ripple need not fall at every step, and a greedy walk along
         # the direction that does not bind can climb to the search's bound), then shrink each direction while it
@@ -470,7 +474,7 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str 
     if worse and not kept:
         # a tie to rounding (a face symmetric in u and v) binds u: rounding must not pick the direction
         top = max(worse.values())
-        binding = next(d for d in "uv" if d in worse and worse[d] >= top * (1 - 1e-9))
+        binding = next(d for d in "uv" if d in worse and worse[d] >= top * (1.0 - TIE))
     return binding, out
 
 

@@ -12,7 +12,7 @@ import numpy as np
 from ..analysis.baseband import baseband_at
 from ..analysis.budget import budget_for, total_ripple, trim_mask
 from ..analysis.fields import intent_normals, project
-from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
+from ..analysis.fitting import candidate_axis, candidate_net, curve_distance, error_planes, fit_error
 from ..analysis.settings import RunSettings
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
@@ -37,9 +37,11 @@ class _Scorer:
             min(d, n - 1) for d, n in zip(scheme.degrees or (3, 3), work.shape))
         self._targets: dict = {}
         self._scores: dict = {}
+        self._errors: dict = {}
         self._trim = trim_mask
         self._borders: dict = {}
-        self._halves = OperatorCache(8, shared=False)  # (a, grid) -> the fit's u half
+        self._planes: dict = {}  # grid -> the target's error_planes (fit_error)
+        self._halves = OperatorCache(16, shared=False)  # (side, count, grid, fit) -> a half of the fit
         # the face's joins, kept by every candidate (a cage, or a face read under another scheme, has none)
         self.plans = tuple(join_plan(work, k) if work.knots is not None else None
                            for k in (0, 1))
@@ -77,21 +79,47 @@ class _Scorer:
                      for f, n, d, plan in zip(self.frames, (a, b), self.degrees, self.plans))
 
     def fit(self, a: int, b: int):
-        """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b`` (:func:`fit_points`; the
-        fit's ``u`` half is kept per ``a`` and grid, since the search pairs each ``a`` with many ``b``)."""
+        """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b`` (:func:`fit_points`)."""
+        Q, I, normal, keep, (cu, cv) = self.points(a, b)
+        return Q, sandwich(cu.B, Q, cv.B), I, normal, keep, (cu, cv)
+
+    def points(self, a: int, b: int):
+        """``(Q, target, normal, keep, axes)``: the candidate's control points ``Fu I Fv^T`` without its surface.
+        The search pairs each ``a`` with many ``b`` and each ``b`` with many ``a``: the fit's ``u`` half
+        ``Fu I`` is kept per ``a`` and grid, its ``v`` half ``I Fv^T`` per ``b``; a candidate with neither makes
+        both (the same numbers in either order, to rounding)."""
         cu, cv = self.axes(a, b)
         I, normal, keep = self.target(cu.x, cv.x)
-        half = self._halves.get((a,) + _grid_key(cu.x, cv.x), lambda: sandwich_left(cu.pinv, I))
-        Q = sandwich_right(half, cv.pinv)
-        return Q, sandwich(cu.B, Q, cv.B), I, normal, keep, (cu, cv)
+        grid = _grid_key(cu.x, cv.x)
+        half = self._halves.peek(("u", a) + grid)
+        if half is not None:
+            return sandwich_right(half, cv.pinv), I, normal, keep, (cu, cv)
+        other = self._halves.peek(("v", b) + grid)
+        if other is None:
+            other = self._halves.get(("v", b) + grid, lambda: np.ascontiguousarray(
+                np.tensordot(I, cv.pinv, axes=(1, 1)).transpose(0, 2, 1)))
+            self._halves.get(("u", a) + grid, lambda: sandwich_left(cu.pinv, I))
+        return sandwich_left(cu.pinv, other), I, normal, keep, (cu, cv)
 
     def score(self, a: int, b: int) -> dict:
         """``{"peak", "rms", "boundary"}`` of the candidate's error (model units)."""
         if (a, b) not in self._scores:
-            Q, S, I, normal, keep, (cu, cv) = self.fit(a, b)
-            self._scores[(a, b)] = self._measure(S - I, normal, keep)
-            self._scores[(a, b)]["boundary"] = self.boundary(S, cu.x, cv.x)
+            Q, I, normal, keep, (cu, cv) = self.points(a, b)
+            self._scores[(a, b)] = dict(self.error(a, b), boundary=self.boundary(Q, cu, cv))
         return self._scores[(a, b)]
+
+    def error(self, a: int, b: int) -> dict:
+        """``{"peak", "rms"}`` of the candidate's error against the intent (what the search reads; the border
+        curves' distance, :meth:`boundary`, is reported for the advised net only)."""
+        if (a, b) not in self._errors:
+            Q, I, normal, keep, (cu, cv) = self.points(a, b)
+            key = _grid_key(cu.x, cv.x)
+            if key not in self._planes:
+                if len(self._planes) > 4:
+                    self._planes.clear()
+                self._planes[key] = error_planes(I, normal, self.component)
+            self._errors[(a, b)] = fit_error(Q, cu, cv, self._planes[key], keep)
+        return self._errors[(a, b)]
 
     def _measure(self, err, normal, keep) -> dict:
         f = np.abs(project(err, normal, self.component))
@@ -99,16 +127,18 @@ class _Scorer:
         return {"peak": float(v.max()) if v.size else 0.0, "rms": float(np.sqrt(np.mean(v ** 2))) if v.size else 0.0}
 
     def value(self, a: int, b: int) -> float:
-        return self.score(a, b)[self.metric]
+        return self.error(a, b)[self.metric]
 
-    def boundary(self, S: np.ndarray, x: np.ndarray, y: np.ndarray) -> float:
+    def boundary(self, Q: np.ndarray, cu, cv) -> float:
         """Largest distance of the candidate's open border curves from today's real ones (untrimmed faces):
         each candidate border sample's distance to today's border curve (a polyline through its samples on
-        the check grid), so a different parametrisation of the same curve costs nothing."""
+        the check grid), so a different parametrisation of the same curve costs nothing. The candidate's
+        border curves are its surface's first and last rows and columns (``Bu[[0, -1]] Q Bv^T``, ...)."""
         if self.work.knots is None or _trimmed(self.work, self.frames):
             return 0.0
         from ..numerics.splines import evaluate
 
+        x, y = cu.x, cv.x
         fu, fv = self.frames
         out = 0.0
         key = _grid_key(x, y)
@@ -121,11 +151,13 @@ class _Scorer:
             self._borders[key] = lines
         lines = self._borders[key]
         if "u" in lines:
+            rows = sandwich(cu.B[[0, -1]], Q, cv.B)
             for k in (0, 1):
-                out = max(out, curve_distance(S[[0, -1][k]], lines["u"][k]))
+                out = max(out, curve_distance(rows[k], lines["u"][k]))
         if "v" in lines:
+            cols = sandwich(cu.B, Q, cv.B[[0, -1]])
             for k in (0, 1):
-                out = max(out, curve_distance(S[:, [0, -1][k]], lines["v"][:, k]))
+                out = max(out, curve_distance(cols[:, k], lines["v"][:, k]))
         return out
 
     def today(self) -> dict:

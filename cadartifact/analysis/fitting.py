@@ -33,7 +33,7 @@ from ..numerics.splines import basis_matrix
 from ..numerics.tensor import sandwich
 
 __all__ = ["CandidateAxis", "candidate_axis", "check_count", "candidate_net", "fit_points", "uniform_knots",
-           "curve_distance"]
+           "curve_distance", "fit_error", "error_planes"]
 
 
 def uniform_knots(n: int, degree: int, lo: float, hi: float, periodic: bool) -> np.ndarray:
@@ -133,6 +133,85 @@ def fit_points(target: np.ndarray, cu: CandidateAxis, cv: CandidateAxis) -> tupl
     return Q, sandwich(cu.B, Q, cv.B)
 
 
+def error_planes(target: np.ndarray, normal, component: str) -> tuple:
+    """What :func:`fit_error` reads of a check grid, made once per grid: the target and its normals one
+    component per contiguous plane ``(3, mu, mv)``, and where the normal is zero (None: nowhere).
+
+    Parameters
+    ----------
+    target, normal : (mu, mv, 3) float (``normal`` None, or ``component="vector"``: the Euclidean norm)
+    component : str
+        ``"normal"`` or ``"vector"`` (:func:`cadartifact.analysis.fields.project`).
+    """
+    planes = np.ascontiguousarray(np.moveaxis(target, -1, 0))
+    if component == "vector" or normal is None:
+        return planes, None, None
+    normals = np.ascontiguousarray(np.moveaxis(normal, -1, 0))
+    has = (normals[0] != 0.0) | (normals[1] != 0.0) | (normals[2] != 0.0)
+    return planes, normals, None if has.all() else has
+
+
+def fit_error(Q: np.ndarray, cu: CandidateAxis, cv: CandidateAxis, planes: tuple, keep: np.ndarray) -> dict:
+    """``{"peak", "rms"}`` of ``|project(Bu Q Bv^T - target)|`` over the kept points of the check grid, without the
+    whole surface in memory: rows of the grid a block at a time (each block stays in cache), each block's
+    product over the few candidate rows its B-spline basis reaches (``p + 1`` per grid row). The projection is
+    :func:`cadartifact.analysis.fields.project`'s (the signed normal part; the whole displacement where the
+    normal is zero, or for ``component="vector"``), term for term: the same numbers as projecting the whole
+    error at once, to rounding.
+
+    Parameters
+    ----------
+    Q : (n'u, n'v, 3) float
+    planes : tuple
+        :func:`error_planes` of the grid's target.
+    keep : (mu, mv) bool
+    """
+    target, normals, has = planes
+    mu, mv = target.shape[1:]
+    right = np.moveaxis(Q, -1, 0) @ cv.B.T  # (3, a, mv): a block of rows is Bu[rows] @ right
+    nz = cu.B != 0.0  # a B-spline row has p + 1 non-zeros: a block of rows needs few rows of `right`
+    first = np.where(nz.any(axis=1), nz.argmax(axis=1), 0)
+    last = np.where(nz.any(axis=1), nz.shape[1] - nz[:, ::-1].argmax(axis=1), 0)
+
+    def block(r0, r1):
+        c0, c1 = int(first[r0:r1].min()), int(max(last[r0:r1].max(), first[r0:r1].min() + 1))
+        return cu.B[r0:r1, c0:c1] @ right[:, c0:c1]
+
+    everywhere = bool(keep.all())
+    rows = max(1, _BLOCK_POINTS // max(mv, 1))
+    peak, squares, count = 0.0, 0.0, 0
+    for r0 in range(0, mu, rows):
+        r1 = min(mu, r0 + rows)
+        err = block(r0, r1)  # (3, r, mv)
+        err -= target[:, r0:r1]
+        if normals is None or has is not None:
+            norm = np.sqrt(err[0] * err[0] + err[1] * err[1] + err[2] * err[2])
+        if normals is None:
+            f = norm
+        else:
+            if has is None:
+                np.multiply(err, normals[:, r0:r1], out=err)
+                f = err[0] + err[1]
+                f += err[2]
+            else:
+                prod = err * normals[:, r0:r1]
+                f = prod[0] + prod[1]
+                f += prod[2]
+            if has is not None:
+                f = np.where(has[r0:r1], f, norm)
+        np.abs(f, out=f)
+        v = f.ravel() if everywhere else f[keep[r0:r1]]
+        if v.size:
+            peak = max(peak, float(v.max()))
+            squares += float(np.dot(v, v))
+            count += v.size
+    return {"peak": peak, "rms": float(np.sqrt(squares / count)) if count else 0.0}
+
+
+#: Grid points per block of :func:`fit_error` (three components of this many doubles stay in a core's cache).
+_BLOCK_POINTS = 16384
+
+
 def candidate_net(net: ControlNet, points: np.ndarray, cu: CandidateAxis, cv: CandidateAxis) -> ControlNet:
     """The candidate as a B-spline :class:`ControlNet` (non-rational; a cage becomes a B-spline net)."""
     from ..net import NetOrigin
@@ -146,10 +225,44 @@ def candidate_net(net: ControlNet, points: np.ndarray, cu: CandidateAxis, cv: Ca
 
 def curve_distance(points: np.ndarray, curve: np.ndarray) -> float:
     """Largest distance of ``points (k, 3)`` to the polyline ``curve (m, 3)`` (closest point on each segment):
-    how far a candidate's border curve lies from today's, whatever either's parametrisation."""
+    how far a candidate's border curve lies from today's, whatever either's parametrisation.
+
+    Exact, and cheap when the two are sampled alike (a candidate's border on today's check grid): each point's
+    distance to the few segments around its own index is an upper bound of its distance to the polyline; the
+    points are then scanned against every segment in decreasing order of that bound, until the bound falls to
+    the largest exact distance found (no later point can beat it). Each distance is the same expression as a
+    full scan's, so the result is the full scan's (to rounding).
+    """
+    points, curve = np.asarray(points, float), np.asarray(curve, float)
     a, b = curve[:-1], curve[1:]
     d = b - a
     L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    k, s = len(points), len(a)
+    if k * s <= 4096:
+        return float(_segment_distances(points, a, d, L2).min(axis=1).max())
+    # the window: segments around each point's own position along the curve (same share of its length)
+    centre = np.rint(np.arange(k) * (s - 1) / max(k - 1, 1)).astype(int)
+    idx = np.clip(centre[:, None] + np.arange(-_WINDOW, _WINDOW + 1)[None, :], 0, s - 1)  # (k, w)
+    diff = points[:, None, :] - a[idx]
+    t = np.clip(np.einsum("kwi,kwi->kw", diff, d[idx]) / L2[idx], 0.0, 1.0)
+    near = a[idx] + t[..., None] * d[idx]
+    bound = np.sqrt(np.min(np.sum((points[:, None, :] - near) ** 2, axis=-1), axis=1))
+    best, ranked = 0.0, np.argsort(-bound, kind="stable")
+    for start in range(0, k, _BLOCK):
+        order = ranked[start:start + _BLOCK]
+        if bound[order[0]] <= best:
+            break
+        exact = _segment_distances(points[order], a, d, L2).min(axis=1)
+        best = max(best, float(exact.max()))
+    return best
+
+
+#: Segments either side of a point's own position in :func:`curve_distance`'s window, and points per exact scan.
+_WINDOW, _BLOCK = 2, 16
+
+
+def _segment_distances(points: np.ndarray, a: np.ndarray, d: np.ndarray, L2: np.ndarray) -> np.ndarray:
+    """``(k, s)`` distances of ``points (k, 3)`` to the segments ``a + t d`` (``t`` in [0, 1])."""
     t = np.clip(np.einsum("kij,ij->ki", points[:, None, :] - a[None], d) / L2, 0.0, 1.0)
     near = a[None] + t[..., None] * d[None]
-    return float(np.sqrt(np.min(np.sum((points[:, None, :] - near) ** 2, axis=-1), axis=1)).max())
+    return np.sqrt(np.sum((points[:, None, :] - near) ** 2, axis=-1))

@@ -52,6 +52,14 @@ class OperatorCache:
                 self._items.pop(next(iter(self._items)))
         return got
 
+    def peek(self, key):
+        """The operator of ``key`` if kept (then the most recently used), else None; nothing is built."""
+        with self._lock:
+            got = self._items.pop(key, None)
+            if got is not None:
+                self._items[key] = got
+            return got
+
     def clear(self) -> None:
         """Drop every operator."""
         with self._lock:
