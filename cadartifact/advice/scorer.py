@@ -53,7 +53,8 @@ class _Scorer:
 
         other = copy.copy(self)
         other.plans = tuple(plans)
-        other._scores = {}
+        # every cache keyed by the candidate's counts is the plan's own (the same counts, other knots)
+        other._scores, other._errors = {}, {}
         other._halves = OperatorCache(8, shared=False)
         return other
 

@@ -226,10 +226,9 @@ def _scalars(fields: ArtifactFields, component: str) -> dict:
         out = {name: project(fields.bands[name], normal, component, has) for name in FIELD_NAMES}
         out["deviation"] = project(fields.bands["total"] + fields.bands["signal_error"], normal, component, has)
         return out
-    # the normal part is linear where every sample has a normal: total and deviation are sums of parts
-    out = {name: project(fields.bands[name], normal, component, True)
-           for name in ("x1", "x2", "diagonal", "lateral", "signal_error")}
-    out["total"] = out["x1"] + out["x2"] + out["diagonal"]
+    # the normal part is linear where every sample has a normal: the deviation is the sum of its parts (the total
+    # is projected itself: :func:`total_ripple` reads it so, and the two must agree to the bit)
+    out = {name: project(fields.bands[name], normal, component, True) for name in FIELD_NAMES}
     out["deviation"] = out["total"] + out["signal_error"]
     return out
 
