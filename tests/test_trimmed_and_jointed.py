@@ -175,16 +175,7 @@ def test_advice_keeps_the_joins_and_every_piece_conforms_on_occt(pieces, kind, d
 def test_no_density_conforms_is_said_with_why_and_the_best_found(pieces, kind, seed, tol, monkeypatch):
     """Tolerances far below what the piecewise intent allows: the advice says no, gives the best density found
     and why, and the search stays bounded (distinct candidates scored)."""
-    from cadartifact.advice import scorer as scorer_mod
-
-    scored = set()
-    original = scorer_mod._Scorer.score
-
-    def counting(self, a, b):
-        scored.add((id(self), a, b))
-        return original(self, a, b)
-
-    monkeypatch.setattr(scorer_mod._Scorer, "score", counting)
+    scored = _scored(monkeypatch)
     f = jointed_face(pieces, 0, kind, seed=seed)
     a = advise(f, tol, compare=False)
     assert not a.meets_tolerance and a.decision != "conforms"
@@ -390,16 +381,18 @@ def test_the_per_piece_search_only_removes_spans_and_every_step_conforms():
 
 
 def _scored(monkeypatch):
+    """The distinct candidates whose error the search computed (``_Scorer.error``: what it reads; ``score`` adds
+    the border distance, for the advised net only), per scorer."""
     from cadartifact.advice import scorer as scorer_mod
 
     scored = set()
-    original = scorer_mod._Scorer.score
+    original = scorer_mod._Scorer.error
 
     def counting(self, a, b):
         scored.add((id(self), a, b))
         return original(self, a, b)
 
-    monkeypatch.setattr(scorer_mod._Scorer, "score", counting)
+    monkeypatch.setattr(scorer_mod._Scorer, "error", counting)
     return scored
 
 
