@@ -216,20 +216,14 @@ def region_mask(net: ControlNet, frames, x: np.ndarray, y: np.ndarray, region: s
 
 
 def _scalars(fields: ArtifactFields, component: str) -> dict:
-    if component == "vector":
-        out = {name: project(fields.bands[name], None, component) for name in FIELD_NAMES}
-        out["deviation"] = project(fields.bands["total"] + fields.bands["signal_error"], None, component)
-        return out
-    normal = intent_normals(fields.intent, 2 ** fields.levels)
-    has = np.einsum("...k,...k->...", normal, normal) != 0.0
-    if not has.all():
-        out = {name: project(fields.bands[name], normal, component, has) for name in FIELD_NAMES}
-        out["deviation"] = project(fields.bands["total"] + fields.bands["signal_error"], normal, component, has)
-        return out
+    normal = None if component == "vector" else intent_normals(fields.intent, 2 ** fields.levels)
+    has = None if normal is None else np.einsum("...k,...k->...", normal, normal) != 0.0
+    linear = has is not None and bool(has.all())
+    out = {name: project(fields.bands[name], normal, component, True if linear else has) for name in FIELD_NAMES}
     # the normal part is linear where every sample has a normal: the deviation is the sum of its parts (the total
     # is projected itself: :func:`total_ripple` reads it so, and the two must agree to the bit)
-    out = {name: project(fields.bands[name], normal, component, True) for name in FIELD_NAMES}
-    out["deviation"] = out["total"] + out["signal_error"]
+    out["deviation"] = (out["total"] + out["signal_error"] if linear else
+                        project(fields.bands["total"] + fields.bands["signal_error"], normal, component, has))
     return out
 
 
