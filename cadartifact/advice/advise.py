@@ -48,8 +48,15 @@ SEARCH_LEVELS = 2
 #: Nets above this many control points skip the scheme comparison unless asked for.
 COMPARE_MAX_POINTS = 2000
 
-#: Two directions' coarser values this close (relative) are a tie for the binding direction (:func:`_reasons`).
+#: Two values this close (relative) are a tie: for the binding direction (:func:`_reasons`) and for the direction the
+#: confirmation grows (:func:`_not_worse`); a tie goes to ``u``, so rounding noise of a symmetric face does not turn
+#: its advised net (6x7 or 7x6 as 1e-13 of noise fell).
 TIE = 1e-9
+
+
+def _not_worse(u_value: float, v_value: float) -> bool:
+    """Whether one more ``u`` point does at least as well as one more ``v`` point (equal within :data:`TIE`)."""
+    return u_value <= v_value + TIE * max(abs(u_value), abs(v_value))
 
 #: Greedy steps of the confirmation before it searches the fine grid's frontier from where it stands.
 GREEDY_STEPS = 4
@@ -307,7 +314,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                 a, b = frontier(lambda x, y: value(fine, x, y) <= t, low, high, (a, b), found=found)[0] \
                     if reachable else found
                 break
-            grow_u = a < high[0] and (b >= high[1] or value(fine, a + 1, b) <= value(fine, a, min(b + 1, high[1])))
+            grow_u = a < high[0] and (b >= high[1] or _not_worse(value(fine, a + 1, b),
+                                                                   value(fine, a, min(b + 1, high[1]))))
             a, b = (a + 1, b) if grow_u else (a, b + 1)
             steps += 1
         changed = value(fine, a, b) <= t
