@@ -296,3 +296,46 @@ def test_every_bspline_record_the_writer_makes_has_its_count(tmp_path):
                 text = path.read_text(encoding="latin-1")
             assert iges_problem(text) is None, (src.name, mode)
 
+
+
+@pytest.mark.parametrize("which", range(10))
+@pytest.mark.parametrize("char", ["!", "x", "#", "/", "E"])
+def test_a_token_that_is_not_a_number_in_a_bspline_surface_record_is_an_error(hood, which, char):
+    """A byte of a type-128 record turned into a character that is no part of a number (a blank beside a weight
+    flipped into ``!``, a digit into a letter) keeps the parameter count, and OCCT read such a record as whatever
+    its state held: the fuzz campaign of seed 2731 saw the same file refused, or read as another surface that
+    passed the gate, depending on the files read before it in the same reader child. Refused before OCCT, naming
+    the entity and the parameter."""
+    lines = hood.split("\n")
+    de = next(ln[64:72].strip() for ln in lines if len(ln) >= 73 and ln[72] == "P" and ln[:64].startswith("128,"))
+    rows = [k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip() == de]
+    # digits and the blanks right after a delimiter (where a number of the next line may follow), past the header
+    spots = [(k, i) for k in rows[1:] for i, ch in enumerate(lines[k][:64].rstrip() + " ")
+             if ch.isdigit() or (ch == " " and i and lines[k][i - 1] == ",")]
+    k, i = spots[(which * 7919) % len(spots)]
+    lines[k] = (lines[k][:i] + char + lines[k][i + 1:])[:80]
+    text = "\n".join(lines)
+    problem = iges_problem(text)
+    if char == "E" and re.search(r"[0-9.]E[0-9]", lines[k][max(0, i - 1):i + 2]):
+        return  # a digit turned into an exponent mark between digits is a number still (another value)
+    assert problem is not None and "type 128" in problem and "is not a number" in problem, (lines[k], problem)
+
+
+
+@pytest.mark.parametrize("kind", ["126", "142", "144", "102"])
+@pytest.mark.parametrize("which", range(4))
+def test_a_letter_in_a_numbers_only_record_of_the_chain_is_an_error(hood, kind, which):
+    """The same for the other numbers-only entities of the chain that makes a face (the boundary's curves and
+    curves on the surface, the trimmed surface): a digit turned into a letter is refused, naming the entity."""
+    lines = hood.split("\n")
+    heads = [ln[64:72].strip() for ln in lines if len(ln) >= 73 and ln[72] == "P" and ln[:64].startswith(kind + ",")]
+    if not heads:
+        pytest.skip(f"the hood's IGES has no type {kind}")
+    de = heads[which % len(heads)]
+    rows = [k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln[64:72].strip() == de]
+    spots = [(k, i) for k in rows for i, ch in enumerate(lines[k][:64]) if ch.isdigit() and i > len(kind)]
+    k, i = spots[(which * 7919) % len(spots)]
+    lines[k] = lines[k][:i] + "x" + lines[k][i + 1:]
+    problem = iges_problem("\n".join(lines))
+    assert problem is not None and f"type {kind}" in problem, problem
+    assert "is not a number" in problem or "is not a pointer" in problem, problem  # a pointer's own message

@@ -17,6 +17,9 @@ are read here from the text):
   (143: its surface, boundaries), a face (510: its surface, loops) and a shell (514: its faces) each name a
   directory entry of the file (a positive odd number within the directory), not the entity itself, of a
   type that can stand there;
+- every parameter of a numbers-only entity of the chain (:data:`_NUMERIC`) is a number or empty: OCCT's parser
+  reads a token that is no number (a byte flipped into ``!``) as whatever its state holds, and the same file
+  was refused or read as another surface depending on the files read before it;
 - every number of the parameter data is finite and within :data:`~.step_scan.MAX_ABS` (``1.0D300``,
   ``1.0E+400``, an integer part of 13 digits or more, ``NAN``, ``INF``), as the STEP pre-scan does; the message
   names the entity (the directory pointer of the parameter line) and the line::
@@ -44,6 +47,8 @@ _LOOP = frozenset({508})
 _FACE = frozenset({510})
 
 _NUMBER = re.compile(r"\s*[-+]?[0-9]+\s*\Z")
+# a parameter of a numbers-only record: an integer or a real (E or D exponent), or empty (the default value)
+_REAL = re.compile(r"\s*(?:[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?)?\s*\Z")
 # a number that may exceed MAX_ABS or not be finite: a positive exponent of 2+ digits, 13 digits after no point
 # or digit, a NaN or INF word (case-insensitive, as strtod takes them)
 _BIG = re.compile(r"[EeDd]\+?0*[1-9][0-9]|(?<![.0-9])[0-9]{13}|(?i:nan|inf)")
@@ -101,6 +106,58 @@ def _bspline_count_problem(params: list[str]) -> str | None:
             return None
     return (f"its record has {n} parameters where its degrees and counts (K1={k1}, K2={k2}, M1={m1}, M2={m2}) "
             f"give {expected}: a number split or merged in the text")
+
+
+def _not_a_number(params: list[str]) -> str | None:
+    """The first parameter of a numbers-only record (type 128) that is neither a number nor empty (a default).
+
+    OCCT's parser reads such a token (a byte flipped into ``!`` beside a weight) as whatever its state holds:
+    in the fuzz campaign the same file was refused ("some weight parameters are not of positive real type") or
+    read as another surface that passed the gate, depending on the files the reader child had read before.
+    """
+    for i, token in enumerate(params):
+        if not _REAL.match(token):
+            return f"parameter {i + 1} ({token.strip()[:20]!r}) is not a number"
+    return None
+
+
+#: Entity types whose parameters are all numbers (integers, reals, pointers) in IGES 5.3: the geometry and
+#: topology a face is made of. A record of one of them that holds a string (Hollerith) is left alone.
+_NUMERIC = frozenset({*SURFACE_TYPES, 100, 102, 104, 110, 112, 116, 124, 126, 141, 142, 143, 144, 502, 504, 508, 510,
+                      514})
+
+
+def _token_problem(p_lines: list[str], d_lines: list[str], types: list, delimiter: str, end: str, label) -> str | None:
+    """The first parameter of a numbers-only entity (:data:`_NUMERIC`) that is neither a number nor empty.
+
+    Candidates are found by one regex pass over the parameter lines' data columns (a character no number,
+    delimiter or blank is made of); only the entities of those lines are split into parameters.
+    """
+    other = re.compile("[^0-9+\\-.EeDd \n" + re.escape(delimiter + end) + "]")
+    data = "\n".join(ln[:64] for ln in p_lines)
+    if not other.search(data):
+        return None
+    seen = set()
+    for m in other.finditer(data):
+        de = p_lines[data.count("\n", 0, m.start())][64:72].strip()
+        if de in seen or not _NUMBER.match(de):
+            continue
+        seen.add(de)
+        d = int(de)
+        k = (d - 1) // 2
+        if not (d > 0 and d % 2 and k < len(types)) or types[k] not in _NUMERIC:
+            continue
+        a, b = d_lines[2 * k], d_lines[2 * k + 1]
+        if not (_NUMBER.match(a[8:16]) and _NUMBER.match(b[24:32])):
+            continue
+        start, n_lines = int(a[8:16]), int(b[24:32])
+        record = "".join(ln[:64] for ln in p_lines[start - 1:start - 1 + n_lines]) if start > 0 else ""
+        if _HOLLERITH.search(record):
+            continue
+        problem = _not_a_number(record.split(end, 1)[0].split(delimiter)[1:])
+        if problem:
+            return f"{label(d)}: {problem}"
+    return None
 
 
 def _int(params: list[str], i: int) -> int | None:
@@ -177,6 +234,7 @@ def iges_problem(text: str) -> str | None:
     def label(d: int) -> str:
         return f"IGES entity D{d} (type {types[(d - 1) // 2]}, line {first_d + d - 1})"
 
+
     for k, kind in enumerate(types):
         if kind not in (128, 144, 143, 510, 514):
             continue
@@ -189,7 +247,8 @@ def iges_problem(text: str) -> str | None:
         params = record.split(end, 1)[0].split(delimiter)[1:]  # after the entity type
         if kind == 128:
             # a 128 record holds numbers only; one with a string (Hollerith) in it is not a shifted number
-            problem = None if _HOLLERITH.search(record) else _bspline_count_problem(params)
+            problem = None if _HOLLERITH.search(record) else (_bspline_count_problem(params)
+                                                              or _not_a_number(params))
             if problem:
                 return f"{label(d)}: {problem}"
             continue
@@ -208,7 +267,7 @@ def iges_problem(text: str) -> str | None:
                 expected = " or ".join(str(x) for x in sorted(allowed)) if len(allowed) <= 3 else "a surface type"
                 return (f"D{value} is referenced by {label(d)} as {role}, and is type {target} (line "
                         f"{first_d + value - 1}), which cannot stand there (expected {expected})")
-    return None
+    return _token_problem(p_lines, d_lines, types, delimiter, end, label)
 
 
 _CHAIN = {str(t) for t in (*SURFACE_TYPES, 141, 142, 143, 144, 508, 510, 514)}
