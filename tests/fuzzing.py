@@ -241,7 +241,8 @@ def _iges_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
     d, p = _iges_directory(data)
     count = len(d) // 2
     types = [_iges_type(data, d[2 * k]) for k in range(count)]
-    chain = [k for k, t in enumerate(types) if t in (144, 143, 510, 514)]
+    # the faces' entities and what they reach (curves on surfaces, composite curves, loops, edge lists)
+    chain = [k for k, t in enumerate(types) if t in (144, 143, 510, 514, 142, 102, 508, 504)]
     if not chain:
         return data
     k = rng.choice(chain)
@@ -258,7 +259,8 @@ def _iges_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
     a, b = p[first - 1]
     text = data[a:a + 64]
     fields = text.split(b";")[0].split(b",")
-    slot = {144: 1, 143: 2, 510: 1, 514: 2}[types[k]]  # the surface (144, 143, 510) or the first face (514)
+    # the surface (144, 143, 510, 142), the first face (514), part (102), edge's curve (504) or edge list (508)
+    slot = {144: 1, 143: 2, 510: 1, 514: 2, 142: 2, 102: 2, 504: 2, 508: 3}[types[k]]
     if slot >= len(fields) or not fields[slot].strip().isdigit():
         return data
     target = int(fields[slot])
@@ -274,7 +276,9 @@ def _iges_mutation(data: bytes, kind: str, rng: random.Random) -> bytes:
     elif kind == "iges-self-ref":
         new = owner
     else:  # iges-wrong-type-ref: an entity of a type that cannot stand there
-        allowed = {510} if types[k] == 514 else {108, 114, 118, 120, 122, 128, 140, 190, 192, 194, 196, 198}
+        curves = {100, 102, 104, 106, 110, 112, 126, 130}
+        allowed = {514: {510}, 102: curves | {116, 132}, 504: curves, 508: {502, 504}}.get(
+            types[k], {108, 114, 118, 120, 122, 128, 140, 190, 192, 194, 196, 198})
         others = [2 * j + 1 for j, t in enumerate(types) if t not in allowed and j != k]
         if not others:
             return data

@@ -17,6 +17,13 @@ are read here from the text):
   (143: its surface, boundaries), a face (510: its surface, loops) and a shell (514: its faces) each name a
   directory entry of the file (a positive odd number within the directory), not the entity itself, of a
   type that can stand there;
+- the same for what those pointers reach, entity by entity along the chain: a curve on a surface (142: its
+  surface, its curves in parameter and model space, either of which may be 0), a boundary (141: its surface,
+  its curves), a composite curve (102: its parts), a loop (508: each edge's edge or vertex list and its
+  parameter-space curves) and an edge list (504: each edge's curve and vertex lists). OCCT's transfer follows
+  these without a check: a loop's edge-list pointer past the directory, or an edge list's curve or vertex-list
+  pointer, is a segmentation fault of the reader (an error with no cause named, in the reader child), a wrong
+  type there was read without a word. A curve no face reaches (a drawing's wireframe) is not checked;
 - every parameter of a numbers-only entity of the chain (:data:`_NUMERIC`) is a number or empty: OCCT's parser
   reads a token that is no number (a byte flipped into ``!``) as whatever its state holds, and the same file
   was refused or read as another surface depending on the files read before it;
@@ -45,6 +52,17 @@ _CURVE_ON_SURFACE = frozenset({142})
 _BOUNDARY = frozenset({141})
 _LOOP = frozenset({508})
 _FACE = frozenset({510})
+#: Curve entity types of IGES 5.3 (arc, composite, conic, copious data, line, parametric spline, rational B-spline,
+#: offset): what a curve on a surface, a boundary, a loop's or an edge's curve may name.
+_CURVE = frozenset({100, 102, 104, 106, 110, 112, 126, 130})
+_COMPONENT = _CURVE | {116, 132}  # a composite curve's parts may also be points and connect points (§4.4)
+_EDGES = frozenset({504})
+_VERTICES = frozenset({502})
+#: Entities reached from a face along its chain (its boundaries, loops, edges, curves), whose pointers are checked
+#: too: OCCT's IGES transfer dereferences them without a check (a loop's edge list pointer past the directory is
+#: a segmentation fault of the reader).
+_REACHED = frozenset({142, 141, 508, 504, 102})
+_KINDS = {SURFACE_TYPES: "a surface type", _CURVE: "a curve type", _COMPONENT: "a curve or point type"}
 
 _NUMBER = re.compile(r"\s*[-+]?[0-9]+\s*\Z")
 # a parameter of a numbers-only record: an integer or a real (E or D exponent), or empty (the default value)
@@ -76,7 +94,50 @@ def _pointer_slots(kind: int, params: list[str]):
     if kind == 514:  # N, FACE1, ORNT1, ...
         n = _int(params, 0)
         return [(1 + 2 * k, "a face", _FACE, False) for k in range(max(0, n or 0))]
+    if kind == 142:  # CRTN, SPTR, BPTR, CPTR, PREF (either curve may be absent: 0)
+        return [(1, "its surface", SURFACE_TYPES, False), (2, "its curve in the surface's parameters", _CURVE, True),
+                (3, "its model-space curve", _CURVE, True)]
+    if kind == 102:  # N, DE1..DEN
+        n = _int(params, 0)
+        return [(1 + k, "a part", _COMPONENT, False) for k in range(max(0, n or 0))]
+    if kind == 504:  # N, then per edge: CURV, SVP, SV, TVP, TV
+        n = _int(params, 0)
+        return [slot for k in range(max(0, n or 0)) for slot in (
+            (1 + 5 * k, "an edge's curve", _CURVE, False), (2 + 5 * k, "an edge's start vertex list", _VERTICES, False),
+            (4 + 5 * k, "an edge's end vertex list", _VERTICES, False))]
+    if kind == 508:  # N, then per edge: TYPE, EDGE, NDX, OF, K, K x (ISOP, CURV)
+        return _loop_slots(params)
+    if kind == 141:  # TYPE, PREF, SPTR, N, then per curve: CRVPT, SENSE, K, PSCPT1..K
+        return _boundary_slots(params)
     return []
+
+
+def _loop_slots(params: list[str]):
+    """The pointer slots of a loop (508, IGES 5.3 §4.149): each edge's edge or vertex list and parameter curves."""
+    slots, i = [], 1
+    for _ in range(max(0, _int(params, 0) or 0)):
+        kind, k = _int(params, i), _int(params, i + 4)
+        slots.append((i + 1, "an edge's vertex list" if kind == 1 else "an edge's edge list",
+                      _VERTICES if kind == 1 else _EDGES, False))
+        if k is None or k < 0 or i + 5 + 2 * k > len(params):
+            break  # a count that is no count: the slots found so far are checked, OCCT reads the rest
+        slots += [(i + 6 + 2 * j, "an edge's curve in the surface's parameters", _CURVE, False) for j in range(k)]
+        i += 5 + 2 * k
+    return slots
+
+
+def _boundary_slots(params: list[str]):
+    """The pointer slots of a boundary (141, IGES 5.3 §4.43): its surface, each model-space curve and its
+    parameter-space curves."""
+    slots, i = [(2, "its surface", SURFACE_TYPES, False)], 4
+    for _ in range(max(0, _int(params, 3) or 0)):
+        k = _int(params, i + 2)
+        slots.append((i, "a model-space curve", _CURVE, False))
+        if k is None or k < 0 or i + 3 + k > len(params):
+            break
+        slots += [(i + 3 + j, "a curve in the surface's parameters", _CURVE, False) for j in range(k)]
+        i += 3 + k
+    return slots
 
 
 def _bspline_count_problem(params: list[str]) -> str | None:
@@ -235,10 +296,12 @@ def iges_problem(text: str) -> str | None:
         return f"IGES entity D{d} (type {types[(d - 1) // 2]}, line {first_d + d - 1})"
 
 
-    for k, kind in enumerate(types):
-        if kind not in (128, 144, 143, 510, 514):
-            continue
-        d = 2 * k + 1
+    # the faces' roots, then what their pointers reach (boundaries, loops, edges, curves), each entity once
+    work = [2 * k + 1 for k, kind in enumerate(types) if kind in (128, 144, 143, 510, 514)][::-1]
+    seen = set(work)
+    while work:
+        d = work.pop()
+        k, kind = (d - 1) // 2, types[(d - 1) // 2]
         a, b = d_lines[2 * k], d_lines[2 * k + 1]
         if not (_NUMBER.match(a[8:16]) and _NUMBER.match(b[24:32])):
             return f"{label(d)}: its directory entry has no parameter data pointer"
@@ -264,13 +327,16 @@ def iges_problem(text: str) -> str | None:
                 return f"D{value} is referenced by {label(d)} as {role}, and is the entity itself, which cannot stand there"
             target = types[(value - 1) // 2]
             if target not in allowed:
-                expected = " or ".join(str(x) for x in sorted(allowed)) if len(allowed) <= 3 else "a surface type"
+                expected = _KINDS.get(allowed) or " or ".join(str(x) for x in sorted(allowed))
                 return (f"D{value} is referenced by {label(d)} as {role}, and is type {target} (line "
                         f"{first_d + value - 1}), which cannot stand there (expected {expected})")
+            if target in _REACHED and value not in seen:
+                seen.add(value)
+                work.append(value)
     return _token_problem(p_lines, d_lines, types, delimiter, end, label)
 
 
-_CHAIN = {str(t) for t in (*SURFACE_TYPES, 141, 142, 143, 144, 508, 510, 514)}
+_CHAIN = {str(t) for t in (*SURFACE_TYPES, 102, 141, 142, 143, 144, 502, 504, 508, 510, 514)}
 
 
 def _delimiters(lines: list[str]) -> tuple[str, str]:
