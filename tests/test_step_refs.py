@@ -159,3 +159,52 @@ def test_a_broken_chain_is_an_error_entry_and_advise_refuses_in_one_line(tmp_pat
     assert gate.exit_code == 2 and doc["files"][0]["verdict"] == "error" and "ADVANCED_FAC " in doc["files"][0]["error"]
     adv = CliRunner().invoke(app, ["advise", str(path), "--tol", "1", "--json", "--no-verify", "--no-compare"])
     assert adv.exit_code == 2 and adv.stdout == "" and len(adv.stderr.strip().splitlines()) == 1
+
+
+def _edge_curve_points(data: bytes, records) -> list[tuple[bytes, bytes]]:
+    """``(control point id, curve id)`` of the B-spline curves that edges name (read here by regex, apart from
+    the scan): ``EDGE_CURVE('', #start, #end, #curve, ...)`` -> ``B_SPLINE_CURVE_WITH_KNOTS('', p, (#..), ...)``."""
+    out = []
+    for m in re.finditer(rb"EDGE_CURVE\s*\(\s*'[^']*'\s*,\s*#\d+\s*,\s*#\d+\s*,\s*#(\d+)", data):
+        curve = m.group(1)
+        start, end, keyword = records[curve]
+        if keyword in (b"SURFACE_CURVE", b"SEAM_CURVE"):  # (name, curve_3d, pcurves, master): its 3D curve
+            curve = re.search(rb"#(\d+)", data[start:end].split(b"=", 1)[1]).group(1)
+            start, end, keyword = records[curve]
+        if keyword == b"B_SPLINE_CURVE_WITH_KNOTS":
+            points = re.search(rb"\(\s*(#\d+(?:\s*,\s*#\d+)*)\s*\)", data[start:end].split(b"=", 1)[1]).group(1)
+            out += [(p.strip()[1:], curve) for p in points.split(b",")]
+    return list(dict.fromkeys(out))
+
+
+_POINT_BREAKS = {
+    "a letter before its list": (rb"('[^']*')\s*,\s*\(", rb"\1l("),
+    "a digit turned into a letter": (rb"(\(\s*[-+]?\d*\.?)\d", rb"\1r"),
+    "its keyword corrupted": (rb"CARTESIAN_POINT", rb"CARTESIAN_@OINT"),
+    "two coordinates": (rb"(\(\s*[^,()]+,\s*[^,()]+),\s*[^,()]+\)", rb"\1)"),
+}
+
+
+@pytest.mark.parametrize("brk", sorted(_POINT_BREAKS))
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.name)
+def test_a_broken_control_point_of_an_edge_s_curve_is_named(path, brk):
+    """The B-spline curves of the edges: each control point is a CARTESIAN_POINT with three coordinates (OCCT read
+    such a broken point without a word and split the face: the seed-2732 campaign). Three points per file, four
+    breaks each; the message names the point, the curve and the curve's line (counted here)."""
+    data = path.read_bytes()
+    records = fuzzing.step_records(data)
+    points = _edge_curve_points(data, records)
+    if not points:
+        pytest.skip(f"{path.name} has no B-spline edge curve")
+    pattern, replacement = _POINT_BREAKS[brk]
+    for point, curve in random.Random(2732).sample(points, min(3, len(points))):
+        start, end, _ = records[point]
+        record = re.sub(pattern, replacement, data[start:end], count=1)
+        assert record != data[start:end]
+        message = _error((data[:start] + record + data[end:]).decode("latin-1"))
+        assert message is not None, (brk, point)
+        m = re.search(r"#(\d+) is referenced by (\S+) #(\d+) \(line (\d+)\) as (a control point|a pole), and ", message)
+        assert m and m.group(1) == point.decode(), message
+        if m.group(5) == "a control point":  # (a point both a pole and a control point is named as a pole first)
+            assert m.group(2) == "B_SPLINE_CURVE_WITH_KNOTS" and int(m.group(4)) == _line_of(data, m.group(3).encode())
+            assert (data[:start] + data[end:]).count(b"#" + m.group(3).encode()) >= 1

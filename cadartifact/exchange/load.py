@@ -166,13 +166,14 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
 
     path = check_file(path)
     dropped: list[str] = []
+    beyond: list[str] = []  # STEP: faces OCCT made that no face record gives (said, kept)
     ids = None
     if fmt == "step" and not prescanned:
         ids = ["#" + i for i, _ in _prescan(path)]
     from . import occ, step
 
     if fmt == "step":
-        shape, face_name, dropped = step.read_step_audited(path, ids, model_numbers=prescanned)
+        shape, face_name, dropped, beyond = step.read_step_audited(path, ids, model_numbers=prescanned)
     elif fmt == "iges":
         if not prescanned:
             from .iges_refs import check_iges_text
@@ -190,6 +191,7 @@ def read_occt(path: Path, fmt: str, convert: bool = False, prescanned: bool = Fa
         skipped["dropped"] = len(dropped)
         total += len(dropped)
         messages.extend(f"{path}: {m}" for m in dropped)
+    messages.extend(f"{path}: {m}" for m in beyond)
     if not nets:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(skipped.items())) or "none"
         hint = "" if convert or dropped else "; try convert=True (--convert) for revolution/extrusion/offset faces"

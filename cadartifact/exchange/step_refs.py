@@ -15,8 +15,8 @@ Checked:
 - along the chain that makes a face (shell -> face -> bounds -> loop -> oriented edges -> edges, and
   face -> surface -> poles), every entity of the chain has the number of parameters the schema gives
   (:data:`SCHEMA`), each reference stands where the schema allows its type (an unknown or corrupted
-  keyword stands nowhere), and a B-spline surface's poles are ``CARTESIAN_POINT`` entities with three
-  coordinates.
+  keyword stands nowhere), and a B-spline surface's poles, and the control points of the B-spline curves the
+  edges name, are ``CARTESIAN_POINT`` entities with three coordinates.
 
 The checks run on the records of those types by regular expressions that accept the well-formed
 record; only a record they do not accept is parsed (:func:`~.step_scan.parse_parameters`) to say what
@@ -278,7 +278,31 @@ def _chain_problem(records: _Records) -> str | None:
     surfaces = [heads[i][0] for keyword, indices in by_keyword.items() if keyword != "(" and keyword not in SCHEMA
                 for i in indices]
     surfaces += [heads[i][0] for i in by_keyword.get("(", []) if "B_SPLINE_SURFACE" in records.statement_at(i)]
-    return _surfaces_problem(records, surfaces)
+    return _surfaces_problem(records, surfaces) or _edge_curves_problem(records, by_keyword.get("EDGE_CURVE", []))
+
+
+#: B-spline curve entities whose references are all control points (a complex instance qualifies by a part).
+_SPLINE_CURVES = frozenset({"B_SPLINE_CURVE_WITH_KNOTS", "B_SPLINE_CURVE"})
+#: Curves on surfaces: ``(name, curve_3d, (associated pcurves), master)``.
+_ON_SURFACES = frozenset({"SURFACE_CURVE", "SEAM_CURVE", "INTERSECTION_CURVE"})
+
+
+def _edge_curves_problem(records: _Records, indices: list[int]) -> str | None:
+    """The control points of the B-spline curves of the edges (``EDGE_CURVE`` records ``heads[i]``, ``i`` in
+    ``indices``), checked as a surface's poles are: OCCT read a malformed control point of an edge's curve
+    (``'Control Point'l(``, a digit turned into a letter, a corrupted keyword) without a word, and its repair
+    split the face into pieces that are no face of the file (the seed-2732 campaign)."""
+    if not indices:
+        return None
+    curves = [m[3] for m in _BATCH["EDGE_CURVE"].findall(_pick(records, indices))]  # the well-formed edges
+    kind = records.kind
+    for k, c in enumerate(curves):  # a curve on surfaces (OCCT writes these): its 3D curve, its first reference
+        if kind.get(c) in _ON_SURFACES:
+            first = _REFS_ANYWHERE.search(records.body(c))
+            curves[k] = first.group(1) if first else c
+    splines = [c for c in dict.fromkeys(curves) if kind.get(c) in _SPLINE_CURVES
+               or (kind.get(c) == "(" and "B_SPLINE_CURVE" in records.names(c))]
+    return _poles_problem(records, splines, "a control point") if splines else None
 
 
 def _pick(records: _Records, indices: list[int]) -> str:
@@ -354,17 +378,23 @@ def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
         if count != SURFACE_ARITY[keyword]:
             return (f"{records.label(ident)} has {count} parameters, the schema gives {keyword} "
                     f"{SURFACE_ARITY[keyword]}")
+    return _poles_problem(records, surfaces, "a pole")
+
+
+def _poles_problem(records: _Records, owners: list[str], role: str) -> str | None:
+    """Every reference of the ``owners`` records (B-spline surfaces or curves: their references are their control
+    points) names a ``CARTESIAN_POINT`` with three coordinates, or the first that does not, as ``role``."""
     kind = records.kind
-    bodies = [records.body(ident) for ident in surfaces]  # a cleaned text: no strings or comments
+    bodies = [records.body(ident) for ident in owners]  # a cleaned text: no strings or comments
     poles = list(dict.fromkeys(_REFS_ANYWHERE.findall(";".join(bodies))))  # each once, in file order
 
     def owner(pole: str) -> str:
-        """The first surface that names ``pole`` (for the message)."""
-        return next(i for i, b in zip(surfaces, bodies) if re.search("#" + pole + r"(?!\d)", b))
+        """The first owner that names ``pole`` (for the message)."""
+        return next(i for i, b in zip(owners, bodies) if re.search("#" + pole + r"(?!\d)", b))
 
     if set(map(kind.get, poles)) - {"CARTESIAN_POINT"}:  # some pole is not a point (C loops when all are)
         for pole in [p for p in poles if kind.get(p) != "CARTESIAN_POINT"]:
-            problem = reference_problem(records, pole, "a pole", {"CARTESIAN_POINT"}, owner(pole))
+            problem = reference_problem(records, pole, role, {"CARTESIAN_POINT"}, owner(pole))
             if problem:
                 return problem
     if not poles:
@@ -384,7 +414,7 @@ def _surfaces_problem(records: _Records, surfaces: list[str]) -> str | None:
         return None
     for pole in poles:
         if not _POINT3.fullmatch(records.body(pole)):
-            return (f"#{pole} is referenced by {records.label(owner(pole))} as a pole, and "
+            return (f"#{pole} is referenced by {records.label(owner(pole))} as {role}, and "
                     + _point_problem(records, pole))
     return None
 
