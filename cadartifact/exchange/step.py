@@ -82,30 +82,39 @@ def _model_entities(reader: STEPControl_Reader) -> list:
     return [model.Value(i) for i in range(1, model.NbEntities() + 1)]
 
 
-def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None,
-                   entities=None) -> list[str]:
-    """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
-
-    Each names the entity (``#id``) and OCCT's own check messages on it and its surface (the
-    transfer process's check list, then the model's syntax checks).
-    """
+def _shape_faces(shape: TopoDS_Shape) -> list:
+    """The faces of ``shape`` as :class:`TopExp_Explorer` visits them (a face placed twice, twice)."""
     from OCP.TopAbs import TopAbs_FACE
     from OCP.TopExp import TopExp_Explorer
 
-    session = reader.WS()
-    if entities is None:
-        entities = _model_entities(reader)
-    # OCP's model.Number(entity) answers 0; pybind11 gives one wrapper per C++ object, so ids identify them
-    number = {id(e): i for i, e in enumerate(entities, start=1)}
-    declared = [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
-    if not declared:
-        return []
-    transfer = session.TransferReader()
     faces = []
     explorer = TopExp_Explorer(shape, TopAbs_FACE)
     while explorer.More():
         faces.append(explorer.Current())
         explorer.Next()
+    return faces
+
+
+def _face_records(entities: list) -> list[int]:
+    """The model numbers of the face entities (``ADVANCED_FACE``, ``FACE_SURFACE``) among ``entities``."""
+    return [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
+
+
+def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None,
+                   entities=None, faces=None, records=None) -> list[str]:
+    """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
+
+    Each names the entity (``#id``) and OCCT's own check messages on it and its surface (the
+    transfer process's check list, then the model's syntax checks).
+    """
+    session = reader.WS()
+    if entities is None:
+        entities = _model_entities(reader)
+    declared = _face_records(entities) if records is None else records
+    if not declared:
+        return []
+    transfer = session.TransferReader()
+    faces = _shape_faces(shape) if faces is None else faces
     if len(faces) >= len(declared):
         # as many faces as the file declares: none was lost. Mapping each face back to its entity could
         # only confirm it (distinct faces of distinct declared entities are all of them; a face with no
@@ -113,6 +122,8 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
         # through CONTEXT_DEPENDENT_SHAPE_REPRESENTATION), and OCCT's lookup scans every transferred
         # entity per face: a fifth of a second on a 500-face file
         return []
+    # OCP's model.Number(entity) answers 0; pybind11 gives one wrapper per C++ object, so ids identify them
+    number = {id(e): i for i, e in enumerate(entities, start=1)}
     got = set()
     for face in faces:
         entity = transfer.EntityFromShapeResult(face, 1)
@@ -144,8 +155,8 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
     return out
 
 
-def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None,
-                          entities=None) -> list[str]:
+def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, entities=None,
+                          faces=None, records=None) -> list[str]:
     """A message when OCCT's transferred shape has more distinct faces than the file has face records, or none.
 
     Faces are told apart by their geometry and topology, not their placement (an assembly that places a part
@@ -155,20 +166,19 @@ def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_
     3 faces, the gate's report silent). The faces are kept (they are what OCCT made of the file); the message
     names the face records that came out as no face of their own.
     """
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
     from OCP.TopLoc import TopLoc_Location
     from OCP.TopTools import TopTools_IndexedMapOfShape
 
+    faces = _shape_faces(shape) if faces is None else faces
     if entities is None:
         entities = _model_entities(reader)
-    records = [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
+    records = _face_records(entities) if records is None else records
+    if len(faces) <= len(records):
+        return []  # no more faces than records, so no more distinct ones (the common case: no map built)
     distinct = TopTools_IndexedMapOfShape()
-    explorer = TopExp_Explorer(shape, TopAbs_FACE)
     unplaced = TopLoc_Location()
-    while explorer.More():
-        distinct.Add(explorer.Current().Located(unplaced))
-        explorer.Next()
+    for face in faces:
+        distinct.Add(face.Located(unplaced))
     extra = distinct.Extent() - len(records)
     if extra <= 0:
         return []
@@ -292,9 +302,10 @@ def read_step_audited(path, ids=None, *, model_numbers: bool = False
     shape = reader.OneShape()
     with quiet_occt():
         entities = _model_entities(reader)
-        dropped = _dropped_faces(path, reader, shape, ids, entities)
+        faces, records = _shape_faces(shape), _face_records(entities)
+        dropped = _dropped_faces(path, reader, shape, ids, entities, faces, records)
         return (shape, _step_name(reader, path, entities=entities, model_numbers=model_numbers), dropped,
-                [] if dropped else _faces_beyond_records(path, reader, shape, ids, entities))
+                [] if dropped else _faces_beyond_records(path, reader, shape, entities, faces, records))
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:
