@@ -475,3 +475,36 @@ def test_without_the_check_occt_crashes_on_a_loop_s_edge_list_pointer(hood_brep,
     monkeypatch.setattr(refs, "check_iges_text", lambda path: (0, "faces"))
     with pytest.raises(FileFormatError, match="crashed"):
         read(path)
+
+
+@pytest.mark.parametrize("mode, kind, index", [("faces", 102, 0), ("faces", 144, 2), ("brep", 510, 1)])
+def test_a_corrupted_pointer_count_is_no_list_of_a_billion_slots(hood, hood_brep, mode, kind, index):
+    """A count of pointers corrupted to 999999999 claims more pointers than the record has parameters: the first
+    one past the record's end is "not a pointer", found at once (a list of a slot per counted pointer took 5.5 s
+    and 1 GB per ten million)."""
+    import time
+
+    text = hood if mode == "faces" else hood_brep
+    types = _directory(text)
+    d = 2 * types.index(kind) + 1
+    start = time.perf_counter()
+    problem = iges_problem(_set_parameter(text, d, index, "999999999"))
+    assert time.perf_counter() - start < 1.0
+    assert problem is not None and f"IGES entity D{d} (type {kind}, line" in problem, problem
+    assert "is not a pointer" in problem or "is not in the file" in problem, problem
+
+
+@pytest.mark.parametrize("kind, params", [
+    (514, ["999999999", "3", "1"]), (510, ["3", "999999999", "1", "5"]), (144, ["3", "1", "999999999", "5"]),
+    (143, ["1", "3", "999999999", "5"]), (102, ["999999999", "9"]), (504, ["999999999", "9", "11", "1", "11", "2"]),
+    (508, ["999999999", "0", "7", "1", "0", "999999999", "0", "19"]), (141, ["1", "1", "3", "999999999", "5", "1",
+                                                                          "999999999", "7"])])
+def test_the_slots_of_a_corrupted_count_stop_at_the_record_s_end(kind, params):
+    """Every entity's pointer slots: at most one per parameter the record has, plus the first one past its end."""
+    import time
+
+    from cadartifact.exchange.iges_refs import _pointer_slots
+
+    start = time.perf_counter()
+    slots = _pointer_slots(kind, params)
+    assert time.perf_counter() - start < 0.1 and 0 < len(slots) <= 3 * (len(params) + 1)

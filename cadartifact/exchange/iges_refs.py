@@ -81,28 +81,28 @@ def _pointer_slots(kind: int, params: list[str]):
     if kind == 144:  # PTS, N1, N2, PTO, PTI1..PTIn2
         n2 = _int(params, 2)
         slots = [(0, "its surface", SURFACE_TYPES, False), (3, "its outer boundary", _CURVE_ON_SURFACE, True)]
-        slots += [(4 + k, "an inner boundary", _CURVE_ON_SURFACE, False) for k in range(max(0, n2 or 0))]
+        slots += [(4 + k, "an inner boundary", _CURVE_ON_SURFACE, False) for k in _upto(n2, params)]
         return slots
     if kind == 143:  # TYPE, SPTR, N, BDPT1..BDPTn
         n = _int(params, 2)
         return [(1, "its surface", SURFACE_TYPES, False)] + [
-            (3 + k, "a boundary", _BOUNDARY, False) for k in range(max(0, n or 0))]
+            (3 + k, "a boundary", _BOUNDARY, False) for k in _upto(n, params)]
     if kind == 510:  # SURF, N, OUTER, LOOP1..LOOPn
         n = _int(params, 1)
         return [(0, "its surface", SURFACE_TYPES, False)] + [
-            (3 + k, "a loop", _LOOP, False) for k in range(max(0, n or 0))]
+            (3 + k, "a loop", _LOOP, False) for k in _upto(n, params)]
     if kind == 514:  # N, FACE1, ORNT1, ...
         n = _int(params, 0)
-        return [(1 + 2 * k, "a face", _FACE, False) for k in range(max(0, n or 0))]
+        return [(1 + 2 * k, "a face", _FACE, False) for k in _upto(n, params)]
     if kind == 142:  # CRTN, SPTR, BPTR, CPTR, PREF (either curve may be absent: 0)
         return [(1, "its surface", SURFACE_TYPES, False), (2, "its curve in the surface's parameters", _CURVE, True),
                 (3, "its model-space curve", _CURVE, True)]
     if kind == 102:  # N, DE1..DEN
         n = _int(params, 0)
-        return [(1 + k, "a part", _COMPONENT, False) for k in range(max(0, n or 0))]
+        return [(1 + k, "a part", _COMPONENT, False) for k in _upto(n, params)]
     if kind == 504:  # N, then per edge: CURV, SVP, SV, TVP, TV
         n = _int(params, 0)
-        return [slot for k in range(max(0, n or 0)) for slot in (
+        return [slot for k in _upto(n, params) for slot in (
             (1 + 5 * k, "an edge's curve", _CURVE, False), (2 + 5 * k, "an edge's start vertex list", _VERTICES, False),
             (4 + 5 * k, "an edge's end vertex list", _VERTICES, False))]
     if kind == 508:  # N, then per edge: TYPE, EDGE, NDX, OF, K, K x (ISOP, CURV)
@@ -112,10 +112,16 @@ def _pointer_slots(kind: int, params: list[str]):
     return []
 
 
+def _upto(count: int | None, params: list[str]) -> range:
+    """``range(count)`` for a record's count of pointers, at most one per parameter it has (a corrupted count of
+    1e9 would otherwise make a list of 1e9 slots; past the record's end a slot is "not a pointer")."""
+    return range(max(0, min(count or 0, len(params) + 1)))
+
+
 def _loop_slots(params: list[str]):
     """The pointer slots of a loop (508, IGES 5.3 §4.149): each edge's edge or vertex list and parameter curves."""
     slots, i = [], 1
-    for _ in range(max(0, _int(params, 0) or 0)):
+    for _ in _upto(_int(params, 0), params):
         kind, k = _int(params, i), _int(params, i + 4)
         slots.append((i + 1, "an edge's vertex list" if kind == 1 else "an edge's edge list",
                       _VERTICES if kind == 1 else _EDGES, False))
@@ -130,7 +136,7 @@ def _boundary_slots(params: list[str]):
     """The pointer slots of a boundary (141, IGES 5.3 §4.43): its surface, each model-space curve and its
     parameter-space curves."""
     slots, i = [(2, "its surface", SURFACE_TYPES, False)], 4
-    for _ in range(max(0, _int(params, 3) or 0)):
+    for _ in _upto(_int(params, 3), params):
         k = _int(params, i + 2)
         slots.append((i, "a model-space curve", _CURVE, False))
         if k is None or k < 0 or i + 3 + k > len(params):
