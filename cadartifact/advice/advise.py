@@ -409,7 +409,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                 comparison_note = f"skipped: net of {net.size} points (> {COMPARE_MAX_POINTS}); pass compare=True"
     if compare:
         comparison = compare_schemes(net, work, sch, shape, meets, settings, fine, growth=GROWTH,
-                                     max_points=MAX_POINTS, objective=objective)
+                                     max_points=MAX_POINTS, objective=objective,
+                                     value=None if hopeless else value)
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
     if hopeless:

@@ -1,10 +1,14 @@
 """The scheme comparison of an advice: how many points each named scheme needs for the same intent.
 
-For each of :data:`NAMED_SCHEMES` other than the face's own, the intent is sampled at a cage of
-``a x b`` points and the cage's total ripple under that scheme is read (its predicted road); the
-fewest-points density within the tolerance is searched on the frontier ``b(a)``. The face's own scheme's
-row, and a named scheme of the same B-spline degrees (``bicubic`` for a bicubic face), is the advice itself:
-one answer per scheme the advice covers. The cages are shared by the schemes (their frontiers start alike).
+The face's own scheme's row, and a named scheme of the same B-spline degrees (``bicubic`` for a bicubic face), is
+the advice itself. A named scheme whose limit surface is a uniform B-spline (``bilinear``: degree 1, ``bicubic``:
+degree 3) is advised by the advice's own search and objective: its best net of a density is the least-squares fit
+of the intent by uniform B-splines of its degrees (the same fit, on the same check grid, with the same decision
+rule ``value + U <= t``), and the fewest-points density is searched on the frontier ``b(a)``. For the schemes with
+no B-spline limit (``4-3``, ``4-8``: not tensor products; ``kobbelt``: interpolating) no best net of a density
+is built: the intent is sampled at a cage of ``a x b`` points and the cage's total ripple under that scheme is
+read (its predicted road), and their rows say ``"objective": "ripple"``. The cages are shared by those schemes
+(their frontiers start alike).
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
 
 
 def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, settings: RunSettings, fine, *,
-                    growth: int, max_points: int, objective: str = "deviation") -> dict:
+                    growth: int, max_points: int, objective: str = "deviation", value=None) -> dict:
     """Fewest points per named scheme for the intent's ripple (the intent sampled at each scheme's net).
 
     Parameters
@@ -43,6 +47,10 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
         :func:`_value`).
     growth, max_points : int
         The search's bounds (:data:`cadartifact.advice.advise.GROWTH`, :data:`~cadartifact.advice.advise.MAX_POINTS`).
+    value : callable ``(scorer, a, b) -> float``, optional
+        The advice's value of a candidate (its objective plus the intent's uncertainty U), compared with the
+        tolerance: the B-spline schemes' rows are searched with it on ``fine`` under their own degrees. Without
+        it, every other scheme's row reads the sampled cage's ripple.
 
     Returns
     -------
@@ -78,6 +86,10 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
             out[other.name] = dict(own)
             continue
 
+        if value is not None and other.degrees is not None:
+            out[other.name] = _bspline_row(other, work, shape, fine, value, settings.tolerance, objective,
+                                           growth=growth, max_points=max_points)
+            continue
         seen = {}  # a memo per scheme: the frontier asks about some densities twice
         under = settings.replace(scheme=other, levels=1, tolerance=None)
 
@@ -94,12 +106,24 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
     return out
 
 
-def _value(cage: ControlNet, under: RunSettings, objective: str, metric: str) -> float:
-    """A cage's value under another scheme: its ripple (predicted road).
+def _bspline_row(other, work: ControlNet, shape, fine, value, tolerance: float, objective: str, *, growth: int,
+                 max_points: int) -> dict:
+    """A B-spline scheme's row: the fewest-points uniform B-spline net of its degrees that the advice's own value
+    accepts (``value(scorer, a, b) <= tolerance``), searched on the frontier from the advised ``shape``."""
+    sc = fine.with_degrees(other.degrees)
+    low = tuple(d + 1 for d in sc.degrees)  # a uniform B-spline of degree d needs d + 1 points
+    high = tuple(max(l + 1, min(max_points // 4, growth * n)) for l, n in zip(low, work.shape))
+    start = tuple(max(l, min(h, s)) for l, h, s in zip(low, high, shape))
+    s2, ok2 = frontier(lambda a, b: value(sc, a, b) <= tolerance, low, high, start)
+    return {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2), "objective": objective,
+            "advice": False}
 
-    The deviation objective is not carried to other schemes: their cages are the intent sampled, not fitted
-    (no scheme's best net of a density is built), so their deviation is mostly the attenuation a designer would
-    correct (tried: bilinear, 4-3 and 4-8 then failed at 8x the advice's points on the hull sample, and the
-    comparison cost about 4x: 37.7 s against 9.9 s on the hull sample's first face, under load). Their rows
-    say ``"objective": "ripple"``."""
+
+def _value(cage: ControlNet, under: RunSettings, objective: str, metric: str) -> float:
+    """A cage's value under a scheme with no B-spline limit: its ripple (predicted road).
+
+    The deviation objective is not carried to these schemes: their cages are the intent sampled, not fitted
+    (no best net of a density is built through their limit operators), so their deviation is mostly the
+    attenuation a designer would correct (tried: 4-3 and 4-8 then failed at 8x the advice's points on the hull
+    sample, and the comparison cost about 4x). Their rows say ``"objective": "ripple"``."""
     return total_ripple(cage, under)

@@ -58,6 +58,17 @@ class _Scorer:
         other._halves = OperatorCache(8, shared=False)
         return other
 
+    def with_degrees(self, degrees) -> "_Scorer":
+        """This scorer for candidates of other B-spline degrees (a named scheme's uniform B-splines: the scheme
+        comparison's best net of a density), with no joins: the intent and the check grids' targets are shared."""
+        import copy
+
+        other = copy.copy(self)
+        other.degrees, other.plans = tuple(int(d) for d in degrees), (None, None)
+        other._scores, other._errors = {}, {}
+        other._halves = OperatorCache(8, shared=False)
+        return other
+
     def target(self, x: np.ndarray, y: np.ndarray):
         """The intent, its normals and the trim mask on the grid ``x x y`` (cached by grid size)."""
         key = _grid_key(x, y)
