@@ -241,3 +241,31 @@ def test_claims_are_not_refused_where_the_net_supports_them():
     print(f"\n{_summary(rows)}; eligible {len(eligible)}, claimed among them {claimed:.3f}")
     assert len(eligible) >= 15 and claimed >= 0.8  # 35 of the full campaign's 100 are eligible (fit meets t/2)
     assert not false_claims(rows)
+
+
+def test_the_gate_computes_a_net_reading_face_s_U_once(monkeypatch):
+    """The gate's verdict and the advice it attaches read the same intent under the same reading: U (a costly
+    estimate: alternate intents on the fine grid) is computed once per face and handed to the advice, and the
+    advice's U is the verdict's (the net reading, failing faces advised)."""
+    from pathlib import Path
+
+    import cadartifact.analysis.uncertainty as unc_module
+    from cadartifact.gate.policy import FileSettings
+    from cadartifact.gate.run import gate_file
+
+    calls = []
+    real = unc_module.intent_uncertainty
+
+    def counting(*args, **kwargs):
+        calls.append(args[2] if len(args) > 2 else kwargs.get("reading"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(unc_module, "intent_uncertainty", counting)
+    path = Path(__file__).resolve().parents[1] / "samples" / "hull_freeform.step"
+    entry = gate_file(str(path), FileSettings(tolerance=0.05, intent="net"))
+    faces = entry["faces"]
+    assert faces and all(f["advice"] is not None for f in faces if f["verdict"] == "fail")
+    assert len([c for c in calls if c == "net"]) == len(faces), calls
+    for f in faces:
+        if f["advice"] is not None:
+            assert f["advice"]["uncertainty"]["peak"] == pytest.approx(f["uncertainty"]["peak"], rel=1e-8)

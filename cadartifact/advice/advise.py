@@ -249,10 +249,13 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
 
 
 def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "deviation", compare: bool | str = "auto",
-               verify: bool | str = True, current: Budget | None = None) -> Advice:
+               verify: bool | str = True, current: Budget | None = None, uncertainty=None) -> Advice:
     """:func:`advise` under a run's settings (made and checked once, at the edge; see
     :mod:`cadartifact.analysis.settings`): ``settings.tolerance`` (required), ``scheme``, ``metric``,
-    ``intent`` (the reading: ``"net"`` when the signal error counts), ``levels`` and ``component``."""
+    ``intent`` (the reading: ``"net"`` when the signal error counts), ``levels`` and ``component``.
+    ``uncertainty``: the intent's :class:`~cadartifact.analysis.uncertainty.Uncertainty` under the same reading
+    when the caller has it (:func:`~cadartifact.advice.decision.face_uncertainty`, as the gate's verdict computed
+    it): not computed again."""
     check_option("objective", objective, OBJECTIVES)
     tolerance = check_tolerance(settings.tolerance)
     metric, levels, intent = settings.metric, settings.levels, settings.intent
@@ -278,7 +281,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     coarse = scorers[min(SEARCH_LEVELS, levels)]
     low, high = _limits(work, fine.degrees, fine.plans)
     t = tolerance
-    unc = scorer_uncertainty(fine)  # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
+    # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
+    unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine)
     hopeless = unverifiable(unc.peak, t)
     margin = unc.peak
 

@@ -114,7 +114,7 @@ def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
         # verification costs a real-surface evaluation: only for faces that fail today
         check = verify and not current.meets(settings.include_signal_error)
         adv = advise_for(net, scored, compare=False, verify=check,
-                         current=current if current.fields is not None else None)
+                         current=current if current.fields is not None else None, uncertainty=unc)
         rec = finite(face_record(net, adv))
         verdict, reason, value = face_verdict(rec, settings)
     rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
