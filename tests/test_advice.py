@@ -344,3 +344,24 @@ def test_rounding_does_not_turn_the_advised_net_of_a_symmetric_face(n, kind, t):
         moved = P if k == 0 else P + rng.normal(scale=1e-11, size=P.shape)
         shapes.add(tuple(advise(ControlNet.from_points(moved, degrees=(3, 3)), t, compare=False, verify=False).shape))
     assert len(shapes) == 1, shapes
+
+
+def test_the_corner_s_pick_between_equal_values_does_not_follow_rounding():
+    """The corner search's doubling picks the direction with the lowest value when none is feasible yet; on a
+    symmetric face the two are equal but for rounding (1e-13), and the pick (hence the corner) must not follow it:
+    a tie within TIE goes to ``u``."""
+    from cadartifact.advice.density_search import corner
+
+    def value_with(noise):
+        rng = np.random.default_rng(noise)
+        jitter = {}
+
+        def value(a, b):  # symmetric in a and b, plus rounding noise; growing both at once costs (a candidate's
+            if (a, b) not in jitter:  # own ripple, say), so each doubling picks u or v alone
+                jitter[(a, b)] = 1.0 + 1e-13 * rng.standard_normal()
+            return (100.0 / (a * b) ** 1.5 + (5.0 if min(a, b) > 6 else 0.0)) * jitter[(a, b)]
+        return value
+
+    # (with the pick by the lowest value alone, the 24 draws ended at 192x6 or 6x192)
+    corners = {corner(value_with(k), 0.001, (4, 4), (200, 200), (6, 6))[0] for k in range(24)}
+    assert corners == {(192, 6)}, corners

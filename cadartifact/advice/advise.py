@@ -22,7 +22,8 @@ import numpy as np
 
 from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
 from ..analysis.baseband import baseband_at, release
-from .density_search import GROWTH, MAX_POINTS, _limits, _straight, corner, frontier, gallop, predicted_hint  # noqa: F401 (_straight: face_instances)
+from .density_search import (GROWTH, MAX_POINTS, TIE, _limits, _straight, corner, frontier, gallop,  # noqa: F401
+                             predicted_hint)  # (_straight: face_instances)
 from ..errors import OptionError, check_option
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
@@ -48,10 +49,6 @@ SEARCH_LEVELS = 2
 #: Nets above this many control points skip the scheme comparison unless asked for.
 COMPARE_MAX_POINTS = 2000
 
-#: Two values this close (relative) are a tie: for the binding direction (:func:`_reasons`) and for the direction the
-#: confirmation grows (:func:`_not_worse`); a tie goes to ``u``, so rounding noise of a symmetric face does not turn
-#: its advised net (6x7 or 7x6 as 1e-13 of noise fell).
-TIE = 1e-9
 
 
 def _not_worse(u_value: float, v_value: float) -> bool:

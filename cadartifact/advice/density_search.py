@@ -47,6 +47,17 @@ def gallop(pred, lo: int, hi: int, hint: int) -> int:
 
 #: A doubling that lowers the value by less than this share "stops improving": the direction is not grown further.
 STALL = 0.1
+#: Two values this close (relative) are a tie: for the corner's pick (:func:`_lowest`), the binding direction and
+#: the direction the confirmation grows (:mod:`.advise`); a tie goes to ``u``, so rounding noise of a symmetric face
+#: does not turn its advised net (6x7 or 7x6 as 1e-13 of noise fell).
+TIE = 1e-9
+
+
+def _lowest(vals: dict) -> str:
+    """The key of the lowest value; a tie within :data:`TIE` goes to the first key (``u``, then ``v``, then
+    ``uv``), so that rounding noise cannot turn a symmetric face's search."""
+    low = min(vals.values())
+    return next(k for k in vals if vals[k] <= low + TIE * abs(low))
 
 
 def corner(value, t: float, lo: tuple[int, int], hi: tuple[int, int], start: tuple[int, int]):
@@ -83,7 +94,7 @@ def corner(value, t: float, lo: tuple[int, int], hi: tuple[int, int], start: tup
                     grow[d] = False
                     stalled.add(k)
         ok = [k for k in vals if vals[k] <= t]
-        pick = min(ok, key=lambda k: tries[k][0] * tries[k][1]) if ok else min(vals, key=vals.get)
+        pick = min(ok, key=lambda k: tries[k][0] * tries[k][1]) if ok else _lowest(vals)
         if not ok and vals[pick] > (1.0 - STALL) * v:
             stalled.update(k for k in ("u", "v") if k in tries)
             break
