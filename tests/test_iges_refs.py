@@ -21,21 +21,26 @@ from pathlib import Path  # noqa: E402
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 
 
-@pytest.fixture(scope="module")
-def hood(tmp_path_factory):
-    """The hood as an IGES trimmed surface (144 -> 128 surface, 142 boundary): its text."""
+def _hood_as_iges(folder: Path, mode: int) -> str:
+    """The hood sample written by OCCT's IGES writer (mode 0: faces, mode 1: B-rep): its text."""
     from OCP.IGESControl import IGESControl_Writer
 
     from cadartifact.exchange.occ import make_face
 
-    path = tmp_path_factory.mktemp("iges") / "hood.igs"
+    path = folder / f"hood_{mode}.igs"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        writer = IGESControl_Writer("MM", 0)
+        writer = IGESControl_Writer("MM", mode)
         writer.AddShape(make_face(read(SAMPLES / "car_hood_coarse.step").nets[0]))
         writer.ComputeModel()
         assert writer.Write(str(path))
     return path.read_text(encoding="latin-1")
+
+
+@pytest.fixture(scope="module")
+def hood(tmp_path_factory):
+    """The hood as an IGES trimmed surface (144 -> 128 surface, 142 boundary): its text."""
+    return _hood_as_iges(tmp_path_factory.mktemp("iges"), 0)
 
 
 def _with_surface(text: str, pointer: str) -> str:
@@ -348,18 +353,7 @@ def test_a_letter_in_a_numbers_only_record_of_the_chain_is_an_error(hood, kind, 
 @pytest.fixture(scope="module")
 def hood_brep(tmp_path_factory):
     """The hood as an IGES B-rep (mode 1: 510 face -> 128 surface, 508 loop -> 504 edge list -> 502 vertices)."""
-    from OCP.IGESControl import IGESControl_Writer
-
-    from cadartifact.exchange.occ import make_face
-
-    path = tmp_path_factory.mktemp("iges") / "hood_brep.igs"
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        writer = IGESControl_Writer("MM", 1)
-        writer.AddShape(make_face(read(SAMPLES / "car_hood_coarse.step").nets[0]))
-        writer.ComputeModel()
-        assert writer.Write(str(path))
-    return path.read_text(encoding="latin-1")
+    return _hood_as_iges(tmp_path_factory.mktemp("iges"), 1)
 
 
 def _directory(text: str) -> list[int]:
