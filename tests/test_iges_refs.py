@@ -392,6 +392,12 @@ _CHAIN_SLOTS = [
     ("brep", 504, 1, "an edge's curve", 128),
     ("brep", 504, 2, "an edge's start vertex list", 128),
     ("brep", 504, 4, "an edge's end vertex list", 110),
+    # the last slots of a record (a check of the first edge or part only would pass the rows above)
+    ("faces", 102, 4, "a part", 128),
+    ("brep", 504, 16, "an edge's curve", 128),
+    ("brep", 504, 19, "an edge's end vertex list", 110),
+    ("brep", 508, 23, "an edge's edge list", 126),
+    ("brep", 508, 28, "an edge's curve in the surface's parameters", 128),
 ]
 
 
@@ -502,3 +508,87 @@ def test_the_slots_of_a_corrupted_count_stop_at_the_record_s_end(kind, params):
     start = time.perf_counter()
     slots = _pointer_slots(kind, params)
     assert time.perf_counter() - start < 0.1 and 0 < len(slots) <= 3 * (len(params) + 1)
+
+
+def _retyped(text: str, d: int, kind: int) -> str:
+    """``text`` with entity ``D<d>``'s type made ``kind`` on both its directory lines."""
+    lines = text.split("\n")
+    rows = [k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "D" and int(ln[73:80]) in (d, d + 1)]
+    for k in rows:
+        lines[k] = str(kind).rjust(8) + lines[k][8:]
+    return "\n".join(lines)
+
+
+@pytest.mark.parametrize("kind", [100, 104, 106, 112, 126, 130, 116, 132])
+def test_every_kind_of_curve_or_point_that_may_stand_as_a_part_passes(hood, kind):
+    """No false refusal: a composite curve's part may be any curve, a point or a connect point (IGES 5.3 §4.4),
+    and a curve on a surface's curves any curve (the part's own record is not what this check reads)."""
+    types = _directory(hood)
+    part = 2 * types.index(110) + 1
+    text = _retyped(hood, part, kind)
+    assert iges_problem(text) is None
+    if kind not in (116, 132):
+        d142 = 2 * types.index(142) + 1
+        assert iges_problem(_set_parameter(text, d142, 3, str(part))) is None
+
+
+@pytest.mark.parametrize("record", ["142,0,3,7,,3;", "142,0,3,7;", "142,0,3,,17,3;"])
+def test_an_empty_or_omitted_curve_pointer_of_a_curve_on_a_surface_is_no_curve(hood, tmp_path, record):
+    """An empty or omitted parameter takes its default (0: no entity), which either curve of a curve on a surface
+    may be; OCCT reads such a file (one face), and so does the check."""
+    lines = hood.split("\n")
+    k = next(k for k, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P" and ln.startswith("142,"))
+    lines[k] = record.ljust(64) + lines[k][64:]
+    text = "\n".join(lines)
+    assert iges_problem(text) is None
+    path = tmp_path / "m.igs"
+    path.write_text(text, encoding="latin-1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert len(read(path).nets) == 1
+
+
+def test_composite_curves_that_contain_each_other_are_refused(hood, tmp_path):
+    """Two composite curves each naming the other as a part: OCCT's transfer recursed until the reader crashed
+    (an error naming no cause); the check names the cycle."""
+    types = _directory(hood)
+    a, b = (2 * k + 1 for k, t in enumerate(types) if t == 102)
+    text = _set_parameter(_set_parameter(hood, a, 1, str(b)), b, 1, str(a))
+    problem = iges_problem(text)
+    assert problem is not None and "a composite curve that contains itself through its parts" in problem, problem
+    assert f"D{a} -> D{b}" in problem or f"D{b} -> D{a}" in problem
+    path = tmp_path / "m.igs"
+    path.write_text(text, encoding="latin-1")
+    with pytest.raises(FileFormatError, match="contains itself through its parts"):
+        read(path)
+
+
+def test_an_over_long_integer_is_no_pointer_and_no_unexpected_error(hood, tmp_path):
+    """A pointer of 5000 digits (Python's int() refuses 4300 and more) behind a Hollerith count that hides it from
+    the number scan: "not a pointer", a one-line error naming the entity, no ValueError (it was an unexpected
+    failure of the analysis). The record is appended after the last parameter line and D5's entry pointed at it."""
+    lines = hood.split("\n")
+    p_rows = [i for i, ln in enumerate(lines) if len(ln) >= 73 and ln[72] == "P"]
+    d = 2 * _directory(hood).index(142) + 1
+    record = "142,99999H," + "3," + "9" * 5000 + ",17,3;"
+    chunks = [record[i:i + 64] for i in range(0, len(record), 64)]
+    lines[p_rows[-1] + 1:p_rows[-1] + 1] = [c.ljust(64) + "%8d" % d + "P%7d" % (len(p_rows) + 1 + j)
+                                             for j, c in enumerate(chunks)]
+    for i, ln in enumerate(lines):
+        if len(ln) >= 80 and ln[72] == "D" and int(ln[73:80]) == d:
+            lines[i] = ln[:8] + "%8d" % (len(p_rows) + 1) + ln[16:]
+        if len(ln) >= 80 and ln[72] == "D" and int(ln[73:80]) == d + 1:
+            lines[i] = ln[:24] + "%8d" % len(chunks) + ln[32:]
+    text = "\n".join(lines)
+    assert iges_problem(text) == (f"IGES entity D{d} (type 142, line {_directory_line(text, d)}): parameter 3 (its "
+                                  "curve in the surface's parameters) is not a pointer")
+    path = tmp_path / "m.igs"
+    path.write_text(text, encoding="latin-1")
+    with pytest.raises(FileFormatError, match="is not a pointer"):
+        read(path)
+
+
+def _directory_line(text: str, d: int) -> int:
+    """The file line of entity ``D<d>``'s first directory line."""
+    return next(k for k, ln in enumerate(text.split("\n"), start=1) if len(ln) >= 80 and ln[72] == "D"
+                and int(ln[73:80]) == d)

@@ -64,7 +64,8 @@ _VERTICES = frozenset({502})
 _REACHED = frozenset({142, 141, 508, 504, 102})
 _KINDS = {SURFACE_TYPES: "a surface type", _CURVE: "a curve type", _COMPONENT: "a curve or point type"}
 
-_NUMBER = re.compile(r"\s*[-+]?[0-9]+\s*\Z")
+# an integer of at most 15 digits (a longer one is no pointer or count; int() refuses 4300 digits and more)
+_NUMBER = re.compile(r"\s*[-+]?[0-9]{1,15}\s*\Z")
 # a parameter of a numbers-only record: an integer or a real (E or D exponent), or empty (the default value)
 _REAL = re.compile(r"\s*(?:[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?)?\s*\Z")
 # a number that may exceed MAX_ABS or not be finite: a positive exponent of 2+ digits, 13 digits after no point
@@ -305,6 +306,7 @@ def iges_problem(text: str) -> str | None:
     # the faces' roots, then what their pointers reach (boundaries, loops, edges, curves), each entity once
     work = [2 * k + 1 for k, kind in enumerate(types) if kind in (128, 144, 143, 510, 514)][::-1]
     seen = set(work)
+    parts: dict[int, list[int]] = {}  # composite curve -> its composite-curve parts (a cycle crashes OCCT)
     while work:
         d = work.pop()
         k, kind = (d - 1) // 2, types[(d - 1) // 2]
@@ -323,6 +325,8 @@ def iges_problem(text: str) -> str | None:
             continue
         for i, role, allowed, zero in _pointer_slots(kind, params):
             value = _int(params, i)
+            if value is None and zero and (i >= len(params) or not params[i].strip()):
+                value = 0  # an empty or omitted parameter takes its default: no entity, where none may stand
             if value is None:
                 return f"{label(d)}: parameter {i + 1} ({role}) is not a pointer"
             if value == 0 and zero:
@@ -336,10 +340,38 @@ def iges_problem(text: str) -> str | None:
                 expected = _KINDS.get(allowed) or " or ".join(str(x) for x in sorted(allowed))
                 return (f"D{value} is referenced by {label(d)} as {role}, and is type {target} (line "
                         f"{first_d + value - 1}), which cannot stand there (expected {expected})")
+            if kind == 102 and target == 102:
+                parts.setdefault(d, []).append(value)
             if target in _REACHED and value not in seen:
                 seen.add(value)
                 work.append(value)
-    return _token_problem(p_lines, d_lines, types, delimiter, end, label)
+    return _cycle_problem(parts, label) or _token_problem(p_lines, d_lines, types, delimiter, end, label)
+
+
+def _cycle_problem(parts: dict[int, list[int]], label) -> str | None:
+    """A composite curve (102) that contains itself through others (``D7 -> D17 -> D7``), or None: OCCT's transfer
+    follows a composite curve's parts recursively, and such a cycle was a segmentation fault of the reader.
+    ``parts``: each composite curve's composite-curve parts."""
+    state: dict[int, int] = {}  # 1: on the current path, 2: done
+    for root in parts:
+        if state.get(root):
+            continue
+        path, stack = [root], [iter(parts.get(root, ()))]
+        state[root] = 1
+        while stack:
+            nxt = next(stack[-1], None)
+            if nxt is None:
+                state[path.pop()] = 2
+                stack.pop()
+            elif state.get(nxt) == 1:
+                loop = path[path.index(nxt):] + [nxt]
+                return (f"{label(nxt)}: a composite curve that contains itself through its parts "
+                        f"({' -> '.join(f'D{x}' for x in loop)})")
+            elif not state.get(nxt):
+                state[nxt] = 1
+                path.append(nxt)
+                stack.append(iter(parts.get(nxt, ())))
+    return None
 
 
 _CHAIN = {str(t) for t in (*SURFACE_TYPES, 102, 141, 142, 143, 144, 502, 504, 508, 510, 514)}
