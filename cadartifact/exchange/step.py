@@ -155,16 +155,23 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
     return out
 
 
+#: Distinct faces beyond which the face records that came out as no face of their own are not named (naming maps
+#: each face back to its entity, and OCCT's lookup scans every transferred entity per face: 0.9 s at 4 000 faces).
+NAME_SPLIT_FACES_UP_TO = 2000
+
+
 def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, entities=None,
                           faces=None, records=None) -> list[str]:
     """A message when OCCT's transferred shape has more distinct faces than the file has face records, or none.
 
     Faces are told apart by their geometry and topology, not their placement (an assembly that places a part
-    twice transfers each face record twice, sharing one face: that is not counted). Each face beyond the
-    records maps to no face entity: OCCT's shape repair split a face whose geometry is broken (a vertex moved, a
-    corrupt control point of an edge curve: the fuzz campaign of seed 2732, one face record transferred as 2 or
-    3 faces, the gate's report silent). The faces are kept (they are what OCCT made of the file); the message
-    names the face records that came out as no face of their own.
+    twice transfers each face record twice, sharing one face: that is not counted). A file of no face record
+    (loose surfaces in a geometric set) has nothing to compare. Faces beyond the records are either faces of
+    other entities (loose surfaces beside a solid) or the pieces of a face OCCT's shape repair split, whose
+    geometry is broken (a vertex moved, a corrupt control point of an edge curve: the fuzz campaign of seed 2732,
+    one face record transferred as 2 or 3 faces, the gate's report silent). The faces are kept (they are what
+    OCCT made of the file); the message names the face records that came out as no face of their own (up to
+    :data:`NAME_SPLIT_FACES_UP_TO` faces), the split ones.
     """
     from OCP.TopLoc import TopLoc_Location
     from OCP.TopTools import TopTools_IndexedMapOfShape
@@ -173,8 +180,8 @@ def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_
     if entities is None:
         entities = _model_entities(reader)
     records = _face_records(entities) if records is None else records
-    if len(faces) <= len(records):
-        return []  # no more faces than records, so no more distinct ones (the common case: no map built)
+    if not records or len(faces) <= len(records):
+        return []  # no record to compare with, or no more faces than records (the common case: no map built)
     distinct = TopTools_IndexedMapOfShape()
     unplaced = TopLoc_Location()
     for face in faces:
@@ -182,6 +189,11 @@ def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_
     extra = distinct.Extent() - len(records)
     if extra <= 0:
         return []
+    head = (f"OCCT's transferred shape has {distinct.Extent()} distinct faces, {extra} more than the file's "
+            f"{len(records)} face records (ADVANCED_FACE, FACE_SURFACE)")
+    if distinct.Extent() > NAME_SPLIT_FACES_UP_TO:
+        return [f"{head}: faces of other entities, or faces OCCT's repair split (not named: more than "
+                f"{NAME_SPLIT_FACES_UP_TO} faces); the faces analysed are OCCT's"]
     number = {id(e): i for i, e in enumerate(entities, start=1)}
     transfer = reader.WS().TransferReader()
     mapped = set()
@@ -195,14 +207,15 @@ def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_
         text = fh.read().decode("latin-1")
     # the k-th face entity of the model is the k-th face record of the text (file order), even where a broken
     # record elsewhere shifted OCCT's entity numbers
-    faces = [f"#{i}" for i in declared_faces(text)]
-    label = dict(zip(records, faces)) if len(faces) == len(records) else {i: f"model entity {i}" for i in records}
+    ids = [f"#{i}" for i in declared_faces(text)]
+    label = dict(zip(records, ids)) if len(ids) == len(records) else {i: f"model entity {i}" for i in records}
     lost = [label[i] for i in records if i not in mapped]
-    which = (f"; face record{'s' if len(lost) > 1 else ''} {', '.join(lost[:5])}{' ...' if len(lost) > 5 else ''} "
-             f"came out as no face of {'their' if len(lost) > 1 else 'its'} own") if lost else ""
-    return [f"OCCT's transferred shape has {distinct.Extent()} distinct faces, {extra} more than the file's "
-            f"{len(records)} face records (ADVANCED_FACE, FACE_SURFACE): its repair split a face whose geometry is "
-            f"broken{which}; the faces analysed are OCCT's, not the file's"]
+    if not lost:  # every record is a face of its own: the others come from other entities (loose surfaces)
+        return [f"{head}: faces of other entities than face records (loose surfaces?); every face record is "
+                "analysed as itself"]
+    return [f"{head}: its repair split a face whose geometry is broken; face record{'s' if len(lost) > 1 else ''} "
+            f"{', '.join(lost[:5])}{' ...' if len(lost) > 5 else ''} came out as no face of "
+            f"{'their' if len(lost) > 1 else 'its'} own; the faces analysed are OCCT's, not the file's"]
 
 
 def _step_name(reader: STEPControl_Reader, path=None, *, entities=None, model_numbers: bool = False):
