@@ -99,11 +99,16 @@ def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, 
             return seen[(a, b)]
 
         low = (3, 3)
-        high = tuple(max(l + 1, min(max_points // 4, growth * n)) for l, n in zip(low, work.shape))
+        high = _search_high(low, work, growth, max_points)
         s2, ok2 = frontier(ok, low, high, tuple(shape))  # the schemes' answers lie near this scheme's
         out[other.name] = {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2),
                            "objective": "ripple", "advice": False}
     return out
+
+
+def _search_high(low, work: ControlNet, growth: int, max_points: int) -> tuple[int, int]:
+    """The comparison's search bound per direction: ``growth`` times today's points, within ``max_points / 4``."""
+    return tuple(max(l + 1, min(max_points // 4, growth * n)) for l, n in zip(low, work.shape))
 
 
 def _bspline_row(other, work: ControlNet, shape, fine, value, tolerance: float, objective: str, *, growth: int,
@@ -112,7 +117,7 @@ def _bspline_row(other, work: ControlNet, shape, fine, value, tolerance: float, 
     accepts (``value(scorer, a, b) <= tolerance``), searched on the frontier from the advised ``shape``."""
     sc = fine.with_degrees(other.degrees)
     low = tuple(d + 1 for d in sc.degrees)  # a uniform B-spline of degree d needs d + 1 points
-    high = tuple(max(l + 1, min(max_points // 4, growth * n)) for l, n in zip(low, work.shape))
+    high = _search_high(low, work, growth, max_points)
     start = tuple(max(l, min(h, s)) for l, h, s in zip(low, high, shape))
     s2, ok2 = frontier(lambda a, b: value(sc, a, b) <= tolerance, low, high, start)
     return {"net": list(s2), "points": int(s2[0] * s2[1]), "meets_tolerance": bool(ok2), "objective": objective,

@@ -49,22 +49,21 @@ class _Scorer:
     def with_plans(self, plans) -> "_Scorer":
         """This scorer with other :class:`~.joins.JoinPlan` per direction (a per-piece candidate's): the intent
         and the check grids' targets are shared, its scores are its own."""
-        import copy
-
-        other = copy.copy(self)
-        other.plans = tuple(plans)
-        # every cache keyed by the candidate's counts is the plan's own (the same counts, other knots)
-        other._scores, other._errors = {}, {}
-        other._halves = OperatorCache(8, shared=False)
-        return other
+        return self._variant(plans=tuple(plans))
 
     def with_degrees(self, degrees) -> "_Scorer":
         """This scorer for candidates of other B-spline degrees (a named scheme's uniform B-splines: the scheme
         comparison's best net of a density), with no joins: the intent and the check grids' targets are shared."""
+        return self._variant(degrees=tuple(int(d) for d in degrees), plans=(None, None))
+
+    def _variant(self, **changes) -> "_Scorer":
+        """A copy with other candidates (``changes``: their plans or degrees) sharing the intent and the targets;
+        every cache keyed by the candidate's counts is its own (the same counts make other candidates)."""
         import copy
 
         other = copy.copy(self)
-        other.degrees, other.plans = tuple(int(d) for d in degrees), (None, None)
+        for name, value in changes.items():
+            setattr(other, name, value)
         other._scores, other._errors = {}, {}
         other._halves = OperatorCache(8, shared=False)
         return other
