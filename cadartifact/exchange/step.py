@@ -100,6 +100,23 @@ def _face_records(entities: list) -> list[int]:
     return [i for i, e in enumerate(entities, start=1) if isinstance(e, StepShape_FaceSurface)]
 
 
+def _numbers(entities: list) -> dict[int, int]:
+    """``{id(entity): model number}``: OCP's ``model.Number(entity)`` answers 0, and pybind11 gives one wrapper per
+    C++ object, so ids identify them."""
+    return {id(e): i for i, e in enumerate(entities, start=1)}
+
+
+def _records_of(transfer, faces, number: dict[int, int]) -> set:
+    """The model numbers (``number``: :func:`_numbers`) of the entities ``faces`` were transferred from (OCCT's
+    lookup scans every transferred entity per face: call it only where a count says something is wrong)."""
+    got = set()
+    for face in faces:
+        entity = transfer.EntityFromShapeResult(face, 1)
+        if entity is not None:
+            got.add(number.get(id(entity)))
+    return got
+
+
 def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, ids=None,
                    entities=None, faces=None, records=None) -> list[str]:
     """One message per face entity (ADVANCED_FACE / FACE_SURFACE) of the file that is not in the transferred shape.
@@ -122,13 +139,8 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
         # through CONTEXT_DEPENDENT_SHAPE_REPRESENTATION), and OCCT's lookup scans every transferred
         # entity per face: a fifth of a second on a 500-face file
         return []
-    # OCP's model.Number(entity) answers 0; pybind11 gives one wrapper per C++ object, so ids identify them
-    number = {id(e): i for i, e in enumerate(entities, start=1)}
-    got = set()
-    for face in faces:
-        entity = transfer.EntityFromShapeResult(face, 1)
-        if entity is not None:
-            got.add(number.get(id(entity)))
+    number = _numbers(entities)
+    got = _records_of(transfer, faces, number)
     dropped = [i for i in declared if i not in got]
     if not dropped:
         return []
@@ -160,8 +172,8 @@ def _dropped_faces(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, 
 NAME_SPLIT_FACES_UP_TO = 2000
 
 
-def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_Shape, entities=None,
-                          faces=None, records=None) -> list[str]:
+def _faces_beyond_records(path: Path, reader: STEPControl_Reader, entities: list, faces: list,
+                          records: list[int]) -> list[str]:
     """A message when OCCT's transferred shape has more distinct faces than the file has face records, or none.
 
     Faces are told apart by their geometry and topology, not their placement (an assembly that places a part
@@ -176,10 +188,6 @@ def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_
     from OCP.TopLoc import TopLoc_Location
     from OCP.TopTools import TopTools_IndexedMapOfShape
 
-    faces = _shape_faces(shape) if faces is None else faces
-    if entities is None:
-        entities = _model_entities(reader)
-    records = _face_records(entities) if records is None else records
     if not records or len(faces) <= len(records):
         return []  # no record to compare with, or no more faces than records (the common case: no map built)
     distinct = TopTools_IndexedMapOfShape()
@@ -194,13 +202,8 @@ def _faces_beyond_records(path: Path, reader: STEPControl_Reader, shape: TopoDS_
     if distinct.Extent() > NAME_SPLIT_FACES_UP_TO:
         return [f"{head}: faces of other entities, or faces OCCT's repair split (not named: more than "
                 f"{NAME_SPLIT_FACES_UP_TO} faces); the faces analysed are OCCT's"]
-    number = {id(e): i for i, e in enumerate(entities, start=1)}
-    transfer = reader.WS().TransferReader()
-    mapped = set()
-    for k in range(1, distinct.Extent() + 1):
-        entity = transfer.EntityFromShapeResult(distinct.FindKey(k), 1)
-        if entity is not None:
-            mapped.add(number.get(id(entity)))
+    mapped = _records_of(reader.WS().TransferReader(), (distinct.FindKey(k) for k in range(1, distinct.Extent() + 1)),
+                         _numbers(entities))
     from .step_scan import declared_faces
 
     with open(path, "rb") as fh:
@@ -318,7 +321,7 @@ def read_step_audited(path, ids=None, *, model_numbers: bool = False
         faces, records = _shape_faces(shape), _face_records(entities)
         dropped = _dropped_faces(path, reader, shape, ids, entities, faces, records)
         return (shape, _step_name(reader, path, entities=entities, model_numbers=model_numbers), dropped,
-                [] if dropped else _faces_beyond_records(path, reader, shape, entities, faces, records))
+                [] if dropped else _faces_beyond_records(path, reader, entities, faces, records))
 
 
 def read_iges(path) -> tuple[TopoDS_Shape, None]:
