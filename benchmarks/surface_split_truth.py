@@ -3,7 +3,7 @@
 Run:  python benchmarks/surface_split_truth.py [--seed 2] [--cases 60] [--margin 12]
 
 The ``surface`` reading splits the real surface into its smooth part and its ripple (the measured road,
-:func:`cadartifact.analysis.fields.measured_fields`: a polynomial fit, a degree-7 Hermite bridge past each open
+:func:`cadartifact.analysis.fields.measured_fields`: a polynomial fit, a Hermite bridge past each open
 border, an FFT). What is uncertain is the border continuation. The truth used here: a clamped uniform
 B-spline face (the "long" face) ``margin`` spans longer at each border than the face under test, whose control
 points sample a known shape at their Greville abscissae (tests/known_shapes.py: cosines, sums of cosines,

@@ -94,10 +94,11 @@ def test_re_expressing_a_real_face_with_more_points_never_raises_its_ripple(face
 
 # ---------------------------------------------------------------- plausibility
 #: Largest ripple peak of any real face, as a share of its size (the diagonal of its control net's box).
-#: Found: 0.26 % (linkrods faces 23 and 36, 3 mm wide); every other face is below 0.07 %. The bound is twice the
+#: Found: 0.55 % (linkrods face 36, a 3 mm blend strip of three spans; 0.26 % before the fifth-order bridge of
+#: 2026-12-03). The bound is twice the
 #: largest found: a misreading of the kind issue 10 reported (a 129 mm "ripple" on a fuselage skin, 446 % on a
 #: ruled face) is orders of magnitude above it.
-PLAUSIBLE_SHARE = 0.005
+PLAUSIBLE_SHARE = 0.011
 
 
 @pytest.fixture(scope="module")
@@ -113,41 +114,49 @@ def test_every_real_face_ripples_by_a_small_fraction_of_its_size(all_budgets):
     assert len(all_budgets) == 108
     for name, net, b in all_budgets:
         assert b.stats["total"].peak <= PLAUSIBLE_SHARE * size_of(net), f"{name} face {net.origin.face}"
-    # and at 0.05 mm every real face passes: the largest ripple is 0.0072 mm
-    assert max(b.stats["total"].peak for _, _, b in all_budgets) < 0.05 * 0.2
+    # and at 0.05 mm every real face passes: the largest ripple is 0.0156 mm
+    assert max(b.stats["total"].peak for _, _, b in all_budgets) < 0.05 * 0.4
 
 
 #: The faces carrying the ten largest ripple peaks over all real files: (file, faces) -> (peak in mm, the
 #: direction carrying it, ...). Patterned copies of one face (same net, moved) are listed together.
 EXPLAINED = {
     ("linkrods.step", (23, 36)): (
-        (0.007183, 0.007215), "x1",
+        (0.013555, 0.015556), "x1",
         "Two 6x2 faces, cubic along u with 3 uneven spans (0.76/1.52/0.72 and 0.98/1.37/0.65 of the mean), "
         "straight (degree 1, recognised 'extruded: straight in v') across: a 3 mm wide blend strip of the "
         "Euclid-exported link rod. The cubic's uneven knots put third-derivative jumps at two interior knots that "
-        "no placement of its 6 points can smooth away: 0.0072 mm, 0.25 % of the strip's width, all along u (x1), "
-        "none across (straight) and none diagonal."),
+        "no placement of its 6 points can smooth away: 0.0136 and 0.0156 mm, 0.5 % of the strip's width, "
+        "all along u (x1), none across (straight) and none diagonal. On three spans the reading is mostly the "
+        "split's continuation past the borders (0.0072 mm each with the third-order bridge, 0.0048 and 0.0086 "
+        "with a fourth-order one; their midpoint re-expressions read 0.0005 and 0.0009: docs/model.md)."),
+    ("linkrods.step", (33,)): (
+        (0.008403, 0.008403), "x2",
+        "A 7x275 rational face, 46 mm: one degree-6 Bezier span across u (no ripple), degree 10 along v with 31 "
+        "distinct knots, many of them multiple, crowded near one end (spans down to 1e-3 of the range). The "
+        "ripple peaks in v's first span, at a border, and moves with the continuation there (0.0013 mm with the "
+        "third-order bridge): 0.018 % of the face's size."),
     ("nist_ctc_02_asme1_ap242-1.stp", (35, 361)): (
-        (0.007005, 0.007005), "x1",
+        (0.006255, 0.006255), "x1",
         "Two closed (periodic) rational cubic 18x3 faces, swept circular in v (recognised 'swept: circular in v'), "
         "with one knot of multiplicity 3 (a C0 seam): opened there into one uniform 19-pole piece (SPEC §4). "
-        "Along the 323 mm sweep the uniform cubic carries 0.0070 mm of ripple (2e-5 of its size), analysed in "
+        "Along the 323 mm sweep the uniform cubic carries 0.0063 mm of ripple (1.9e-5 of its size), analysed in "
         "homogeneous coordinates (weights 0.71-1); the circular direction carries none."),
     ("MAINBODY_BACK.stp", (12, 13)): (
-        (0.005303, 0.005303), "x1",
+        (0.002345, 0.002345), "x1",
         "The space-ship's rear body, two mirrored 12x6 degree-5 faces (CATIA V5): along u two knots of "
         "multiplicity 3 (C2 joins, below the degree, so not junctions) over spans 0.7/1.15/1.15 of the mean; v is "
-        "one Bezier span (no ripple). 0.0053 mm over a 170 mm face (3e-5): the fifth-degree joins' unsteerable "
+        "one Bezier span (no ripple). 0.0023 mm over a 170 mm face (1.4e-5): the fifth-degree joins' unsteerable "
         "part, in x1 only."),
     ("nist_ftc_07_asme1_rd.stp", (90, 102, 91, 103, 95, 106, 121, 125)): (
-        (0.002873, 0.002944), "x1+x2",
+        (0.003569, 0.003656), "x1+x2",
         "Bicubic 5x5 corner blends of the FTC-07 part (4.6 mm): one interior knot per direction splitting the "
-        "range 0.57/0.43, a C2 join whose third-derivative jump reads 0.0017 mm along each direction (x1, x2; "
-        "diagonal none): 0.064 % of the blend's size. Eight copies (the part's eight corners, mirrored)."),
+        "range 0.57/0.43, a C2 join whose third-derivative jump reads 0.0020 mm along each direction (x1, x2; "
+        "diagonal none): 0.08 % of the blend's size. Eight copies (the part's eight corners, mirrored)."),
     ("nist_ftc_07_asme1_rd.stp", (58, 65, 71, 78)): (
-        (0.002924, 0.002924), "x2",
+        (0.003492, 0.003492), "x2",
         "4x5 bicubic edge blends next to those corners: u is one Bezier span (no ripple), v has the same 0.43/0.57 "
-        "interior knot: 0.0029 mm along v only."),
+        "interior knot: 0.0035 mm along v only."),
 }
 
 

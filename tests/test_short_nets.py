@@ -8,12 +8,12 @@ and the sphere, along the graph's normal (to first order) for the others. The ri
 points can steer, so it stays within a small multiple of that distance (the band split's own constant on the
 fit's error).
 
-Both tests are expected to fail today (strict xfail): the measured road reads up to 4.3x the distance (median
-1.58x on these seeds) and advises the 6x4 arc 7x4. A trend of degree 6 on directions of 3-11 spans (instead of
-the scheme's degree, or half the spans) brings them to 2.7x and 1.20x and keeps the arc's 6x4 with the real
-faces' invariance intact, but it absorbs genuine ripple (a zigzag on the points of a 6-point direction reads
-0.40x of today's reading; ``benchmarks/short_nets_tradeoff.py``), lowers the largest real-file peaks, and 1.3x
-on every face is not reached by it: not applied (issue 23, item 5).
+With the measured road's fifth-order bridge (``BRIDGE_ORDER = 5``, since 2026-12-03) these faces read at most
+2.6x their distance (median 1.32-1.37 per seed; the third-order bridge before it: 4.3x, median 1.58), which is
+tested, and the 6x4 arc is advised 6x4 again. Issue 23 asks for 1.3x on every face: not reached (strict xfails).
+What is left is the band split's own constant on the fit's error and, on curved quadratic faces, the fit's
+tangential error at half a cycle per span, which the Cartesian split turns partly into normal ripple
+(``benchmarks/short_nets_tradeoff.py``; docs/model.md).
 """
 
 import numpy as np
@@ -113,30 +113,38 @@ def _family(seed, count, degrees=(2, 3)):
 SHORT_NETS_OPEN = "issue 23 item 5: short nets read part of a smooth shape's curvature as ripple"
 
 
-@pytest.mark.xfail(strict=True, reason=SHORT_NETS_OPEN)
-@pytest.mark.parametrize("seed", [11, 12, 13])
-def test_short_nets_read_no_more_ripple_than_their_distance_to_the_smooth_shape(seed):
-    """Nets of 5-10 points, degrees 2-3, five shapes at random sizes and directions: the ripple read is within
-    3x the surface's distance to the shape on every face and 1.3x on the median (today: 4.27x and 1.58 over the
-    three seeds; with a degree-6 trend 2.71x and 1.20, one seed's median 1.36). Where it comes from
-    (``benchmarks/short_nets_tradeoff.py``): on cubic directions of 6-7 points, the shape's own leakage (the
-    smooth shape alone reads 3.1-3.7x, the fit's error 0.9-1.1x); on quadratic ones, the split's constant on the
-    fit's error (2.4-2.7x). The degree-6 trend reads a genuine zigzag on 6-point directions at 0.40x of today's
-    reading, so it is not applied. Issue 23 asks for 1.3x on every face: not reached (see CHANGELOG)."""
-    ratios = []
+def _ratios(seed):
+    """``(ripple / distance, label)`` of the family's 25 faces of one seed."""
+    out = []
     for net, distance, text in _family(seed, 25):
-        d = _distance(net, distance)
-        r = ca.budget(net).stats["total"].peak
-        ratios.append(r / d)
-        assert r <= 3.0 * d, f"{text}: ripple {r:.3g} against distance {d:.3g} ({r / d:.2f}x)"
-    assert np.median(ratios) <= 1.3, np.round(sorted(ratios), 2)
+        out.append((ca.budget(net).stats["total"].peak / _distance(net, distance), text))
+    return out
+
+
+@pytest.mark.parametrize("seed", [11, 12, 13])
+def test_short_nets_read_at_most_three_times_their_distance_to_the_smooth_shape(seed):
+    """Nets of 5-10 points, degrees 2-3, five shapes at random sizes and directions: the ripple read is within
+    3x the surface's distance to the shape on every face and 1.5x on the median (fifth-order bridge: 2.59x and
+    1.32-1.37 over the three seeds; the third-order bridge read 4.27x and 1.58)."""
+    ratios = _ratios(seed)
+    for r, text in ratios:
+        assert r <= 3.0, f"{text}: ripple {r:.2f}x its distance to the shape"
+    assert np.median([r for r, _ in ratios]) <= 1.5, sorted(np.round([r for r, _ in ratios], 2))
 
 
 @pytest.mark.xfail(strict=True, reason=SHORT_NETS_OPEN)
-def test_a_60_degree_arc_on_a_6x4_cubic_net_keeps_its_net():
-    """Issue 23's fuselage section: the 6x4 cubic least-squares fit of a 60 degree arc of radius 1500 mm lies
-    within 0.035 mm of the arc; it reads no more ripple than that and is advised 6x4 at t = 0.05 (was 7x4:
-    it read 0.148 mm, 4.2x its distance to the arc)."""
+def test_short_nets_read_no_more_than_1_3_times_their_distance_on_every_face():
+    """Issue 23's bound: 1.3x on every face of the family. Reached on 32-48 % of the faces per seed; the worst
+    are arcs and spheres along quadratic directions (up to 2.6x: the fit's tangential error at half a cycle per
+    span, split in Cartesian components, is partly read along the normal), then the split's constant on the
+    fit's error."""
+    worst = max(max(r for r, _ in _ratios(seed)) for seed in (11, 12, 13))
+    assert worst <= 1.3
+
+
+def _arc_6x4():
+    """Issue 23's fuselage section: the 6x4 cubic least-squares fit of a 60 degree arc of radius 1500 mm, and its
+    largest distance to the arc."""
     R, ang = 1500.0, np.radians(60)
 
     def points(u, v):
@@ -144,8 +152,20 @@ def test_a_60_degree_arc_on_a_6x4_cubic_net_keeps_its_net():
         return np.stack([R * np.sin(a), 400.0 * t, R * np.cos(a)], -1)
 
     net = _fit(points, (6, 4), (3, 3))
-    d = _distance(net, lambda P: np.abs(np.hypot(P[..., 0], P[..., 2]) - R))
+    return net, _distance(net, lambda P: np.abs(np.hypot(P[..., 0], P[..., 2]) - R))
+
+
+def test_a_60_degree_arc_on_a_6x4_cubic_net_keeps_its_net():
+    """The arc's fit lies within 0.035 mm of the arc, and at t = 0.05 it is advised 6x4, conforming (the
+    third-order bridge read 0.148 mm of ripple, 4.2x the distance, and advised 7x4)."""
+    net, d = _arc_6x4()
     assert d < 0.04
-    assert ca.budget(net).stats["total"].peak <= 1.3 * d
     a = ca.advise(net, tolerance=0.05)
     assert a.shape == (6, 4) and a.meets_tolerance
+
+
+@pytest.mark.xfail(strict=True, reason=SHORT_NETS_OPEN)
+def test_a_60_degree_arc_on_a_6x4_cubic_net_reads_no_more_ripple_than_its_distance():
+    """Issue 23's bound on the arc: 1.3x its distance. It reads 0.048 mm, 1.37x."""
+    net, d = _arc_6x4()
+    assert ca.budget(net).stats["total"].peak <= 1.3 * d

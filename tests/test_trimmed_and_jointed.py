@@ -457,7 +457,8 @@ def _opened_cylinder(seed):
     rng = np.random.default_rng(seed)
     r = 10 + 0.002 * rng.normal(size=(n, 6))
     r[(g > 0.4) & (g < 0.65)] += 1.0 * rng.normal(size=(int(((g > 0.4) & (g < 0.65)).sum()), 6))
-    r[(g > 0.78) & (g < 0.95)] += 0.3 * rng.normal(size=(int(((g > 0.78) & (g < 0.95)).sum()), 6))
+    # signs, not normal draws: a draw near zero would leave the end part with no more ripple than the rest
+    r[(g > 0.78) & (g < 0.95)] += 0.3 * rng.choice([-1.0, 1.0], size=(int(((g > 0.78) & (g < 0.95)).sum()), 6))
     th = 2 * np.pi * g
     z = np.broadcast_to(np.arange(6.0)[None, :] * 3, (n, 6))
     pts = np.stack([r * np.cos(th)[:, None], r * np.sin(th)[:, None], z], -1)
@@ -484,5 +485,5 @@ def test_a_periodic_trim_across_the_opening_keeps_both_parts(seed, bounds):
     expected = max(first.max(), second.max())
     assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9)
     longer = first if hi > 1.0 - lo else second
-    assert trimmed.stats["total"].peak > 1.2 * longer.max()  # the shorter part carries the peak
+    assert trimmed.stats["total"].peak > 1.1 * longer.max()  # the shorter part carries the peak
     assert trimmed.stats["total"].peak < whole.stats["total"].peak

@@ -344,8 +344,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         # a face within the tolerance today is never advised more points, nor a net barely smaller
         # (SPEC §5: the advice is a fixed point; a flat frontier would otherwise wander)
         if (a, b) != tuple(work.shape):
-            notes.append(f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and the fewest-"
-                         f"points net found ({a}x{b}, {a * b} points) saves less than {MIN_REDUCTION:.0%}: "
+            found = f"the fewest-points net found ({a}x{b}, {a * b} points)"
+            why = ("the search found no net that conforms" if not meets
+                   else f"{found} is no smaller" if a * b >= work.shape[0] * work.shape[1]
+                   else f"{found} saves less than {MIN_REDUCTION:.0%}")
+            notes.append(f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and {why}: "
                          f"today's {work.shape[0]}x{work.shape[1]} is kept")
         a, b = work.shape
         kept, meets = True, True

@@ -247,8 +247,8 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
 
     The real surface (:func:`cadartifact.analysis.measure.real_surface`: exact NURBS evaluation of a face,
     numerical subdivision or the uniform B-spline of a cage) less a polynomial fit is continued past
-    each open border by a degree-7 Hermite bridge (:func:`_bridge`: value and three derivatives
-    continuous, exact for a B-spline's end span) and band-split by FFT (:func:`_bridged_bands`).
+    each open border by a Hermite bridge (:func:`_bridge`: value and five derivatives continuous,
+    exact for a B-spline's end span) and band-split by FFT (:func:`_bridged_bands`).
     The net's points never enter the split, so how they sit near a clamped border cannot leak into
     the ripple; periodic directions wrap, and there the road equals the predicted one to rounding.
     """
@@ -358,60 +358,72 @@ def _poly_fit(field: np.ndarray, frames, degrees) -> tuple[list, np.ndarray]:
     return V, sandwich(np.linalg.pinv(V[0]), field, np.linalg.pinv(V[1]))
 
 
+#: Derivatives the measured road's bridge matches at each open border (value and 1..BRIDGE_ORDER): a
+#: Hermite polynomial of degree ``2 BRIDGE_ORDER + 1``. Five keeps a smooth shape's fourth and fifth
+#: derivatives across the border, where a third-order bridge leaked a short net's curvature into the ripple
+#: band; four reads less on short faces but lets a knot insertion raise a 2-span face's lateral ripple
+#: (issue 23 item 5, docs/model.md).
+BRIDGE_ORDER = 5
+
+
 def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.ndarray:
     """A domain field extended to one period: wrapped (periodic), or bridged across the gap from its
-    end back to its start by a degree-7 Hermite polynomial matching value and first three derivatives
-    at both borders.
+    end back to its start by a Hermite polynomial of degree ``2 M + 1`` (``M =`` :data:`BRIDGE_ORDER`)
+    matching value and first ``M`` derivatives at both borders.
 
-    The derivatives come from a least-squares polynomial of degree ``min(degree, K, 5)`` over the
-    first (last) span's ``K + 1`` samples: exact for a B-spline face of that degree, whose end span
-    is one polynomial piece. The extension is then as smooth at the border as the surface is
-    inside, so the split sees no border beyond the surface's own knots.
+    The derivatives come from a least-squares polynomial of degree ``min(max(degree + 1, M), K, 7)``
+    over the first (last) span's ``K + 1`` samples: exact for a B-spline face of degree up to 6 (at the
+    default ``K = 8``), whose end span is one polynomial piece (its derivatives above ``degree`` are
+    zero). The extension is then as smooth at the border as the surface is inside an end span, so the
+    split sees no border beyond the surface's own knots.
     """
     if frame.periodic:
         return a
+    M = BRIDGE_ORDER
     m, N, K = a.shape[axis], frame.K * frame.period, frame.K
     G = N - m
     a0 = np.moveaxis(a, axis, 0)
     flat = a0.reshape(m, -1)
     w = min(m, K + 1)
-    d = int(min(max(degree, 3), w - 1, 5))
+    d = int(min(max(degree + 1, M), w - 1, 7))
     s_ = np.arange(w, dtype=float)
-    fact = np.array([1.0, 1.0, 2.0, 6.0, 24.0, 120.0])[: d + 1]
+    fact = np.cumprod(np.r_[1.0, np.arange(1.0, d + 1)])
     Vq = s_[:, None] ** np.arange(d + 1)[None, :] / fact[None, :]  # Taylor basis at s = 0
-    Pq = np.linalg.pinv(Vq)[:4]  # value and derivatives 1..3 (per fine step)
-    if Pq.shape[0] < 4:
-        Pq = np.vstack([Pq, np.zeros((4 - Pq.shape[0], w))])
+    Pq = np.linalg.pinv(Vq)[: M + 1]  # value and derivatives 1..M (per fine step)
+    if Pq.shape[0] < M + 1:  # too few samples for the higher derivatives: take them as zero
+        Pq = np.vstack([Pq, np.zeros((M + 1 - Pq.shape[0], w))])
     start = Pq @ flat[:w]
     end = Pq @ flat[::-1][:w]
-    end[1] *= -1.0  # odd derivatives along +index at the end
-    end[3] *= -1.0
+    end[1::2] *= -1.0  # odd derivatives along +index at the end
     Lg = float(G + 1)
     t = np.arange(1, G + 1, dtype=float) / Lg
-    H = _septic_hermite(t)  # (8, G)
-    scale = Lg ** np.arange(4)
-    coeffs = np.concatenate([end * scale[:, None], start * scale[:, None]], axis=0)  # (8, cols)
+    H = _hermite_basis(t, M)  # (2 M + 2, G)
+    scale = Lg ** np.arange(M + 1)
+    coeffs = np.concatenate([end * scale[:, None], start * scale[:, None]], axis=0)  # (2 M + 2, cols)
     gap = H.T @ coeffs
     out = np.concatenate([flat, gap], axis=0).reshape((N,) + a0.shape[1:])
     return np.moveaxis(out, 0, axis)
 
 
-_SEPTIC = None
+_HERMITE: dict = {}
 
 
-def _septic_hermite(t: np.ndarray) -> np.ndarray:
-    """``(8, len(t))``: degree-7 Hermite basis on [0, 1]: value and derivatives 1-3 at 0, then at 1."""
-    global _SEPTIC
-    if _SEPTIC is None:
+def _hermite_basis(t: np.ndarray, order: int) -> np.ndarray:
+    """``(2 order + 2, len(t))``: the degree ``2 order + 1`` Hermite basis on [0, 1]: value and
+    derivatives ``1..order`` at 0, then at 1."""
+    inv = _HERMITE.get(order)
+    if inv is None:
         from math import factorial
 
+        deg = 2 * order + 1
         rows = []
         for at in (0.0, 1.0):
-            for k in range(4):
-                rows.append([0.0 if j < k else factorial(j) / factorial(j - k) * at ** (j - k) for j in range(8)])
-        _SEPTIC = np.linalg.inv(np.array(rows))  # monomial coefficients: column c is basis function c
-    T = t[None, :] ** np.arange(8)[:, None]  # (8, G)
-    return _SEPTIC.T @ T
+            for k in range(order + 1):
+                rows.append([0.0 if j < k else factorial(j) / factorial(j - k) * at ** (j - k)
+                             for j in range(deg + 1)])
+        inv = _HERMITE[order] = np.linalg.inv(np.array(rows))  # monomial coefficients: column c is function c
+    T = t[None, :] ** np.arange(inv.shape[0])[:, None]
+    return inv.T @ T
 
 
 def _from_lifted(bands: dict, smooth: np.ndarray, surface: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
