@@ -82,16 +82,25 @@ def test_split_by_direction_equals_the_two_dimensional_transform(nu, nv, pu, pv,
     size = float(np.abs(field).max())
     bands, smooth, bb = F._bridged_bands(field, (fu, fv), _Bicubic, lateral=False)
     ref, ref_smooth, ref_bb = _two_dimensional_split(field, (fu, fv), _Bicubic)
-    # the bridge's fifth derivatives, estimated from one span's samples, carry the two orders' rounding
-    # (1e-16 of the field) into the gap about 1e6 times larger: equal to 1e-9 of the field, not 1e-10
-    for name in ("x1", "x2", "diagonal"):
-        np.testing.assert_allclose(bands[name], ref[name], atol=1e-9 * size, err_msg=name)
-    np.testing.assert_allclose(smooth, ref_smooth, atol=1e-9 * size)
-    # the base band evaluated anywhere (inside and past the borders), through the public evaluator
+    # The bridge carries its end spans' fifth derivatives across a gap of about 2n spans, so rounding
+    # grows there like n**5 (and with the shape's cycles across the face): on 30-span nets of this field
+    # the two roads part by up to 7e-7 of its size. Neither road is the exact one; the bound is what
+    # rounding does to the reference itself: the change 4 ulp of noise in the field make to it.
+    noisy = field * (1 + 4 * np.finfo(float).eps * np.random.default_rng(seed + 1).standard_normal(field.shape))
+    ref_n, ref_n_smooth, ref_n_bb = _two_dimensional_split(noisy, (fu, fv), _Bicubic)
     xs, ys = np.linspace(-1.5, fu.spans + 1.5, 11), np.linspace(-1.0, fv.spans + 1.0, 9)
-    holder = F.ArtifactFields(x=fu.x, y=fv.x, surface=field, intent=smooth, baseband=bb)
-    ref_holder = F.ArtifactFields(x=fu.x, y=fv.x, surface=field, intent=ref_smooth, baseband=ref_bb)
-    np.testing.assert_allclose(baseband_at(holder, xs, ys), baseband_at(ref_holder, xs, ys), atol=1e-9 * size)
+
+    def at(smooth_part, bb_part):
+        """The base band evaluated anywhere (inside and past the borders), through the public evaluator."""
+        return baseband_at(F.ArtifactFields(x=fu.x, y=fv.x, surface=field, intent=smooth_part, baseband=bb_part),
+                           xs, ys)
+
+    pairs = {name: (bands[name], ref[name], ref_n[name]) for name in ("x1", "x2", "diagonal")}
+    pairs["smooth"] = (smooth, ref_smooth, ref_n_smooth)
+    pairs["baseband"] = (at(smooth, bb), at(ref_smooth, ref_bb), at(ref_n_smooth, ref_n_bb))
+    for name, (fast, slow, slow_noisy) in pairs.items():
+        atol = 1e-10 * size + 4 * float(np.abs(slow_noisy - slow).max())
+        np.testing.assert_allclose(fast, slow, rtol=0, atol=atol, err_msg=name)
 
 
 @settings(max_examples=30, deadline=None)
