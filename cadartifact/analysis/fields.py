@@ -369,7 +369,8 @@ BRIDGE_ORDER = 5
 def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.ndarray:
     """A domain field extended to one period: wrapped (periodic), or bridged across the gap from its
     end back to its start by a Hermite polynomial of degree ``2 M + 1`` (``M =`` :data:`BRIDGE_ORDER`)
-    matching value and first ``M`` derivatives at both borders.
+    matching value and first ``M`` derivatives at both borders, evaluated in Bezier form
+    (:func:`_hermite_to_bezier`).
 
     The derivatives come from a least-squares polynomial of degree ``min(max(degree + 1, M), K, 7)``
     over the first (last) span's ``K + 1`` samples: exact for a B-spline face of degree up to 6 (at the
@@ -397,33 +398,39 @@ def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.n
     end[1::2] *= -1.0  # odd derivatives along +index at the end
     Lg = float(G + 1)
     t = np.arange(1, G + 1, dtype=float) / Lg
-    H = _hermite_basis(t, M)  # (2 M + 2, G)
     scale = Lg ** np.arange(M + 1)
-    coeffs = np.concatenate([end * scale[:, None], start * scale[:, None]], axis=0)  # (2 M + 2, cols)
-    gap = H.T @ coeffs
+    to_bezier = _hermite_to_bezier(M)  # (M + 1, M + 1): derivatives at an end -> the Bezier points near it
+    near_end = to_bezier @ (end * scale[:, None])
+    near_start = to_bezier @ (start * (scale * (-1.0) ** np.arange(M + 1))[:, None])
+    coeffs = np.concatenate([near_end, near_start[::-1]], axis=0)  # (2 M + 2, cols)
+    gap = _bernstein_basis(t, 2 * M + 1).T @ coeffs
     out = np.concatenate([flat, gap], axis=0).reshape((N,) + a0.shape[1:])
     return np.moveaxis(out, 0, axis)
 
 
-_HERMITE: dict = {}
+def _hermite_to_bezier(order: int) -> np.ndarray:
+    """``(order + 1, order + 1)``: a degree ``n = 2 order + 1`` polynomial's derivatives ``0..order`` at
+    ``t = 0`` -> its Bezier points ``b_0..b_order``: ``b_j = sum_k C(j, k) (n - k)! / n! P^(k)(0)``.
+
+    The bridge is evaluated in Bezier form because its basis is positive: rounding stays at ``eps`` of the
+    bridge's size. The Hermite basis in monomials cancels terms many orders larger than the bridge (a
+    72-point face's gap carries up to 1e5 times the face's values), and which way that rounding falls
+    depended on the BLAS kernel (1e-4 of a real face's ripple between two CPUs).
+    """
+    from math import comb, factorial
+
+    n = 2 * order + 1
+    return np.array([[comb(j, k) * factorial(n - k) / factorial(n) if k <= j else 0.0 for k in range(order + 1)]
+                     for j in range(order + 1)])
 
 
-def _hermite_basis(t: np.ndarray, order: int) -> np.ndarray:
-    """``(2 order + 2, len(t))``: the degree ``2 order + 1`` Hermite basis on [0, 1]: value and
-    derivatives ``1..order`` at 0, then at 1."""
-    inv = _HERMITE.get(order)
-    if inv is None:
-        from math import factorial
+def _bernstein_basis(t: np.ndarray, degree: int) -> np.ndarray:
+    """``(degree + 1, len(t))``: the Bernstein polynomials ``C(n, i) t**i (1 - t)**(n - i)`` on [0, 1]."""
+    from math import comb
 
-        deg = 2 * order + 1
-        rows = []
-        for at in (0.0, 1.0):
-            for k in range(order + 1):
-                rows.append([0.0 if j < k else factorial(j) / factorial(j - k) * at ** (j - k)
-                             for j in range(deg + 1)])
-        inv = _HERMITE[order] = np.linalg.inv(np.array(rows))  # monomial coefficients: column c is function c
-    T = t[None, :] ** np.arange(inv.shape[0])[:, None]
-    return inv.T @ T
+    i = np.arange(degree + 1)[:, None]
+    c = np.array([comb(degree, k) for k in range(degree + 1)], float)[:, None]
+    return c * t[None, :] ** i * (1.0 - t[None, :]) ** (degree - i)
 
 
 def _from_lifted(bands: dict, smooth: np.ndarray, surface: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:

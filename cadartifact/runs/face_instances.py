@@ -230,6 +230,15 @@ def instances(nets: list, rtol: float = RTOL) -> list[tuple[int, Motion | None]]
     return plan
 
 
+#: Below this share of a face's size a rigid match is exact to rounding: the note says this bound, not the
+#: residual itself, whose digits depend on the CPU's BLAS kernel.
+ROUNDING = 1e-12
+
+
+def _within(residual: float) -> str:
+    return f"to rounding: within {ROUNDING:.0e}" if residual <= ROUNDING else f"within {residual:.0e}"
+
+
 def instance_record(record: dict, face, net, motion: Motion) -> dict:
     """The document record of ``net``, an instance of ``face``, from ``face``'s record.
 
@@ -243,7 +252,7 @@ def instance_record(record: dict, face, net, motion: Motion) -> dict:
     rec.update(face=net.origin.face, name=net.origin.name, kind=net.origin.kind,
                entity=getattr(net.origin, "entity", None))
     rec["notes"] = list(rec.get("notes") or []) + [
-        f"{NOTE}{face.origin.face}, moved rigidly (within {max(motion.residual, 1e-16):.0e} of "
+        f"{NOTE}{face.origin.face}, moved rigidly ({_within(motion.residual)} of "
         "its size): its analysis is reused"]
     for c in rec.get("criteria") or []:  # the PDQ criteria's worst places move with the face
         if c.get("at") is not None:
