@@ -320,7 +320,7 @@ def budget_for(net: ControlNet, settings: RunSettings, *, keep_fields: bool = Fa
             b = _piecewise_budget(net, work, pieces, sch, settings, keep_fields)
         elif pieces[0].note:
             b = _budget_of(net, work, sch, settings, keep_fields)
-            b = dataclasses.replace(b, reason=f"{b.reason}; {pieces[0].note}", caveats=(pieces[0].note,))
+            b = dataclasses.replace(b, reason=f"{b.reason}; {pieces[0].note}", caveats=b.caveats + (pieces[0].note,))
     if b is None:
         b = _budget_of(net, work, sch, settings, keep_fields)
     options = (settings.method, settings.region)
@@ -364,8 +364,15 @@ def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=
         peak = float(scale.max()) if scale.size else 0.0
         check = {"method": other_name, "max_abs_diff": mad, "relative": mad / peak if peak > 0 else 0.0}
 
+    caveats = ()
+    if primary == "predicted" and face and it.homogeneous and not all(f.periodic for f in frames):
+        # measured on generated rational clamped faces (2026-12-03): 1.6-258x the real surface, median 11x
+        caveats = ("the predicted road reads the uniform theory's infinite net: at the clamped borders of a "
+                   "rational face it reads up to a few hundred times the real surface (method 'measured' reads the "
+                   "surface itself)",)
     return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=settings.tolerance,
                   metric=settings.metric, component=component, levels=levels, stats=stats, check=check, intent=intent,
+                  caveats=caveats,
                   undersampled=it.undersampled(),
                   fields=main if keep_fields else None,
                   scalar_fields=scalars if keep_fields or keep_scalars else None,
