@@ -38,6 +38,7 @@ from ..errors import check_option
 from .frames import AxisFrame
 from .bands import _baseband, _fine_freqs, _one_piece, baseband_bins, band_split, lateral_factors, lateral_of
 from .baseband import baseband_at
+from .clamped import clamped_syntheses
 from .settings import COMPONENTS, READINGS
 from .intent import Intent, _legendre, design_intent, from_homogeneous
 from ..numerics.operator_cache import OperatorCache
@@ -158,6 +159,9 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net", lateral: bool
     -------
     ArtifactFields
     """
+    synth = clamped_syntheses(intent, scheme)  # a rational face's clamped directions (issue 23 item 5)
+    if synth is not None:
+        return _predicted_separable(intent, scheme, reading, lateral, synth)
     if getattr(scheme, "tensor", False) and not any(getattr(scheme, "dual", (False, False))):
         return _predicted_separable(intent, scheme, reading, lateral)
     fu, fv = intent.frames
@@ -224,10 +228,16 @@ def _build_axis_synthesis(frame: AxisFrame, ax, scheme, axis: int):
     return low, high, low_at
 
 
-def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True) -> ArtifactFields:
-    """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials)."""
+def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True,
+                         synth: tuple | None = None) -> ArtifactFields:
+    """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials).
+
+    ``synth``: per direction ``(low, high, low_at)`` to use instead of :func:`_axis_synthesis` (None: that one),
+    as :func:`cadartifact.analysis.clamped.clamped_syntheses` gives for a rational face's clamped directions.
+    """
     fu, fv = intent.frames
-    (Lu, Hu, lu), (Lv, Hv, lv) = (_axis_synthesis(intent, scheme, k) for k in (0, 1))
+    synth = synth or (None, None)
+    (Lu, Hu, lu), (Lv, Hv, lv) = (synth[k] or _axis_synthesis(intent, scheme, k) for k in (0, 1))
     P = intent.lifted_points
     smooth = sandwich(Lu, P, Lv)
     bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
