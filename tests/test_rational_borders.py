@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from cadartifact.analysis import fields as F
+from cadartifact.analysis.baseband import baseband_at
 from cadartifact.analysis.budget import budget
 from cadartifact.analysis.clamped import clamped_syntheses, clamped_synthesis, uniform_equivalent
 from cadartifact.analysis.intent import design_intent, from_homogeneous
@@ -72,6 +73,8 @@ def test_predicted_surface_is_the_face(seed):
     assert np.abs(pf.surface - real).max() <= 1e-9 * np.ptp(net.points)
     smooth = pf.intent + pf.bands["total"]
     assert np.abs(smooth - real).max() <= 1e-3 * np.ptp(net.points)  # first-order projection of the ripple
+    # the surface reading's intent anywhere (the advice samples it) is the fields' own on the fine grid
+    assert np.abs(baseband_at(pf, pf.x, pf.y) - pf.intent).max() <= 1e-9 * np.ptp(net.points)
 
 
 def test_within_ten_percent_of_the_measured_road_with_a_long_bridge():
@@ -131,8 +134,9 @@ def test_a_ripple_free_direction_has_no_ripple_and_its_own_operators():
     assert abs(pb.stats["total"].peak / mb.stats["total"].peak - 1.0) <= 0.10
     sch = resolve_scheme(net, None)
     it = design_intent(net, sch, 3)
-    free = clamped_synthesis(it.frames[1], q, q, sch, 1)
     import dataclasses
 
-    rippled = clamped_synthesis(dataclasses.replace(it.frames[1], polynomial=False, spans=2, n=5), q, q, sch, 1)
-    assert not np.any(free[1]) and free[1] is not rippled[1]
+    free = clamped_synthesis(dataclasses.replace(it.frames[0], polynomial=True), p, p, sch, 0)
+    rippled = clamped_synthesis(it.frames[0], p, p, sch, 0)
+    assert not np.any(free[1]) and np.any(rippled[1])
+    assert np.allclose(free[0], rippled[0] + rippled[1], rtol=0, atol=1e-12)  # both the face, split or not
