@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import OptionError
+from .clamped import reads_clamped_borders
 from .fields import FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals, project
 from .intent import design_intent
 from ..net import ControlNet
@@ -365,11 +366,13 @@ def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=
         check = {"method": other_name, "max_abs_diff": mad, "relative": mad / peak if peak > 0 else 0.0}
 
     caveats = ()
-    if primary == "predicted" and face and it.homogeneous and not all(f.periodic for f in frames):
-        # measured on generated rational clamped faces (2026-12-03): 1.6-258x the real surface, median 11x
-        caveats = ("the predicted road reads the uniform theory's infinite net: at the clamped borders of a "
-                   "rational face it reads up to a few hundred times the real surface (method 'measured' reads the "
-                   "surface itself)",)
+    if (primary == "predicted" and face and it.homogeneous and not all(f.periodic for f in frames)
+            and not reads_clamped_borders(it, sch)):
+        # generated rational clamped faces, read as an infinite uniform net (2026-12-03): 1.6-258x the real
+        # surface, median 11x; clamped uniform knots are read from their uniform-equivalent points instead
+        caveats = ("the predicted road reads the uniform theory's infinite net: at the open borders of a rational "
+                   "face whose knots are not clamped uniform it can read up to a few hundred times the real surface "
+                   "(method 'measured' reads the surface itself)",)
     return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=settings.tolerance,
                   metric=settings.metric, component=component, levels=levels, stats=stats, check=check, intent=intent,
                   caveats=caveats,

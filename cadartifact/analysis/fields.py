@@ -38,8 +38,10 @@ from ..errors import check_option
 from .frames import AxisFrame
 from .bands import _baseband, _fine_freqs, _one_piece, baseband_bins, band_split, lateral_factors, lateral_of
 from .baseband import baseband_at
+from .clamped import clamped_syntheses
 from .settings import COMPONENTS, READINGS
 from .intent import Intent, _legendre, design_intent, from_homogeneous
+from ..numerics.hermite import bernstein_basis, hermite_to_bezier
 from ..numerics.operator_cache import OperatorCache
 from ..numerics.tensor import sandwich
 
@@ -158,6 +160,9 @@ def predicted_fields(intent: Intent, scheme, reading: str = "net", lateral: bool
     -------
     ArtifactFields
     """
+    synth = clamped_syntheses(intent, scheme)  # a rational face's clamped directions (issue 23 item 5)
+    if synth is not None:
+        return _predicted_separable(intent, scheme, reading, lateral, synth)
     if getattr(scheme, "tensor", False) and not any(getattr(scheme, "dual", (False, False))):
         return _predicted_separable(intent, scheme, reading, lateral)
     fu, fv = intent.frames
@@ -224,10 +229,16 @@ def _build_axis_synthesis(frame: AxisFrame, ax, scheme, axis: int):
     return low, high, low_at
 
 
-def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True) -> ArtifactFields:
-    """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials)."""
+def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = True,
+                         synth: tuple | None = None) -> ArtifactFields:
+    """:func:`predicted_fields` of a tensor scheme, direction by direction (each reproduces its polynomials).
+
+    ``synth``: per direction ``(low, high, low_at)`` to use instead of :func:`_axis_synthesis` (None: that one),
+    as :func:`cadartifact.analysis.clamped.clamped_syntheses` gives for a rational face's clamped directions.
+    """
     fu, fv = intent.frames
-    (Lu, Hu, lu), (Lv, Hv, lv) = (_axis_synthesis(intent, scheme, k) for k in (0, 1))
+    synth = synth or (None, None)
+    (Lu, Hu, lu), (Lv, Hv, lv) = (synth[k] or _axis_synthesis(intent, scheme, k) for k in (0, 1))
     P = intent.lifted_points
     smooth = sandwich(Lu, P, Lv)
     bands = {"x1": sandwich(Hu, P, Lv), "x2": sandwich(Lu, P, Hv), "diagonal": sandwich(Hu, P, Hv)}
@@ -370,7 +381,7 @@ def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.n
     """A domain field extended to one period: wrapped (periodic), or bridged across the gap from its
     end back to its start by a Hermite polynomial of degree ``2 M + 1`` (``M =`` :data:`BRIDGE_ORDER`)
     matching value and first ``M`` derivatives at both borders, evaluated in Bezier form
-    (:func:`_hermite_to_bezier`).
+    (:func:`cadartifact.numerics.hermite.hermite_to_bezier`).
 
     The derivatives come from a least-squares polynomial of degree ``min(max(degree + 1, M), K, 7)``
     over the first (last) span's ``K + 1`` samples: exact for a B-spline face of degree up to 6 (at the
@@ -399,38 +410,13 @@ def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.n
     Lg = float(G + 1)
     t = np.arange(1, G + 1, dtype=float) / Lg
     scale = Lg ** np.arange(M + 1)
-    to_bezier = _hermite_to_bezier(M)  # (M + 1, M + 1): derivatives at an end -> the Bezier points near it
+    to_bezier = hermite_to_bezier(M)  # (M + 1, M + 1): derivatives at an end -> the Bezier points near it
     near_end = to_bezier @ (end * scale[:, None])
     near_start = to_bezier @ (start * (scale * (-1.0) ** np.arange(M + 1))[:, None])
     coeffs = np.concatenate([near_end, near_start[::-1]], axis=0)  # (2 M + 2, cols)
-    gap = _bernstein_basis(t, 2 * M + 1).T @ coeffs
+    gap = bernstein_basis(t, 2 * M + 1).T @ coeffs
     out = np.concatenate([flat, gap], axis=0).reshape((N,) + a0.shape[1:])
     return np.moveaxis(out, 0, axis)
-
-
-def _hermite_to_bezier(order: int) -> np.ndarray:
-    """``(order + 1, order + 1)``: a degree ``n = 2 order + 1`` polynomial's derivatives ``0..order`` at
-    ``t = 0`` -> its Bezier points ``b_0..b_order``: ``b_j = sum_k C(j, k) (n - k)! / n! P^(k)(0)``.
-
-    The bridge is evaluated in Bezier form because its basis is positive: rounding stays at ``eps`` of the
-    bridge's size. The Hermite basis in monomials cancels terms many orders larger than the bridge (a
-    72-point face's gap carries up to 1e5 times the face's values), and which way that rounding falls
-    depended on the BLAS kernel (1e-4 of a real face's ripple between two CPUs).
-    """
-    from math import comb, factorial
-
-    n = 2 * order + 1
-    return np.array([[comb(j, k) * factorial(n - k) / factorial(n) if k <= j else 0.0 for k in range(order + 1)]
-                     for j in range(order + 1)])
-
-
-def _bernstein_basis(t: np.ndarray, degree: int) -> np.ndarray:
-    """``(degree + 1, len(t))``: the Bernstein polynomials ``C(n, i) t**i (1 - t)**(n - i)`` on [0, 1]."""
-    from math import comb
-
-    i = np.arange(degree + 1)[:, None]
-    c = np.array([comb(degree, k) for k in range(degree + 1)], float)[:, None]
-    return c * t[None, :] ** i * (1.0 - t[None, :]) ** (degree - i)
 
 
 def _from_lifted(bands: dict, smooth: np.ndarray, surface: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
