@@ -16,7 +16,9 @@ Checked:
   face -> surface -> poles), every entity of the chain has the number of parameters the schema gives
   (:data:`SCHEMA`), each reference stands where the schema allows its type (an unknown or corrupted
   keyword stands nowhere), and a B-spline surface's poles, and the control points of the B-spline curves the
-  edges name, are ``CARTESIAN_POINT`` entities with three coordinates.
+  edges name, are ``CARTESIAN_POINT`` entities with three coordinates;
+- the pcurves of the edges' curves on surfaces (:mod:`.step_pcurves`): their curves, and their B-spline
+  control points, 2D ``CARTESIAN_POINT`` entities (a broken one crashed OCCT's reader).
 
 The checks run on the records of those types by regular expressions that accept the well-formed
 record; only a record they do not accept is parsed (:func:`~.step_scan.parse_parameters`) to say what
@@ -31,7 +33,8 @@ from operator import itemgetter
 
 from ..errors import FileFormatError
 from .step_scan import clean_data, collapse_grids, data_section, parse_parameters, record_heads
-from .step_text import text_entity_lines
+from .step_pcurves import pcurves_problem
+from .step_records import CURVES, POINT3_SHAPE, SURFACES, Records as _Records, point_shapes_ok, reference_problem
 
 __all__ = ["SCHEMA", "SURFACES", "CURVES", "check_references", "reference_problem"]
 
@@ -43,20 +46,6 @@ LOOPS = frozenset({"EDGE_LOOP", "VERTEX_LOOP", "POLY_LOOP"})
 #: An oriented edge's edge (the schema's rule: not an oriented edge, so a reference cannot loop back).
 EDGES = frozenset({"EDGE_CURVE", "SUBEDGE"})
 VERTICES = frozenset({"VERTEX_POINT"})
-#: Surface entities of the STEP geometry schema (a complex instance qualifies with one of them as a part).
-SURFACES = frozenset({
-    "PLANE", "CYLINDRICAL_SURFACE", "CONICAL_SURFACE", "SPHERICAL_SURFACE", "TOROIDAL_SURFACE",
-    "DEGENERATE_TOROIDAL_SURFACE", "SURFACE_OF_LINEAR_EXTRUSION", "SURFACE_OF_REVOLUTION", "B_SPLINE_SURFACE",
-    "B_SPLINE_SURFACE_WITH_KNOTS", "BEZIER_SURFACE", "UNIFORM_SURFACE", "QUASI_UNIFORM_SURFACE",
-    "RATIONAL_B_SPLINE_SURFACE", "RECTANGULAR_TRIMMED_SURFACE", "OFFSET_SURFACE", "CURVE_BOUNDED_SURFACE",
-    "RECTANGULAR_COMPOSITE_SURFACE", "SURFACE_REPLICA"})
-#: Curve entities of the STEP geometry schema.
-CURVES = frozenset({
-    "LINE", "CIRCLE", "ELLIPSE", "PARABOLA", "HYPERBOLA", "POLYLINE", "B_SPLINE_CURVE", "B_SPLINE_CURVE_WITH_KNOTS",
-    "BEZIER_CURVE", "UNIFORM_CURVE", "QUASI_UNIFORM_CURVE", "RATIONAL_B_SPLINE_CURVE", "TRIMMED_CURVE",
-    "COMPOSITE_CURVE", "COMPOSITE_CURVE_ON_SURFACE", "OFFSET_CURVE_3D", "SURFACE_CURVE", "SEAM_CURVE",
-    "INTERSECTION_CURVE", "BOUNDED_CURVE", "CURVE_REPLICA", "PCURVE", "CURVE"})
-
 # one parameter slot: None (a value, not a reference), or (role, allowed types, a list of references?)
 _FACE_SLOTS = (None, ("a bound", BOUNDS, True), ("its surface", SURFACES, False), None)
 _SHELL_SLOTS = (None, ("a face", SHELL_FACES, True))
@@ -86,10 +75,6 @@ _NUM = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
 _POINT3 = re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:" + _STRING + r"|\$)\s*+,\s*+\(\s*+" + _NUM + r"\s*+,\s*+"
                      + _NUM + r"\s*+,\s*+" + _NUM + r"\s*+\)\s*+\)\s*+")
 _REFS_ANYWHERE = re.compile(r"#(\d+)")
-# a string ('' escapes a quote; an unterminated one runs to the end), a comment, or a statement end
-_STATEMENT_TOKENS = re.compile(r"'(?:[^']|'')*(?:'|\Z)|/\*.*?(?:\*/|\Z)|;", re.DOTALL)
-_STATEMENT_HEAD = re.compile(r"\s*(?:/\*.*?\*/\s*)*#(\d+)\s*=", re.DOTALL)
-_STRINGS_AND_COMMENTS = re.compile(_STRING + r"|/\*.*?\*/", re.DOTALL)
 
 
 def _fast_pattern(keyword: str, slots: tuple) -> re.Pattern:
@@ -111,134 +96,8 @@ _BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + pattern.pattern 
           for keyword, pattern in _FAST.items()}
 _BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + _POINT3.pattern + r"(?=;|\Z)")
 _DIGITS = re.compile(r"\d+")
-# the point statement's shape (see _point_shapes_ok): in bytes, \s as a str pattern's \s over latin-1, 0 for \d+
-_ZERO_DIGITS = bytes.maketrans(b"123456789", b"000000000")
-_S = rb"[\t\n\x0b\x0c\r\x1c-\x1f \x85\xa0]*+"
-_NUM0 = rb"[-+]?+(?:0(?:\.0?+)?+|\.0)(?:[eE][-+]?+0)?+"
-_POINT_SHAPE = re.compile(_S + rb"#0" + _S + rb"=" + _S + rb"CARTESIAN_POINT" + _S + rb"\(" + _S + rb"(?:'(?:[^']|'')*'|\$)"
-                          + _S + rb"," + _S + rb"\(" + _S + _NUM0 + _S + rb"," + _S + _NUM0 + _S + rb"," + _S + _NUM0
-                          + _S + rb"\)" + _S + rb"\)" + _S)
 _ON_CHAIN = frozenset({*SCHEMA, *SURFACE_ARITY, "("})
 _END = re.compile(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z")
-
-
-class _Records:
-    """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed).
-
-    ``data``: the section as :func:`~.step_scan.clean_data` gives it (a ``;`` ends a statement, always);
-    lines are counted on the file's own ``text``."""
-
-    def __init__(self, text: str, data: str, heads: list[tuple[str, str]], arities: dict | None = None):
-        self.text, self.data, self.heads = text, data, heads
-        self.arities = arities or {}
-        self._lines: dict[str, int] | None = None
-        self.kind = dict(heads)
-        # statement i + 1 of the section is record i, unless a ';' inside a string or comment shifts them:
-        # each use checks the statement's head and falls back to an exact index once
-        self.statements = data.split(";")
-        self._position: dict[str, int] | None = None
-        #: ``index[id]``: the record's position in ``heads`` (an array, from :func:`_references_defined`), or None
-        self.index = None
-        self.exact: dict[str, tuple[int, int]] | None = None
-
-    @property
-    def aligned(self) -> bool:
-        """Whether statement ``i + 1`` of the section is record ``i`` for every record: as many statements as
-        records, plus ``DATA`` before them and ``ENDSEC``, ``END-ISO-10303-21`` and the end after them."""
-        statements = self.statements
-        return (len(statements) == len(self.heads) + 4
-                and [s.strip() for s in statements[-3:]] == ["ENDSEC", "END-ISO-10303-21", ""])
-
-    @property
-    def position(self) -> dict[str, int]:
-        """``{id: index in heads}`` (built on first use)."""
-        if self._position is None:
-            self._position = dict(zip(map(itemgetter(0), self.heads), range(len(self.heads))))
-        return self._position
-
-    def body(self, ident: str) -> str:
-        """The record's text after ``#ident =``."""
-        i = int(self.index[int(ident)]) if self.index is not None else self.position[ident]
-        statement = self.statements[i + 1] if i + 1 < len(self.statements) else ""
-        head, sep, body = statement.partition("=")
-        if sep and head.strip() == "#" + ident and not body.count("'") % 2 and "/*" not in body:
-            return body  # the whole record (a ';' inside a string or comment would have cut it short)
-        found = self._exact().get(ident)
-        if found is None:  # not a well-formed record (an unbalanced quote): up to the next ';'
-            head = re.search(r"(?:^|;)\s*#" + ident + r"\s*=", self.data)
-            if head is None:
-                return ""
-            end = self.data.find(";", head.end())
-            found = head.end(), len(self.data) if end < 0 else end
-        return self.data[found[0]:found[1]]
-
-    def statement(self, ident: str) -> str:
-        """The statement ``#ident = ...`` as split at ``;`` (may be another one: :meth:`body` is exact)."""
-        return self.statement_at(self.position[ident])
-
-    def statement_at(self, i: int) -> str:
-        """The statement of record ``heads[i]`` as split at ``;`` (see :meth:`statement`)."""
-        i += 1
-        return self.statements[i] if i < len(self.statements) else ""
-
-    def _exact(self) -> dict[str, tuple[int, int]]:
-        """``{id: (start, end) of the body}`` from the statement ends outside strings and comments (one linear
-        pass; a regex that also had to end each record at a ';' could backtrack exponentially on '' runs)."""
-        if self.exact is None:
-            self.exact = {}
-            start = 0
-            for m in _STATEMENT_TOKENS.finditer(self.data):
-                if m.group(0) != ";":
-                    continue
-                head = _STATEMENT_HEAD.match(self.data, start, m.start())
-                if head is not None:
-                    self.exact.setdefault(head.group(1), (head.end(), m.start()))
-                start = m.end()
-        return self.exact
-
-    def line(self, ident: str) -> int | None:
-        """The 1-based line of ``#ident =`` in the file (an index of the text's lines, built on first use)."""
-        if self._lines is None:
-            self._lines = {}
-            for i, line, _ in text_entity_lines(self.text):
-                self._lines.setdefault(str(i), line)
-        return self._lines.get(ident)
-
-    def names(self, ident: str) -> list[str]:
-        """The keyword of a simple instance, the part keywords of a complex one."""
-        kind = self.kind[ident]
-        if kind != "(":
-            return [kind]
-        return re.findall(r"([A-Za-z_][A-Za-z_0-9]*)\s*\(", self.body(ident))  # a cleaned text: no strings to skip
-
-    def label(self, ident: str) -> str:
-        """``KEYWORD #id (line n)``."""
-        kind = self.kind[ident]
-        name = "complex instance" if kind == "(" else kind
-        line = self.line(ident)
-        return f"{name} #{ident}" + (f" (line {line})" if line else "")
-
-
-def reference_problem(records: _Records, target: str, role: str, allowed, owner: str) -> str | None:
-    """What is wrong with ``#target`` standing as ``role`` in ``#owner``, or None."""
-    kind = records.kind.get(target)
-    if kind is None:
-        return f"#{target} is referenced by {records.label(owner)} as {role}, and is not in the file"
-    if kind in allowed:
-        return None
-    names = records.names(target)
-    if not any(name in allowed for name in names):
-        where = f"#{target} is referenced by {records.label(owner)} as {role}, and"
-        what = " ".join(names) if kind == "(" else kind
-        line = records.line(target)
-        what = f"the {what} itself" if target == owner else what + (f" (line {line})" if line else "")
-        expected = " or ".join(sorted(allowed)) if len(allowed) <= 4 else f"one of {len(allowed)} {_family(role)}"
-        return f"{where} is {what}, which cannot stand there (expected {expected})"
-    return None
-
-
-def _family(role: str) -> str:
-    return {"its surface": "surface types", "its curve": "curve types"}.get(role, "types")
 
 
 def _slow_refs(records: _Records, ident: str, slots: tuple) -> list[tuple[str, tuple]] | str:
@@ -291,18 +150,22 @@ def _edge_curves_problem(records: _Records, indices: list[int]) -> str | None:
     """The control points of the B-spline curves of the edges (``EDGE_CURVE`` records ``heads[i]``, ``i`` in
     ``indices``), checked as a surface's poles are: OCCT read a malformed control point of an edge's curve
     (``'Control Point'l(``, a digit turned into a letter, a corrupted keyword) without a word, and its repair
-    split the face into pieces that are no face of the file (the seed-2732 campaign)."""
+    split the face into pieces that are no face of the file (the seed-2732 campaign). Then the pcurves of the
+    curves on surfaces (:func:`~.step_pcurves.pcurves_problem`)."""
     if not indices:
         return None
     curves = [m[3] for m in _BATCH["EDGE_CURVE"].findall(_pick(records, indices))]  # the well-formed edges
     kind = records.kind
+    on_surfaces = []
     for k, c in enumerate(curves):  # a curve on surfaces (OCCT writes these): its 3D curve, its first reference
         if kind.get(c) in _ON_SURFACES:
+            on_surfaces.append(c)
             first = _REFS_ANYWHERE.search(records.body(c))
             curves[k] = first.group(1) if first else c
     splines = [c for c in dict.fromkeys(curves) if kind.get(c) in _SPLINE_CURVES
                or (kind.get(c) == "(" and "B_SPLINE_CURVE" in records.names(c))]
-    return _poles_problem(records, splines, "a control point") if splines else None
+    return ((_poles_problem(records, splines, "a control point") if splines else None)
+            or pcurves_problem(records, on_surfaces))
 
 
 def _pick(records: _Records, indices: list[int]) -> str:
@@ -420,18 +283,10 @@ def _poles_problem(records: _Records, owners: list[str], role: str) -> str | Non
 
 
 def _point_shapes_ok(joined: str) -> bool:
-    """Whether every statement of ``joined`` (``;``-separated) is a well-formed 3D ``CARTESIAN_POINT``: its digits
-    made ``0`` and each run of them one ``0`` (a C-level translate and one array pass), the few distinct shapes
-    left are matched by :data:`_POINT_SHAPE` (the point regex with ``0`` for a run of digits: a text matches the
-    one exactly when its shape matches the other). Ids are not compared: the caller picked each statement by
-    its record's position in an aligned section (:attr:`_Records.aligned`)."""
-    import numpy as np
-
-    raw = np.frombuffer(joined.encode("latin-1", "replace").translate(_ZERO_DIGITS), np.uint8)
-    zero = raw == 48
-    keep = np.ones(len(raw), bool)
-    keep[1:] = ~(zero[1:] & zero[:-1])
-    return all(map(_POINT_SHAPE.fullmatch, set(raw[keep].tobytes().split(b";"))))
+    """Whether every statement of ``joined`` is a well-formed 3D ``CARTESIAN_POINT``
+    (:func:`~.step_records.point_shapes_ok`; ids are not compared: the caller picked each statement by its record's
+    position in an aligned section, :attr:`~.step_records.Records.aligned`)."""
+    return point_shapes_ok(joined, POINT3_SHAPE)
 
 
 def _point_problem(records: _Records, ident: str) -> str:

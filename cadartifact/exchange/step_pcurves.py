@@ -1,0 +1,157 @@
+"""The pcurves of a STEP file's edges: what OCCT's reader cannot survive in them, named before it runs.
+
+An edge's ``SURFACE_CURVE`` / ``SEAM_CURVE`` names its 3D curve and, for each face it bounds, a ``PCURVE``: the
+edge in that face's parameters, a ``DEFINITIONAL_REPRESENTATION`` whose items are 2D curves. Measured on
+``linkrods.step`` (2026-12-04): OCCT's STEP reader crashes (SIGSEGV) when a control point of a B-spline pcurve is
+not a ``CARTESIAN_POINT`` (a corrupted keyword, a ``DIRECTION``) or when the pcurve's curve keyword is corrupted;
+it reads a control point with a missing or malformed list of coordinates without a word. The reader child
+turns a crash into an error ("the STEP reader crashed"); this scan names the record instead::
+
+    #38 is referenced by B_SPLINE_CURVE_WITH_KNOTS #36 (line 50) as a control point of a pcurve, and is
+    XCARTESIAN_POINT (line 60), which cannot stand there (expected CARTESIAN_POINT)
+
+Checked, for the pcurves the file's edges name: each item of a pcurve's representation is a curve, and each
+control point of a B-spline pcurve is a ``CARTESIAN_POINT`` with two coordinates (three are accepted: OCCT reads
+them, and some writers give them). A ``PCURVE`` record that is not well formed, or whose representation is not a
+``DEFINITIONAL_REPRESENTATION``, is left to OCCT, which reads such files without harm (measured on the same file).
+"""
+
+from __future__ import annotations
+
+import re
+from operator import itemgetter
+
+from .step_records import CURVES, POINT2_SHAPE, Records, point_shapes_ok, reference_problem
+
+__all__ = ["pcurves_problem", "PCURVE_CURVES"]
+
+#: Curve entities an item of a pcurve's representation may be (the 2D offset curve besides the schema's curves).
+PCURVE_CURVES = CURVES | {"OFFSET_CURVE_2D"}
+_SPLINES = frozenset({"B_SPLINE_CURVE_WITH_KNOTS", "B_SPLINE_CURVE"})
+_REFS = re.compile(r"#(\d+)")
+_NUM = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
+_POINT2 = re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:'(?:[^']|'')*'|\$)\s*+,\s*+\(\s*+" + _NUM
+                     + r"\s*+,\s*+" + _NUM + r"(?:\s*+,\s*+" + _NUM + r")?+\s*+\)\s*+\)\s*+")
+_HEAD = r"(?:^|(?<=;))\s*+#(\d++)\s*+=\s*+"
+_TAIL = r"\s*+(?=;|\Z)"
+_NAME = r"(?:'(?:[^']|'')*'|\$)"
+_LIST = r"\(\s*+(#\d++(?:\s*+,\s*+#\d++)*+)\s*+\)"
+_BATCH_POINT2 = re.compile(_HEAD + _POINT2.pattern + _TAIL)
+#: ``(id, associated geometry)`` of a well-formed curve on surfaces (its 3D curve, the list, its master).
+_ON_SURFACE = re.compile(_HEAD + r"(?:SURFACE_CURVE|SEAM_CURVE|INTERSECTION_CURVE)\s*+\(\s*+" + _NAME
+                         + r"\s*+,\s*+#\d++\s*+,\s*+" + _LIST + r"\s*+,\s*+\.[A-Z_0-9]++\.\s*+\)" + _TAIL)
+_PCURVE = re.compile(_HEAD + r"PCURVE\s*+\(\s*+" + _NAME + r"\s*+,\s*+#(\d++)\s*+,\s*+#(\d++)\s*+\)" + _TAIL)
+#: ``(id, items)`` of a well-formed definitional representation (its context, a reference, not kept).
+_DEFREP = re.compile(_HEAD + r"DEFINITIONAL_REPRESENTATION\s*+\(\s*+" + _NAME + r"\s*+,\s*+" + _LIST
+                     + r"\s*+,\s*+#\d++\s*+\)" + _TAIL)
+
+
+def pcurves_problem(records: Records, on_surfaces: list[str]) -> str | None:
+    """The first broken link of the pcurves of the curves on surfaces ``on_surfaces`` (ids of ``SURFACE_CURVE``,
+    ``SEAM_CURVE`` or ``INTERSECTION_CURVE`` records that edges name), or None.
+
+    Parameters
+    ----------
+    records : Records
+    on_surfaces : list of str
+        Record ids; their references after the first (the 3D curve) are the associated geometry.
+
+    Returns
+    -------
+    str or None
+        ``"#ID is referenced by KEYWORD #OWNER (line N) as ROLE, and ..."``.
+    """
+    kind = records.kind
+    on_surfaces = list(dict.fromkeys(on_surfaces))
+    if not on_surfaces:
+        return None
+    # each step reads the well-formed records by one regex over their statements joined (C loops); a record it
+    # does not accept (or a section whose statements are not one per record) is read one by one
+    found = _batch(records, on_surfaces, _ON_SURFACE)
+    if found is None:
+        refs = [r for c in on_surfaces for r in _REFS.findall(records.body(c))[1:]]
+    else:
+        refs = _REFS.findall(",".join(m[1] for m in found))
+    pcurves = [r for r in dict.fromkeys(refs) if kind.get(r) == "PCURVE"]
+    if not pcurves:
+        return None
+    found = _batch(records, pcurves, _PCURVE)
+    pairs = ([_REFS.findall(records.body(pc)) for pc in pcurves] if found is None
+             else [[m[1], m[2]] for m in found])
+    reps = [r[1] for r in pairs if len(r) == 2 and kind.get(r[1]) == "DEFINITIONAL_REPRESENTATION"]
+    reps = list(dict.fromkeys(reps))
+    if not reps:
+        return None
+    found = _batch(records, reps, _DEFREP)
+    items = ([(rep, _REFS.findall(records.body(rep))[:-1]) for rep in reps] if found is None
+             else [(m[0], _REFS.findall(m[1])) for m in found])
+    every = list(dict.fromkeys(i for _, its in items for i in its))
+    if set(map(kind.get, every)) <= PCURVE_CURVES:  # all simple curves (C loops): no problem, only splines to read
+        splines = [i for i in every if kind[i] in _SPLINES]
+    else:
+        splines = []
+        for rep, its in items:
+            for item in its:
+                problem = reference_problem(records, item, "its curve", PCURVE_CURVES, rep)
+                if problem:
+                    return problem
+                if kind[item] in _SPLINES or (kind[item] == "(" and "B_SPLINE_CURVE" in records.names(item)):
+                    splines.append(item)
+    return _control_points_problem(records, list(dict.fromkeys(splines)))
+
+
+def _statements(records: Records, idents: list[str]) -> str:
+    """The statements of records ``idents`` (statement ``i + 1`` is record ``i`` where the section is aligned),
+    joined by ``;``; "" when some index is past the section."""
+    if records.index is not None:
+        import numpy as np
+
+        where = (records.index[np.fromiter(map(int, idents), np.int64, len(idents))] + 1).tolist()
+    else:
+        where = [records.position[p] + 1 for p in idents]
+    if max(where) >= len(records.statements):
+        return ""
+    picked = itemgetter(*where)(records.statements)
+    return picked if len(idents) == 1 else ";".join(picked)
+
+
+def _batch(records: Records, idents: list[str], pattern: re.Pattern) -> list[tuple] | None:
+    """``pattern``'s matches over the statements of ``idents`` (its first group the id), or None unless every
+    record matched, in order (then the caller reads them one by one)."""
+    found = pattern.findall(_statements(records, idents))
+    return found if [m[0] for m in found] == idents else None
+
+
+def _control_points_problem(records: Records, splines: list[str]) -> str | None:
+    """Every reference of the B-spline pcurves ``splines`` names a 2D (or 3D) ``CARTESIAN_POINT``, or the first
+    that does not. The common case (all well formed) is one regex over the points' statements joined."""
+    if not splines:
+        return None
+    kind = records.kind
+    if records.aligned:  # each statement its record's: their own ids are among the references found
+        heads = set(splines)
+        points = [p for p in dict.fromkeys(_REFS.findall(_statements(records, splines))) if p not in heads]
+    else:
+        points = list(dict.fromkeys(_REFS.findall(";".join(map(records.body, splines)))))
+    if set(map(kind.get, points)) <= {"CARTESIAN_POINT"} and _all_points(records, points):
+        return None
+    role = "a control point of a pcurve"
+    for spline in splines:
+        for point in dict.fromkeys(_REFS.findall(records.body(spline))):
+            problem = reference_problem(records, point, role, {"CARTESIAN_POINT"}, spline)
+            if problem:
+                return problem
+            if not _POINT2.fullmatch(records.body(point)):
+                line = records.line(point)
+                return (f"#{point} is referenced by {records.label(spline)} as {role}, and its record"
+                        f"{f' (line {line})' if line else ''} is not a point with two coordinates")
+    return None
+
+
+def _all_points(records: Records, points: list[str]) -> bool:
+    """Whether each of ``points`` has its own statement, a well-formed 2D or 3D point (by the statements' shapes
+    where the section is aligned, else by a regex that also reads their ids)."""
+    joined = _statements(records, points)
+    if records.aligned and point_shapes_ok(joined, POINT2_SHAPE):
+        return True
+    return _BATCH_POINT2.findall(joined) == points

@@ -1,0 +1,144 @@
+"""The pcurves of STEP edges (cadartifact/exchange/step_pcurves.py): what crashes OCCT's reader in them is an
+error naming the record, before OCCT runs.
+
+Measured on linkrods.step (2026-12-04): a pcurve control point renamed or made a DIRECTION, or the pcurve's
+curve keyword corrupted, crashed the reader (SIGSEGV: "the STEP reader crashed on this file"); a control point
+with no or malformed coordinates was read without a word. Family: 40 of the file's 216 B-spline pcurves per
+way, a control point of each drawn at random and broken four ways; the message is checked against an
+independent reading of the mutant's text (the records' lines found by a plain search).
+"""
+
+from __future__ import annotations
+
+import random
+import re
+from pathlib import Path
+
+import pytest
+
+from cadartifact.errors import FileFormatError
+from cadartifact.exchange.step_refs import check_references
+
+REALDATA = Path(__file__).resolve().parents[2] / "shared" / "realdata"
+LINKRODS = REALDATA / "step" / "linkrods.step"
+
+BREAKS = {
+    "renamed": (lambda body: body.replace("CARTESIAN_POINT", "XCARTESIAN_POINT", 1),
+                "is XCARTESIAN_POINT (line {line}), which cannot stand there (expected CARTESIAN_POINT)"),
+    "a direction": (lambda body: body.replace("CARTESIAN_POINT", "DIRECTION", 1),
+                    "is DIRECTION (line {line}), which cannot stand there (expected CARTESIAN_POINT)"),
+    "no coordinates": (lambda body: "CARTESIAN_POINT('')",
+                       "its record (line {line}) is not a point with two coordinates"),
+    "a letter in a number": (lambda body: re.sub(r"(\d)(\d)", r"\1x", body, count=1),
+                             "its record (line {line}) is not a point with two coordinates"),
+}
+
+
+@pytest.fixture(scope="module")
+def text() -> str:
+    if not LINKRODS.exists():
+        pytest.skip(f"{LINKRODS} is absent (shared/realdata beside the checkout)")
+    return LINKRODS.read_bytes().decode("latin-1")
+
+
+def _line(text: str, ident: str) -> int:
+    """The 1-based line where ``#ident =`` starts (independent of the scan's own index)."""
+    m = re.search(r"(?m)^#" + ident + r"\s*=", text)
+    return text.count("\n", 0, m.start()) + 1
+
+
+def _pcurve_splines(text: str) -> list[tuple[str, str, list[str]]]:
+    """``(spline id, its keyword as the message names it, its control point ids)`` of every B-spline curve that
+    a DEFINITIONAL_REPRESENTATION names (how linkrods writes pcurves), by a plain reading of the text."""
+    records = dict(re.findall(r"(?ms)^#(\d+)\s*=\s*(.*?);\s*$", text))
+    out = []
+    for body in records.values():
+        if not body.startswith("DEFINITIONAL_REPRESENTATION"):
+            continue
+        for item in re.findall(r"#(\d+)", body)[:-1]:
+            spline = records[item]
+            if spline.startswith("B_SPLINE_CURVE_WITH_KNOTS"):
+                name = "B_SPLINE_CURVE_WITH_KNOTS"
+            elif spline.startswith("(") and "B_SPLINE_CURVE" in spline:
+                name = "complex instance"
+            else:
+                continue
+            out.append((item, name, list(dict.fromkeys(re.findall(r"#(\d+)", spline)))))
+    return out
+
+
+def test_the_intact_file_passes(text):
+    check_references(LINKRODS, text)
+    assert len(_pcurve_splines(text)) >= 100  # the family below is not empty
+
+
+@pytest.mark.parametrize("how", sorted(BREAKS))
+def test_a_broken_control_point_of_every_b_spline_pcurve_is_named(text, how):
+    rng = random.Random(f"pcurves-{how}")
+    breaker, said = BREAKS[how]
+    splines = _pcurve_splines(text)
+    first_owner = {}  # a point shared by two pcurves is named with the first in the scan's order
+    for spline, name, points in splines:
+        for p in points:
+            first_owner.setdefault(p, (spline, name))
+    for spline, name, points in rng.sample(splines, min(len(splines), 40)):
+        point = rng.choice(points)
+        m = re.search(r"(?m)^#" + point + r"\s*=\s*(CARTESIAN_POINT\([^;]*\))\s*;", text)
+        mutant = text[:m.start(1)] + breaker(m.group(1)) + text[m.end(1):]
+        with pytest.raises(FileFormatError) as caught:
+            check_references(LINKRODS, mutant)
+        owner, owner_name = first_owner[point]
+        want = (f"{LINKRODS}: #{point} is referenced by {owner_name} #{owner} (line {_line(mutant, owner)}) as a "
+                f"control point of a pcurve, and " + said.format(line=_line(mutant, point)))
+        assert str(caught.value) == want
+
+
+def test_a_corrupted_pcurve_keyword_is_named(text):
+    m = re.search(r"(?m)^#(\d+) = B_SPLINE_CURVE_WITH_KNOTS\(", text)
+    ident = m.group(1)
+    rep = re.search(r"(?m)^#(\d+) = DEFINITIONAL_REPRESENTATION\('',\(#" + ident + r"\)", text).group(1)
+    mutant = text.replace(m.group(0), f"#{ident} = B_SPLINE_CURVE_WITH_KNOTX(", 1)
+    with pytest.raises(FileFormatError, match=re.escape(
+            f"#{ident} is referenced by DEFINITIONAL_REPRESENTATION #{rep} (line {_line(mutant, rep)}) as its "
+            f"curve, and is B_SPLINE_CURVE_WITH_KNOTX (line {_line(mutant, ident)}), which cannot stand there")):
+        check_references(LINKRODS, mutant)
+
+
+@pytest.mark.parametrize("before, after", [
+    ("#29 = PCURVE('',#30,#35);", "#29 = XPCURVE('',#30,#35);"),
+    ("#35 = DEFINITIONAL_REPRESENTATION(", "#35 = XDEFINITIONAL_REPRESENTATION("),
+    ("#29 = PCURVE('',#30,#35);", "#29 = PCURVE('',#30,#37);"),
+    ("#38 = CARTESIAN_POINT('',(4.759988869076E-002,4.712388980385));",
+     "#38 = CARTESIAN_POINT('',(4.759988869076E-002,4.712388980385,0.));"),
+], ids=["pcurve keyword", "representation keyword", "representation a point", "a 3-D control point"])
+def test_what_occt_reads_without_harm_is_left_to_it(text, before, after):
+    """A pcurve OCCT reads its own way (a corrupted PCURVE or representation keyword, a representation that is
+    not one, a third coordinate): the file's faces and report are as the intact file's (checked on linkrods,
+    2026-12-04), so the scan does not refuse it."""
+    assert text.count(before) == 1
+    check_references(LINKRODS, text.replace(before, after))
+
+
+def test_the_gate_says_it_in_one_line_with_exit_2(text, tmp_path):
+    from typer.testing import CliRunner
+
+    from cadartifact.cli.app import app
+
+    path = tmp_path / "rods.step"
+    path.write_bytes(text.replace("#38 = CARTESIAN_POINT(", "#38 = XCARTESIAN_POINT(", 1).encode("latin-1"))
+    r = CliRunner().invoke(app, ["gate", str(path), "--tol", "0.05"])
+    assert r.exit_code == 2 and "Traceback" not in r.output and "crashed" not in r.output
+    assert "#38 is referenced by B_SPLINE_CURVE_WITH_KNOTS #36" in r.output
+
+
+def test_a_semicolon_inside_a_string_does_not_hide_a_broken_point(text):
+    """A ';' inside a name shifts the section's statements from its records: the batch readings see it and the
+    records are read one by one (the same message)."""
+    shifted = text.replace("#29 = PCURVE('',#30,#35);", "#29 = PCURVE('a;b',#30,#35);", 1)
+    assert shifted != text
+    check_references(LINKRODS, shifted)
+    mutant = shifted.replace("#38 = CARTESIAN_POINT(", "#38 = XCARTESIAN_POINT(", 1)
+    with pytest.raises(FileFormatError, match=re.escape(
+            f"#38 is referenced by B_SPLINE_CURVE_WITH_KNOTS #36 (line {_line(mutant, '36')}) as a control point of a "
+            f"pcurve, and is XCARTESIAN_POINT (line {_line(mutant, '38')})")):
+        check_references(LINKRODS, mutant)
