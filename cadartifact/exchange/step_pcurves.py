@@ -83,14 +83,17 @@ def pcurves_problem(records: Records, on_surfaces: list[str]) -> str | None:
     if not reps:
         return None
     found = _batch(records, reps, _DEFREP)
-    items = ([(rep, _REFS.findall(records.body(rep))[:-1]) for rep in reps] if found is None
-             else [(m[0], _REFS.findall(m[1])) for m in found])
-    every = list(dict.fromkeys(i for _, its in items for i in its))
-    if set(map(kind.get, every)) <= PCURVE_CURVES:  # all simple curves (C loops): no problem, only splines to read
-        splines = [i for i in every if kind[i] in _SPLINES]
+    every = (list(dict.fromkeys(_REFS.findall(",".join(map(itemgetter(1), found))))) if found is not None
+             else None)
+    # the common case: every item a curve, simple (C loops) or complex with a curve part (rational B-splines)
+    parts = ({i: records.names(i) for i in every if kind[i] == "("}
+             if every is not None and set(map(kind.get, every)) <= PCURVE_CURVES | {"("} else None)
+    if parts is not None and all(not PCURVE_CURVES.isdisjoint(names) for names in parts.values()):
+        splines = [i for i in every if kind[i] in _SPLINES or "B_SPLINE_CURVE" in parts.get(i, ())]
     else:
         splines = []
-        for rep, its in items:
+        for rep in reps:
+            its = _REFS.findall(records.body(rep))[:-1]  # its items; the last reference is its context
             for item in its:
                 problem = reference_problem(records, item, "its curve", PCURVE_CURVES, rep)
                 if problem:
