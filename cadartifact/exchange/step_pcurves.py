@@ -22,6 +22,7 @@ import re
 from operator import itemgetter
 
 from .step_records import CURVES, POINT2_SHAPE, Records, point_shapes_ok, reference_problem
+from .step_scan import parse_parameters
 
 __all__ = ["pcurves_problem", "PCURVE_CURVES"]
 
@@ -29,6 +30,8 @@ __all__ = ["pcurves_problem", "PCURVE_CURVES"]
 PCURVE_CURVES = CURVES | {"OFFSET_CURVE_2D"}
 _SPLINES = frozenset({"B_SPLINE_CURVE_WITH_KNOTS", "B_SPLINE_CURVE"})
 _REFS = re.compile(r"#(\d+)")
+#: A reference that is not a statement's own head ``#N =``.
+_BODY_REFS = re.compile(r"#(\d++)(?!\s*+=)")
 _NUM = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
 _POINT2 = re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:'(?:[^']|'')*'|\$)\s*+,\s*+\(\s*+" + _NUM
                      + r"\s*+,\s*+" + _NUM + r"(?:\s*+,\s*+" + _NUM + r")?+\s*+\)\s*+\)\s*+")
@@ -46,15 +49,19 @@ _DEFREP = re.compile(_HEAD + r"DEFINITIONAL_REPRESENTATION\s*+\(\s*+" + _NAME + 
                      + r"\s*+,\s*+#\d++\s*+\)" + _TAIL)
 
 
-def pcurves_problem(records: Records, on_surfaces: list[str]) -> str | None:
+def pcurves_problem(records: Records, on_surfaces: list[str], pcurves: list[str] = ()) -> str | None:
     """The first broken link of the pcurves of the curves on surfaces ``on_surfaces`` (ids of ``SURFACE_CURVE``,
-    ``SEAM_CURVE`` or ``INTERSECTION_CURVE`` records that edges name), or None.
+    ``SEAM_CURVE`` or ``INTERSECTION_CURVE`` records that edges name) and of the ``pcurves`` edges name
+    directly, or None.
 
     Parameters
     ----------
     records : Records
+        The file's records (:class:`~.step_records.Records`).
     on_surfaces : list of str
-        Record ids; their references after the first (the 3D curve) are the associated geometry.
+        Record ids; the ``PCURVE`` records among their references are their associated geometry.
+    pcurves : list of str, optional
+        Ids of ``PCURVE`` records that edges name as their curve.
 
     Returns
     -------
@@ -63,16 +70,16 @@ def pcurves_problem(records: Records, on_surfaces: list[str]) -> str | None:
     """
     kind = records.kind
     on_surfaces = list(dict.fromkeys(on_surfaces))
-    if not on_surfaces:
+    if not on_surfaces and not pcurves:
         return None
     # each step reads the well-formed records by one regex over their statements joined (C loops); a record it
     # does not accept (or a section whose statements are not one per record) is read one by one
-    found = _batch(records, on_surfaces, _ON_SURFACE)
-    if found is None:
-        refs = [r for c in on_surfaces for r in _REFS.findall(records.body(c))[1:]]
+    found = _batch(records, on_surfaces, _ON_SURFACE) if on_surfaces else []
+    if found is None:  # every reference: the PCURVEs among them are the associated geometry (a '$' 3D curve too)
+        refs = [r for c in on_surfaces for r in _REFS.findall(records.body(c))]
     else:
         refs = _REFS.findall(",".join(m[1] for m in found))
-    pcurves = [r for r in dict.fromkeys(refs) if kind.get(r) == "PCURVE"]
+    pcurves = [r for r in dict.fromkeys([*pcurves, *refs]) if kind.get(r) == "PCURVE"]
     if not pcurves:
         return None
     found = _batch(records, pcurves, _PCURVE)
@@ -93,7 +100,7 @@ def pcurves_problem(records: Records, on_surfaces: list[str]) -> str | None:
     else:
         splines = []
         for rep in reps:
-            its = _REFS.findall(records.body(rep))[:-1]  # its items; the last reference is its context
+            its = _items(records.body(rep))
             for item in its:
                 problem = reference_problem(records, item, "its curve", PCURVE_CURVES, rep)
                 if problem:
@@ -103,9 +110,22 @@ def pcurves_problem(records: Records, on_surfaces: list[str]) -> str | None:
     return _control_points_problem(records, list(dict.fromkeys(splines)))
 
 
+def _items(body: str) -> list[str]:
+    """The references of a ``DEFINITIONAL_REPRESENTATION``'s items (its second parameter), or every reference
+    but the last (its context) when the record does not parse."""
+    try:
+        args = parse_parameters(body)[0][1]
+    except (ValueError, RecursionError, IndexError):
+        return _REFS.findall(body)[:-1]
+    items = args[1] if len(args) > 1 else []
+    return _REFS.findall(repr(items))
+
+
 def _statements(records: Records, idents: list[str]) -> str:
     """The statements of records ``idents`` (statement ``i + 1`` is record ``i`` where the section is aligned),
     joined by ``;``; "" when some index is past the section."""
+    if not idents:
+        return ""
     if records.index is not None:
         import numpy as np
 
@@ -131,9 +151,8 @@ def _control_points_problem(records: Records, splines: list[str]) -> str | None:
     if not splines:
         return None
     kind = records.kind
-    if records.aligned:  # each statement its record's: their own ids are among the references found
-        heads = set(splines)
-        points = [p for p in dict.fromkeys(_REFS.findall(_statements(records, splines))) if p not in heads]
+    if records.aligned:  # each statement its record's: every reference but the statements' own heads
+        points = list(dict.fromkeys(_BODY_REFS.findall(_statements(records, splines))))
     else:
         points = list(dict.fromkeys(_REFS.findall(";".join(map(records.body, splines)))))
     if set(map(kind.get, points)) <= {"CARTESIAN_POINT"} and _all_points(records, points):

@@ -154,7 +154,14 @@ def _edge_curves_problem(records: _Records, indices: list[int]) -> str | None:
     curves on surfaces (:func:`~.step_pcurves.pcurves_problem`)."""
     if not indices:
         return None
-    curves = [m[3] for m in _BATCH["EDGE_CURVE"].findall(_pick(records, indices))]  # the well-formed edges
+    found = _BATCH["EDGE_CURVE"].findall(_pick(records, indices))  # the well-formed edges, each its own statement
+    curves = [m[3] for m in found]
+    idents = [records.heads[i][0] for i in indices]
+    if [m[0] for m in found] != idents:  # some edge not matched there (statements not one per record): by its body
+        matched = set(map(itemgetter(0), found))
+        for ident in idents:
+            slow = [] if ident in matched else _slow_refs(records, ident, SCHEMA["EDGE_CURVE"])
+            curves += [target for target, slot in slow if slot[0] == "its curve"] if isinstance(slow, list) else []
     kind = records.kind
     on_surfaces = []
     for k, c in enumerate(curves):  # a curve on surfaces (OCCT writes these): its 3D curve, its first reference
@@ -164,8 +171,9 @@ def _edge_curves_problem(records: _Records, indices: list[int]) -> str | None:
             curves[k] = first.group(1) if first else c
     splines = [c for c in dict.fromkeys(curves) if kind.get(c) in _SPLINE_CURVES
                or (kind.get(c) == "(" and "B_SPLINE_CURVE" in records.names(c))]
+    pcurves = [c for c in curves if kind.get(c) == "PCURVE"]  # an edge in a face's parameters only
     return ((_poles_problem(records, splines, "a control point") if splines else None)
-            or pcurves_problem(records, on_surfaces))
+            or pcurves_problem(records, on_surfaces, pcurves))
 
 
 def _pick(records: _Records, indices: list[int]) -> str:

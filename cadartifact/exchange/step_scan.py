@@ -151,9 +151,16 @@ def entity_line_in(text: str, ident: str) -> int | None:
 
 
 def data_section(text: str) -> str:
-    """The text from ``DATA;`` on (the whole text when there is none)."""
+    """The text from ``DATA;`` on (``DATA ;`` too: Part 21 allows space between tokens; the whole text when
+    there is none)."""
     start = text.find("DATA;")
+    if start < 0:
+        found = _DATA_KEYWORD.search(text)
+        start = found.start() if found else -1
     return text[start:] if start >= 0 else text
+
+
+_DATA_KEYWORD = re.compile(r"(?<![A-Za-z0-9_])DATA\s+;")
 
 
 _data_section = data_section
