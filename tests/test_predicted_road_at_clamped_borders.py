@@ -69,3 +69,19 @@ def test_a_non_rational_face_on_the_predicted_road_has_no_such_caveat():
     net = _uneven(_rational_face(100), 100)
     plain = ControlNet(points=net.points, degrees=net.degrees, knots=net.knots)
     assert not any("predicted road" in n for n in ca.budget(plain, method="predicted").notes)
+
+
+@pytest.mark.parametrize("degree", [5, 7])
+def test_above_the_checked_degrees_the_caveat_stays(degree):
+    """The uniform-equivalent reading is checked on degrees 2-4; an independent review (2026-12-04) measured
+    predicted over measured ripple 0.03-2.5 at degrees 5-9 on the same family: such faces keep the caveat."""
+    from cadartifact.analysis.clamped import MAX_CLAMPED_DEGREE, clamped_direction
+    from cadartifact.analysis.settings import resolve_scheme
+
+    base = _rational_face(101)
+    nu, nv = base.shape
+    net = ControlNet(points=base.points, degrees=(degree, degree), weights=base.weights,
+                     knots=(clamped_uniform_knots(nu, degree), clamped_uniform_knots(nv, degree)))
+    assert degree > MAX_CLAMPED_DEGREE
+    assert not clamped_direction(net, 0, resolve_scheme(net, None))
+    assert any("predicted road" in n and "degree above 4" in n for n in ca.budget(net, method="predicted").notes)

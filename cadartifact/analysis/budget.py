@@ -371,8 +371,8 @@ def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=
         # generated rational clamped faces, read as an infinite uniform net (2026-12-03): 1.6-258x the real
         # surface, median 11x; clamped uniform knots are read from their uniform-equivalent points instead
         caveats = ("the predicted road reads the uniform theory's infinite net: at the open borders of a rational "
-                   "face whose knots are not clamped uniform it can read up to a few hundred times the real surface "
-                   "(method 'measured' reads the surface itself)",)
+                   "face whose knots are not clamped uniform (or of degree above 4) it can read up to a few hundred "
+                   "times the real surface (method 'measured' reads the surface itself)",)
     return Budget(net=net, scheme=sch.name, method=primary, reason=reason, tolerance=settings.tolerance,
                   metric=settings.metric, component=component, levels=levels, stats=stats, check=check, intent=intent,
                   caveats=caveats,

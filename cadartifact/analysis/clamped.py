@@ -38,11 +38,17 @@ from ..numerics.operator_cache import OperatorCache
 from ..numerics.splines import basis_matrix
 
 __all__ = ["clamped_direction", "uniform_equivalent", "lattice_continuation", "clamped_synthesis",
-           "clamped_syntheses", "reads_clamped_borders", "MIN_GAP", "BRIDGE_ORDER"]
+           "clamped_syntheses", "reads_clamped_borders", "MIN_GAP", "BRIDGE_ORDER",
+           "MAX_CLAMPED_DEGREE"]
 
 #: Lattice points of the continuation's gap at least (a longer bridge is a smoother one: its own content
 #: above half a cycle per point falls with the gap).
 MIN_GAP = 30
+
+#: The highest degree the uniform-equivalent reading is checked at (the rational family, degrees 2-4). Above it
+#: the change of basis grows fast (its entries about 2e2 at degree 5, 7e5 at 9) and predicted over measured
+#: ripple spread 0.03-2.5 on the same family (an independent review, 2026-12-04): such faces keep the caveat.
+MAX_CLAMPED_DEGREE = 4
 
 #: Derivatives of the end control polynomial the lattice bridge matches at each end (value and 1..order).
 BRIDGE_ORDER = 5
@@ -61,13 +67,14 @@ def clamped_direction(net, axis: int, scheme) -> bool:
     Returns
     -------
     bool
-        True when the knots are ``p + 1`` equal end knots at each end and uniform simple interior knots, and
-        ``scheme.degrees[axis]`` is the face's degree (the scheme's limit is this B-spline's uniform basis).
+        True when the knots are ``p + 1`` equal end knots at each end and uniform simple interior knots, the
+        degree is at most :data:`MAX_CLAMPED_DEGREE`, and ``scheme.degrees[axis]`` is the face's degree (the
+        scheme's limit is this B-spline's uniform basis).
     """
     if net.knots is None or net.periodic[axis] or getattr(scheme, "degrees", None) is None:
         return False
     p, n = int(net.degrees[axis]), int(net.shape[axis])
-    if int(scheme.degrees[axis]) != p or n < p + 1:
+    if int(scheme.degrees[axis]) != p or n < p + 1 or p > MAX_CLAMPED_DEGREE:
         return False
     t = np.asarray(net.knots[axis], float)
     scale = max(abs(t[-1] - t[0]), 1e-300)
