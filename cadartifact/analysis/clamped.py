@@ -82,18 +82,47 @@ def clamped_direction(net, axis: int, scheme) -> bool:
     return bool(ends and knots_are_uniform(t, p))
 
 
+def _require_net(n, p, minimum_degree: int = 1, exact: bool = True) -> None:
+    """A net's size and degree, or a ValueError that says which and what was received."""
+    if not isinstance(p, (int, np.integer)) or p < minimum_degree:
+        raise ValueError(f"p: expected an integer >= {minimum_degree}, received {p!r}")
+    least = p + 1 if exact else 1
+    if not isinstance(n, (int, np.integer)) or n < least:
+        raise ValueError(f"n: expected an integer >= {least}, received {n!r}")
+
+
 def _uniform_knots(n: int, p: int) -> np.ndarray:
     """``(n + p + 1,)``: the uniform knots ``-p .. n`` whose domain ``[0, n - p]`` is the clamped one's (spans)."""
     return np.arange(-p, n + 1, dtype=float)
 
 
 def uniform_equivalent(n: int, p: int) -> np.ndarray:
-    """``(n, n)``: clamped control points -> the uniform B-spline's control points of the same curve.
+    """The change from a clamped uniform B-spline's control points to the uniform B-spline's of the same curve.
 
-    On the domain ``[0, n - p]`` (span units) ``sum_i N^c_i(x) P_i = sum_k N^u_k(x) Q_k`` with ``Q = C P``;
-    ``N^u_k`` has support ``[k - p, k + 1]`` and sits at ``x = k - (p - 1) / 2``. Exact (to rounding): both
-    bases span the same piecewise polynomials on the domain.
+    On the domain ``[0, n - p]`` (span units)
+
+    .. math:: \\sum_i N^c_i(x) P_i = \\sum_k N^u_k(x) Q_k, \\qquad Q = C P,
+
+    ``N^u_k`` with support ``[k - p, k + 1]``, sitting at ``x = k - (p - 1) / 2``. Exact (to rounding): both
+    bases span the same piecewise polynomials on the domain (Curry-Schoenberg); interior functions whose knots
+    are all simple are uniform ones, so ``C`` is the identity there.
+
+    Parameters
+    ----------
+    n : int
+        Control points (``>= p + 1``).
+    p : int
+        Degree (``>= 1``).
+
+    Returns
+    -------
+    C : (n, n) float
+
+    References
+    ----------
+    L. Piegl, W. Tiller, *The NURBS Book*, 2nd ed., Springer 1997, ch. 2 (B-spline bases on a knot vector).
     """
+    _require_net(n, p)
     spans = n - p
     s = (np.arange(spans)[:, None] + (np.arange(p + 1) + 0.5)[None, :] / (p + 1)).ravel()
     Nc = basis_matrix(clamped_uniform_knots(n, p, 0.0, float(spans)), p, s, n)
@@ -124,8 +153,32 @@ def _end_taylor(n: int, p: int, order: int, at_end: bool) -> np.ndarray:
 
 
 def lattice_continuation(n: int, p: int, gap: int, order: int = BRIDGE_ORDER) -> np.ndarray:
-    """``(n + gap, n)``: lattice values -> one period: the values, then a Hermite bridge of ``gap`` points from
-    the last value's end polynomial (:func:`_end_taylor`) to the first's, ``order`` derivatives matched."""
+    """One period of a lattice continued past its ends: the values, then a Hermite bridge across the gap.
+
+    The bridge (:func:`~cadartifact.numerics.hermite.hermite_basis`, degree ``2 order + 1``) runs from the
+    last value's end polynomial (degree ``min(p, n - 1)`` through the last ``p + 1`` values) to the first's,
+    matching value and ``order`` derivatives at each end, so the periodic extension has no jump the split
+    could read.
+
+    Parameters
+    ----------
+    n : int
+        Lattice points (``>= 1``).
+    p : int
+        Degree of the end polynomials (``>= 0``).
+    gap : int
+        Points of the bridge (``>= 0``).
+    order : int, optional
+        Derivatives matched (default :data:`BRIDGE_ORDER`).
+
+    Returns
+    -------
+    L : (n + gap, n) float
+        Lattice values -> the period's values.
+    """
+    _require_net(n, p, minimum_degree=0, exact=False)
+    if not isinstance(gap, (int, np.integer)) or gap < 0:
+        raise ValueError(f"gap: expected an integer >= 0, received {gap!r}")
     G = int(gap)
     Lg = float(G + 1)
     t = np.arange(1, G + 1, dtype=float) / Lg
@@ -213,9 +266,20 @@ def _build(frame: AxisFrame, p: int, trend: int, scheme, axis: int):
 
 
 def reads_clamped_borders(intent: Intent, scheme) -> bool:
-    """Whether the predicted road reads this face's clamped directions from their uniform-equivalent points:
-    a rational face under a tensor scheme, with at least one open direction and every open direction
-    clamped with uniform knots under its own degree (:func:`clamped_direction`)."""
+    """Whether the predicted road reads this face's clamped directions from their uniform-equivalent points.
+
+    Parameters
+    ----------
+    intent : Intent
+    scheme : Scheme
+
+    Returns
+    -------
+    bool
+        True for a rational face under a tensor scheme, with at least one open direction and every open
+        direction clamped with uniform knots under its own degree, at most :data:`MAX_CLAMPED_DEGREE`
+        (:func:`clamped_direction`).
+    """
     net = intent.net
     if not intent.homogeneous or net.knots is None or not getattr(scheme, "tensor", False):
         return False

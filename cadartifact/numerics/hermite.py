@@ -21,18 +21,52 @@ __all__ = ["bernstein_basis", "hermite_basis", "hermite_to_bezier"]
 
 
 def hermite_to_bezier(order: int) -> np.ndarray:
-    """``(order + 1, order + 1)``: a degree ``n = 2 order + 1`` polynomial's derivatives ``0..order`` at
-    ``t = 0`` -> its Bezier points ``b_0..b_order``: ``b_j = sum_k C(j, k) (n - k)! / n! P^(k)(0)``.
+    """Map a degree ``n = 2 order + 1`` polynomial's derivatives at ``t = 0`` to its first Bezier points.
+
+    .. math:: b_j = \\sum_{k \\le j} \\binom{j}{k} \\frac{(n - k)!}{n!} P^{(k)}(0), \\quad j = 0..order
 
     At ``t = 1`` the same matrix maps ``(-1)**k P^(k)(1)`` to ``b_n, b_(n-1), ..., b_(n-order)``.
+
+    Parameters
+    ----------
+    order : int
+        Derivatives matched at each end (``>= 0``).
+
+    Returns
+    -------
+    A : (order + 1, order + 1) float
+        Lower triangular: ``b[:order + 1] = A @ [P(0), P'(0), ..., P^(order)(0)]``.
+
+    References
+    ----------
+    G. Farin, *Curves and Surfaces for CAGD*, 5th ed., 2002, sec. 5.3 (derivatives of a Bezier curve).
     """
+    _require_order(order)
     n = 2 * order + 1
     return np.array([[comb(j, k) * factorial(n - k) / factorial(n) if k <= j else 0.0 for k in range(order + 1)]
                      for j in range(order + 1)])
 
 
 def bernstein_basis(t: np.ndarray, degree: int) -> np.ndarray:
-    """``(degree + 1, len(t))``: the Bernstein polynomials ``C(n, i) t**i (1 - t)**(n - i)`` on [0, 1]."""
+    """The Bernstein polynomials of a degree on [0, 1], :math:`B_i^n(t) = \\binom{n}{i} t^i (1 - t)^{n - i}`.
+
+    Parameters
+    ----------
+    t : (m,) float
+        Parameters in [0, 1].
+    degree : int
+        ``n >= 0``.
+
+    Returns
+    -------
+    B : (degree + 1, m) float
+        ``B[i]`` is :math:`B_i^n` at ``t``.
+
+    References
+    ----------
+    G. Farin, *Curves and Surfaces for CAGD*, 5th ed., 2002, sec. 5.1.
+    """
+    _require_order(degree, "degree")
     t = np.asarray(t, float)
     i = np.arange(degree + 1)[:, None]
     c = np.array([comb(degree, k) for k in range(degree + 1)], float)[:, None]
@@ -40,15 +74,38 @@ def bernstein_basis(t: np.ndarray, degree: int) -> np.ndarray:
 
 
 def hermite_basis(t: np.ndarray, order: int) -> np.ndarray:
-    """``(2 order + 2, len(t))``: the degree ``2 order + 1`` Hermite basis on [0, 1] (value and derivatives
-    ``1..order`` at 0, then at 1), each function a combination of Bernstein polynomials.
+    """The degree ``n = 2 order + 1`` Hermite basis on [0, 1], each function in Bernstein form.
 
-    ``H_k^0 = sum_j A[j, k] B_j`` and ``H_k^1 = (-1)**k sum_j A[j, k] B_(n-j)`` with ``A`` =
-    :func:`hermite_to_bezier`: the two ends' Bezier points do not overlap (``order + 1`` each of ``n + 1``).
+    .. math:: H_k^0 = \\sum_j A_{jk} B_j^n, \\qquad H_k^1 = (-1)^k \\sum_j A_{jk} B_{n-j}^n
+
+    with ``A`` = :func:`hermite_to_bezier` (the two ends' Bezier points do not overlap: ``order + 1`` each of
+    ``n + 1``). ``H_k^0`` has ``k``-th derivative 1 at 0 and every other matched derivative 0 at both ends.
+
+    Parameters
+    ----------
+    t : (m,) float
+        Parameters in [0, 1].
+    order : int
+        Derivatives matched at each end (``>= 0``).
+
+    Returns
+    -------
+    H : (2 order + 2, m) float
+        Value and derivatives ``1..order`` at 0, then the same at 1.
+
+    References
+    ----------
+    G. Farin, *Curves and Surfaces for CAGD*, 5th ed., 2002, ch. 7 (Hermite interpolation).
     """
+    _require_order(order)
     n = 2 * order + 1
     B = bernstein_basis(t, n)
     A = hermite_to_bezier(order)
     at0 = A.T @ B[: order + 1]
     at1 = (A.T @ B[::-1][: order + 1]) * ((-1.0) ** np.arange(order + 1))[:, None]
     return np.vstack([at0, at1])
+
+
+def _require_order(value: int, name: str = "order") -> None:
+    if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 0:
+        raise ValueError(f"{name}: expected an integer >= 0, received {value!r}")
