@@ -54,8 +54,19 @@ _STATEMENT_HEAD = re.compile(r"\s*(?:/\*.*?\*/\s*)*#(\d+)\s*=", re.DOTALL)
 class Records:
     """The records of a DATA section by id: keyword, text and line (found lazily, exactly when needed).
 
-    ``data``: the section as :func:`~.step_scan.clean_data` gives it (a ``;`` ends a statement, always);
-    lines are counted on the file's own ``text``."""
+    Parameters
+    ----------
+    text : str
+        The file's text (latin-1 decoded): lines are counted on it.
+    data : str
+        The DATA section as :func:`~.step_scan.clean_data` gives it (strings emptied, comments removed: a
+        ``;`` ends a statement, always).
+    heads : list of (str, str)
+        ``(id, keyword)`` of each record in file order (:func:`~.step_scan.record_heads`); ``"("`` for a
+        complex instance.
+    arities : dict, optional
+        ``{id: parameter count}`` of records already parsed.
+    """
 
     def __init__(self, text: str, data: str, heads: list[tuple[str, str]], arities: dict | None = None):
         self.text, self.data, self.heads = text, data, heads
@@ -149,7 +160,23 @@ class Records:
 
 
 def reference_problem(records: Records, target: str, role: str, allowed, owner: str) -> str | None:
-    """What is wrong with ``#target`` standing as ``role`` in ``#owner``, or None."""
+    """What is wrong with ``#target`` standing as ``role`` in ``#owner``, or None.
+
+    Parameters
+    ----------
+    records : Records
+    target, owner : str
+        Record ids: the reference and the record that makes it.
+    role : str
+        What the reference stands as, for the message ("a pole", "its curve").
+    allowed : set of str
+        Keywords that may stand there (a complex instance qualifies by one of its parts).
+
+    Returns
+    -------
+    str or None
+        ``"#TARGET is referenced by KEYWORD #OWNER (line N) as ROLE, and ..."``.
+    """
     kind = records.kind.get(target)
     if kind is None:
         return f"#{target} is referenced by {records.label(owner)} as {role}, and is not in the file"
