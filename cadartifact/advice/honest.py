@@ -19,6 +19,7 @@ import numpy as np
 
 from ..analysis.fields import project
 from ..net import knot_multiplicities
+from ..numerics.peaks import first_peak
 
 __all__ = ["explain", "unverified_note", "REASONS"]
 
@@ -35,8 +36,7 @@ def _crease_near(scorer, shape) -> tuple[str, float, int] | None:
     Q, S, I, normal, keep, (cu, cv) = scorer.fit(*shape)
     f = np.abs(project(S - I, normal, scorer.component))
     f = np.where(keep, f, -np.inf)
-    top = float(f.max())  # equal peaks to rounding: the first, whatever the CPU's rounding
-    i, j = np.unravel_index(int(np.argmax(f >= top - 1e-9 * abs(top))), f.shape)
+    i, j = first_peak(f)  # equal peaks to rounding: the first, whatever the CPU's rounding
     for d, (axis, x) in enumerate(((cu, cu.x[i]), (cv, cv.x[j]))):
         frame, p = scorer.frames[d], work.degrees[d]
         u = float(frame.param(x))

@@ -153,13 +153,12 @@ def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
     import numpy as np
 
     from ..analysis.budget import budget
+    from ..numerics.peaks import first_peak
 
     b = current if current is not None and current.fields is not None else budget(net, scheme, keep_fields=True)
     values = np.where(b.region, np.abs(b.scalar_fields[field]), -np.inf)
-    top = float(values.max())
-    # a symmetric face peaks at two places equal to rounding: the first of them, so that rounding (another
-    # CPU's BLAS kernel) does not move the reported place
-    i, j = np.unravel_index(int(np.argmax(values >= top - 1e-9 * abs(top))), values.shape)
+    i, j = first_peak(values)  # of two places equal to rounding, the first: the same on every CPU
+    top = float(values.max())  # the peak itself (the place is the first within rounding of it)
     x, y = float(b.fields.x[i]), float(b.fields.y[j])
     uv = None
     xyz = np.asarray(b.fields.surface)[i, j]  # cages: the limit surface there
