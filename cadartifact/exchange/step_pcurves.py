@@ -21,7 +21,7 @@ from __future__ import annotations
 import re
 from operator import itemgetter
 
-from .step_records import CURVES, POINT2_SHAPE, Records, point_shapes_ok, reference_problem
+from .step_records import CURVES, POINT2, POINT2_SHAPE, REFERENCES, Records, point_shapes_ok, reference_problem
 from .step_scan import parse_parameters
 
 __all__ = ["pcurves_problem", "PCURVE_CURVES"]
@@ -29,17 +29,13 @@ __all__ = ["pcurves_problem", "PCURVE_CURVES"]
 #: Curve entities an item of a pcurve's representation may be (the 2D offset curve besides the schema's curves).
 PCURVE_CURVES = CURVES | {"OFFSET_CURVE_2D"}
 _SPLINES = frozenset({"B_SPLINE_CURVE_WITH_KNOTS", "B_SPLINE_CURVE"})
-_REFS = re.compile(r"#(\d+)")
 #: A reference that is not a statement's own head ``#N =``.
 _BODY_REFS = re.compile(r"#(\d++)(?!\s*+=)")
-_NUM = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
-_POINT2 = re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:'(?:[^']|'')*'|\$)\s*+,\s*+\(\s*+" + _NUM
-                     + r"\s*+,\s*+" + _NUM + r"(?:\s*+,\s*+" + _NUM + r")?+\s*+\)\s*+\)\s*+")
 _HEAD = r"(?:^|(?<=;))\s*+#(\d++)\s*+=\s*+"
 _TAIL = r"\s*+(?=;|\Z)"
 _NAME = r"(?:'(?:[^']|'')*'|\$)"
 _LIST = r"\(\s*+(#\d++(?:\s*+,\s*+#\d++)*+)\s*+\)"
-_BATCH_POINT2 = re.compile(_HEAD + _POINT2.pattern + _TAIL)
+_BATCH_POINT2 = re.compile(_HEAD + POINT2.pattern + _TAIL)
 #: ``(id, associated geometry)`` of a well-formed curve on surfaces (its 3D curve, the list, its master).
 _ON_SURFACE = re.compile(_HEAD + r"(?:SURFACE_CURVE|SEAM_CURVE|INTERSECTION_CURVE)\s*+\(\s*+" + _NAME
                          + r"\s*+,\s*+#\d++\s*+,\s*+" + _LIST + r"\s*+,\s*+\.[A-Z_0-9]++\.\s*+\)" + _TAIL)
@@ -76,21 +72,21 @@ def pcurves_problem(records: Records, on_surfaces: list[str], pcurves: list[str]
     # does not accept (or a section whose statements are not one per record) is read one by one
     found = _batch(records, on_surfaces, _ON_SURFACE) if on_surfaces else []
     if found is None:  # every reference: the PCURVEs among them are the associated geometry (a '$' 3D curve too)
-        refs = [r for c in on_surfaces for r in _REFS.findall(records.body(c))]
+        refs = [r for c in on_surfaces for r in REFERENCES.findall(records.body(c))]
     else:
-        refs = _REFS.findall(",".join(m[1] for m in found))
+        refs = REFERENCES.findall(",".join(m[1] for m in found))
     pcurves = [r for r in dict.fromkeys([*pcurves, *refs]) if kind.get(r) == "PCURVE"]
     if not pcurves:
         return None
     found = _batch(records, pcurves, _PCURVE)
-    pairs = ([_REFS.findall(records.body(pc)) for pc in pcurves] if found is None
+    pairs = ([REFERENCES.findall(records.body(pc)) for pc in pcurves] if found is None
              else [[m[1], m[2]] for m in found])
     reps = [r[1] for r in pairs if len(r) == 2 and kind.get(r[1]) == "DEFINITIONAL_REPRESENTATION"]
     reps = list(dict.fromkeys(reps))
     if not reps:
         return None
     found = _batch(records, reps, _DEFREP)
-    every = (list(dict.fromkeys(_REFS.findall(",".join(map(itemgetter(1), found))))) if found is not None
+    every = (list(dict.fromkeys(REFERENCES.findall(",".join(map(itemgetter(1), found))))) if found is not None
              else None)
     # the common case: every item a curve, simple (C loops) or complex with a curve part (rational B-splines)
     parts = ({i: records.names(i) for i in every if kind[i] == "("}
@@ -116,32 +112,15 @@ def _items(body: str) -> list[str]:
     try:
         args = parse_parameters(body)[0][1]
     except (ValueError, RecursionError, IndexError):
-        return _REFS.findall(body)[:-1]
+        return REFERENCES.findall(body)[:-1]
     items = args[1] if len(args) > 1 else []
-    return _REFS.findall(repr(items))
-
-
-def _statements(records: Records, idents: list[str]) -> str:
-    """The statements of records ``idents`` (statement ``i + 1`` is record ``i`` where the section is aligned),
-    joined by ``;``; "" when some index is past the section."""
-    if not idents:
-        return ""
-    if records.index is not None:
-        import numpy as np
-
-        where = (records.index[np.fromiter(map(int, idents), np.int64, len(idents))] + 1).tolist()
-    else:
-        where = [records.position[p] + 1 for p in idents]
-    if max(where) >= len(records.statements):
-        return ""
-    picked = itemgetter(*where)(records.statements)
-    return picked if len(idents) == 1 else ";".join(picked)
+    return REFERENCES.findall(repr(items))
 
 
 def _batch(records: Records, idents: list[str], pattern: re.Pattern) -> list[tuple] | None:
     """``pattern``'s matches over the statements of ``idents`` (its first group the id), or None unless every
     record matched, in order (then the caller reads them one by one)."""
-    found = pattern.findall(_statements(records, idents))
+    found = pattern.findall(records.statements_of(idents))
     return found if [m[0] for m in found] == idents else None
 
 
@@ -152,18 +131,18 @@ def _control_points_problem(records: Records, splines: list[str]) -> str | None:
         return None
     kind = records.kind
     if records.aligned:  # each statement its record's: every reference but the statements' own heads
-        points = list(dict.fromkeys(_BODY_REFS.findall(_statements(records, splines))))
+        points = list(dict.fromkeys(_BODY_REFS.findall(records.statements_of(splines))))
     else:
-        points = list(dict.fromkeys(_REFS.findall(";".join(map(records.body, splines)))))
+        points = list(dict.fromkeys(REFERENCES.findall(";".join(map(records.body, splines)))))
     if set(map(kind.get, points)) <= {"CARTESIAN_POINT"} and _all_points(records, points):
         return None
     role = "a control point of a pcurve"
     for spline in splines:
-        for point in dict.fromkeys(_REFS.findall(records.body(spline))):
+        for point in dict.fromkeys(REFERENCES.findall(records.body(spline))):
             problem = reference_problem(records, point, role, {"CARTESIAN_POINT"}, spline)
             if problem:
                 return problem
-            if not _POINT2.fullmatch(records.body(point)):
+            if not POINT2.fullmatch(records.body(point)):
                 line = records.line(point)
                 return (f"#{point} is referenced by {records.label(spline)} as {role}, and its record"
                         f"{f' (line {line})' if line else ''} is not a point with two coordinates")
@@ -173,7 +152,7 @@ def _control_points_problem(records: Records, splines: list[str]) -> str | None:
 def _all_points(records: Records, points: list[str]) -> bool:
     """Whether each of ``points`` has its own statement, a well-formed 2D or 3D point (by the statements' shapes
     where the section is aligned, else by a regex that also reads their ids)."""
-    joined = _statements(records, points)
+    joined = records.statements_of(points)
     if records.aligned and point_shapes_ok(joined, POINT2_SHAPE):
         return True
     return _BATCH_POINT2.findall(joined) == points

@@ -12,7 +12,8 @@ from operator import itemgetter
 
 from .step_text import text_entity_lines
 
-__all__ = ["CURVES", "SURFACES", "POINT2_SHAPE", "POINT3_SHAPE", "Records", "point_shapes_ok", "reference_problem"]
+__all__ = ["CURVES", "SURFACES", "NUMBER", "POINT2", "POINT3", "POINT2_SHAPE", "POINT3_SHAPE", "REFERENCES", "Records",
+           "point_shapes_ok", "reference_problem"]
 
 # the point statement's shape (see point_shapes_ok): in bytes, \s as a str pattern's \s over latin-1, 0 for \d+
 _ZERO_DIGITS = bytes.maketrans(b"123456789", b"000000000")
@@ -31,6 +32,25 @@ def _point_shape(dimensions: tuple[int, ...]) -> re.Pattern:
 #: A 3D point's statement shape; a pcurve's control point (2D, or 3D as some writers give).
 POINT3_SHAPE = _point_shape((3,))
 POINT2_SHAPE = _point_shape((2, 3))
+
+#: A reference ``#N`` in a cleaned text (the id its group).
+REFERENCES = re.compile(r"#(\d+)")
+#: A STEP number, integer or real (possessive: a run of digits is never followed by a token that starts with one).
+NUMBER = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
+
+
+def _point_body(least: int, most: int) -> re.Pattern:
+    """The body of a well-formed ``CARTESIAN_POINT(name, (x, y[, z]))`` record (after ``#N =``) with ``least`` to
+    ``most`` coordinates: the text counterpart of :func:`_point_shape`."""
+    more = r"\s*+,\s*+" + NUMBER
+    optional = r"(?:" + more + r"){0,%d}+" % (most - least) if most > least else ""
+    return re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:'(?:[^']|'')*'|\$)\s*+,\s*+\(\s*+" + NUMBER
+                      + more * (least - 1) + optional + r"\s*+\)\s*+\)\s*+")
+
+
+#: A 3D point's record body; a pcurve's control point's (2D or 3D).
+POINT3 = _point_body(3, 3)
+POINT2 = _point_body(2, 3)
 
 #: Surface entities of the STEP geometry schema (a complex instance qualifies with one of them as a part).
 SURFACES = frozenset({
@@ -121,6 +141,23 @@ class Records:
         i += 1
         return self.statements[i] if i < len(self.statements) else ""
 
+    def statements_of(self, idents: list[str]) -> str:
+        """The statements of records ``idents`` joined by ``;`` (statement ``i + 1`` is record ``i`` where the
+        section is :attr:`aligned`; callers that cannot know check the ids), by C calls: positions from
+        :attr:`index` when there is one. "" when ``idents`` is empty or some position is past the section."""
+        if not idents:
+            return ""
+        if self.index is not None:
+            import numpy as np
+
+            where = (self.index[np.fromiter(map(int, idents), np.int64, len(idents))] + 1).tolist()
+        else:
+            where = [self.position[p] + 1 for p in idents]
+        if max(where) >= len(self.statements):
+            return ""
+        picked = itemgetter(*where)(self.statements)
+        return picked if len(idents) == 1 else ";".join(picked)
+
     def _exact(self) -> dict[str, tuple[int, int]]:
         """``{id: (start, end) of the body}`` from the statement ends outside strings and comments (one linear
         pass; a regex that also had to end each record at a ';' could backtrack exponentially on '' runs)."""
@@ -198,11 +235,13 @@ def _family(role: str) -> str:
 
 
 def point_shapes_ok(joined: str, shape: re.Pattern) -> bool:
-    """Whether every statement of ``joined`` (``;``-separated) is a well-formed ``CARTESIAN_POINT`` of ``shape``: its digits
-    made ``0`` and each run of them one ``0`` (a C-level translate and one array pass), the few distinct shapes
-    left are matched by ``shape`` (:data:`POINT3_SHAPE`, :data:`POINT2_SHAPE`; (the point regex with ``0`` for a run of digits: a text matches the
-    one exactly when its shape matches the other)). Ids are not compared: the caller picked each statement by
-    its record's position in an aligned section (:attr:`Records.aligned`)."""
+    """Whether every statement of ``joined`` (``;``-separated) is a well-formed ``CARTESIAN_POINT`` of ``shape``.
+
+    Its digits are made ``0`` and each run of them one ``0`` (a C-level translate and one array pass); the few
+    distinct shapes left are matched by ``shape`` (:data:`POINT3_SHAPE`, :data:`POINT2_SHAPE`: the point regex
+    with ``0`` for a run of digits, so a text matches :data:`POINT3` exactly when its shape matches
+    :data:`POINT3_SHAPE`). Ids are not compared: the caller picked each statement by its record's position in an
+    aligned section (:attr:`Records.aligned`)."""
     import numpy as np
 
     raw = np.frombuffer(joined.encode("latin-1", "replace").translate(_ZERO_DIGITS), np.uint8)

@@ -34,7 +34,8 @@ from operator import itemgetter
 from ..errors import FileFormatError
 from .step_scan import clean_data, collapse_grids, data_section, parse_parameters, record_heads
 from .step_pcurves import pcurves_problem
-from .step_records import CURVES, POINT3_SHAPE, SURFACES, Records as _Records, point_shapes_ok, reference_problem
+from .step_records import (CURVES, POINT3, POINT3_SHAPE, REFERENCES, SURFACES, Records as _Records, point_shapes_ok,
+                           reference_problem)
 
 __all__ = ["SCHEMA", "SURFACES", "CURVES", "check_references", "reference_problem"]
 
@@ -71,10 +72,6 @@ _STRING = r"'(?:[^']|'')*'"
 # possessive quantifiers (Python 3.11): what they match is what the plain ones match here (a run of spaces or
 # digits is never followed by a token that starts with one), without the backtracking states (2x faster)
 _VALUE = r"(?:" + _STRING + r"|\$|\*|\.[A-Za-z_0-9]+\.|[-+]?+\d++(?:\.\d*+)?+(?:[eE][-+]?+\d++)?+)"
-_NUM = r"[-+]?+(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
-_POINT3 = re.compile(r"\s*+CARTESIAN_POINT\s*+\(\s*+(?:" + _STRING + r"|\$)\s*+,\s*+\(\s*+" + _NUM + r"\s*+,\s*+"
-                     + _NUM + r"\s*+,\s*+" + _NUM + r"\s*+\)\s*+\)\s*+")
-_REFS_ANYWHERE = re.compile(r"#(\d+)")
 
 
 def _fast_pattern(keyword: str, slots: tuple) -> re.Pattern:
@@ -94,7 +91,7 @@ _FAST = {keyword: _fast_pattern(keyword, slots) for keyword, slots in SCHEMA.ite
 # the same, as one statement among statements joined by ';', with its id as the first group
 _BATCH = {keyword: re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + pattern.pattern + r"(?=;|\Z)")
           for keyword, pattern in _FAST.items()}
-_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + _POINT3.pattern + r"(?=;|\Z)")
+_BATCH_POINT = re.compile(r"(?:^|(?<=;))\s*+#(\d++)\s*+=" + POINT3.pattern + r"(?=;|\Z)")
 _DIGITS = re.compile(r"\d+")
 _ON_CHAIN = frozenset({*SCHEMA, *SURFACE_ARITY, "("})
 _END = re.compile(r"ENDSEC\s*;\s*END-ISO-10303-21\s*;\s*\Z")
@@ -167,7 +164,7 @@ def _edge_curves_problem(records: _Records, indices: list[int]) -> str | None:
     for k, c in enumerate(curves):  # a curve on surfaces (OCCT writes these): its 3D curve, its first reference
         if kind.get(c) in _ON_SURFACES:
             on_surfaces.append(c)
-            first = _REFS_ANYWHERE.search(records.body(c))
+            first = REFERENCES.search(records.body(c))
             curves[k] = first.group(1) if first else c
     splines = [c for c in dict.fromkeys(curves) if kind.get(c) in _SPLINE_CURVES
                or (kind.get(c) == "(" and "B_SPLINE_CURVE" in records.names(c))]
@@ -257,7 +254,7 @@ def _poles_problem(records: _Records, owners: list[str], role: str) -> str | Non
     points) names a ``CARTESIAN_POINT`` with three coordinates, or the first that does not, as ``role``."""
     kind = records.kind
     bodies = [records.body(ident) for ident in owners]  # a cleaned text: no strings or comments
-    poles = list(dict.fromkeys(_REFS_ANYWHERE.findall(";".join(bodies))))  # each once, in file order
+    poles = list(dict.fromkeys(REFERENCES.findall(";".join(bodies))))  # each once, in file order
 
     def owner(pole: str) -> str:
         """The first owner that names ``pole`` (for the message)."""
@@ -270,21 +267,13 @@ def _poles_problem(records: _Records, owners: list[str], role: str) -> str | Non
                 return problem
     if not poles:
         return None
-    # statement i + 1 is record i (split at ';' of a cleaned text); each pole's statement, by C calls only
-    if records.index is not None:  # the records' positions by an array lookup (no dict of every id)
-        import numpy as np
-
-        where = (records.index[np.fromiter(map(int, poles), np.int64, len(poles))] + 1).tolist()
-    else:
-        where = [records.position[p] + 1 for p in poles]
-    picked = itemgetter(*where)(records.statements)
-    joined = picked if len(poles) == 1 else ";".join(picked)
+    joined = records.statements_of(poles)  # each pole's statement, by C calls only
     if records.aligned and _point_shapes_ok(joined):  # every pole's statement (its own), a well-formed 3D point
         return None
     if _BATCH_POINT.findall(joined) == poles:  # every pole's own statement, a well-formed 3D point
         return None
     for pole in poles:
-        if not _POINT3.fullmatch(records.body(pole)):
+        if not POINT3.fullmatch(records.body(pole)):
             return (f"#{pole} is referenced by {records.label(owner(pole))} as {role}, and "
                     + _point_problem(records, pole))
     return None
@@ -314,7 +303,7 @@ def _point_problem(records: _Records, ident: str) -> str:
 
 def _missing_reference(records: _Records) -> str | None:
     """A reference anywhere in the DATA section to an entity that is not in the file, or None."""
-    missing = set(_REFS_ANYWHERE.findall(records.data))
+    missing = set(REFERENCES.findall(records.data))
     missing.difference_update(records.kind)
     for target in sorted(missing, key=int):
         for m in re.finditer(r"#" + target + r"(?!\d)", records.data):
