@@ -6,6 +6,8 @@ published schema, by pydantic (imported by :mod:`.schema` alone)."""
 
 from __future__ import annotations
 
+from typing import Any
+
 from typing_extensions import TypedDict
 
 __all__ = ["TypedDict", "Length", "Pair", "Triple"]
@@ -20,8 +22,8 @@ class Length:
     def __repr__(self) -> str:
         return f"Length({self.n})"
 
-    def __get_pydantic_json_schema__(self, core_schema, handler):
-        schema = handler(core_schema)
+    def __get_pydantic_json_schema__(self, core_schema: Any, handler: Any) -> dict[str, Any]:
+        schema: dict[str, Any] = handler(core_schema)
         schema.update(minItems=self.n, maxItems=self.n)
         return schema
 

@@ -4,6 +4,7 @@ by pydantic (imported here only, when a schema is asked for)."""
 from __future__ import annotations
 
 import importlib
+from typing import Any
 
 __all__ = ["KINDS", "DIALECT", "json_schema"]
 
@@ -16,7 +17,7 @@ KINDS = {"advise": ("advise", "AdviseDocument", "ADVISE_SCHEMA"),
 DIALECT = "https://json-schema.org/draft/2020-12/schema"
 
 
-def json_schema(kind: str) -> dict:
+def json_schema(kind: str) -> dict[str, Any]:
     """The JSON Schema (draft 2020-12) of a document.
 
     Parameters
@@ -47,7 +48,7 @@ def json_schema(kind: str) -> dict:
     module_name, record, version = KINDS[kind]
     module = importlib.import_module(f"{__package__}.{module_name}")
     _describe_keys()
-    schema = TypeAdapter(getattr(module, record)).json_schema()
+    schema: dict[str, Any] = TypeAdapter(getattr(module, record)).json_schema()
     schema.pop("title", None)
     return {"$schema": DIALECT, "title": getattr(module, version), **schema}
 
