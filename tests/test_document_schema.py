@@ -11,6 +11,7 @@ file, --advise all; and face records with joins kept and with no density that co
 from __future__ import annotations
 
 import copy
+import functools
 import gzip
 import json
 from pathlib import Path
@@ -51,12 +52,15 @@ def record_validator(kind: str, record: str):
 
 
 # ---------------------------------------------------------------- the recorded documents
+@functools.lru_cache(maxsize=1)
 def _golden() -> dict:
     return json.loads(gzip.decompress(GOLDEN.read_bytes()))["documents"]
 
 
-@pytest.mark.parametrize("case", sorted(_golden()), ids=lambda c: c)
+@pytest.mark.parametrize("case", [pytest.param(c, marks=[pytest.mark.slow] if "/realdata/" in c else [])
+                                  for c in sorted(_golden())], ids=lambda c: c)
 def test_every_golden_document_validates(case, validators):
+    """The recorded documents (the real data's too: they are in the record, their files need not be here)."""
     doc = _golden()[case]["document"]
     found = problems(validators[case.split(" ", 1)[0]], doc)
     assert not found, f"{case}: {len(found)} problems, first: {found[:5]}"

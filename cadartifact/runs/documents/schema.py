@@ -3,6 +3,8 @@ by pydantic (imported here only, when a schema is asked for)."""
 
 from __future__ import annotations
 
+import copy
+import functools
 import importlib
 from typing import Any
 
@@ -38,10 +40,17 @@ def json_schema(kind: str) -> dict[str, Any]:
     MissingDependencyError
         pydantic is not installed.
     """
-    from ...dependencies import require
     from ...errors import check_option
 
     check_option("kind", kind, KINDS)
+    return copy.deepcopy(_generated(kind))
+
+
+@functools.lru_cache(maxsize=None)
+def _generated(kind: str) -> dict[str, Any]:
+    """The schema of a known ``kind``, generated once per process (pydantic's generation takes a second)."""
+    from ...dependencies import require
+
     require("pydantic", "the documents' JSON Schema")
     from pydantic import TypeAdapter
 
