@@ -275,6 +275,7 @@ class FaceRecord(TypedDict):
     face: int
     """The face's index in its file (an OBJ cage: the chart's)."""
     name: str | None
+    """The face's name in its file (STEP: the ADVANCED_FACE's), or null."""
     kind: str
     """What the net is: ``bspline``, ``bezier``, ``converted`` (a revolution, extrusion or offset face made a
     B-spline), ``quad-chart`` (a chart of a subdivision cage)."""
@@ -283,7 +284,9 @@ class FaceRecord(TypedDict):
     degrees: Annotated[list[int], Pair] | None
     """Null for a cage."""
     rational: bool
+    """The net carries weights (a rational surface, NURBS)."""
     units: Literal["mm", "model"]
+    """The unit of every length of the record: ``mm`` (B-rep files) or ``model`` (OBJ cages)."""
     entity: int | None
     """STEP: the face's #id in the file."""
     canonical: str | None
@@ -291,15 +294,21 @@ class FaceRecord(TypedDict):
     exact: Annotated[list[Literal["line", "circle", "surface"] | None], Pair]
     """Per direction (u, v): exactly straight or circular (no artifact), or null."""
     scheme: str
+    """The subdivision or B-spline scheme the net was read under (``bspline(3,3)``, ``bicubic``, ...)."""
     method: Literal["predicted", "measured"]
+    """The road: predicted from the scheme's spectral response (uniform nets) or measured on the surface."""
     uniform: bool
     """Uniform knots and constant weights, or a cage."""
     intent: Reading
+    """The reading of the design intent: the surface less its ripple, or the shape the points sample."""
     reason: str
     """Why this road (predicted or measured) was taken."""
     notes: list[str]
+    """What the analysis could not judge, or did differently, in plain words."""
     budget: Budget
+    """Today's ripple and deviation per component."""
     share: Shares
+    """The budget under the metric as shares of the tolerance."""
     meets_tolerance: bool
     """Conforms: value + U <= tolerance."""
     uncertainty: UncertaintyRecord | None

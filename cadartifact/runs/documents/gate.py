@@ -68,11 +68,13 @@ class GateFace(FaceRecord, closed=True):
     advice: AdviceRecord | None
     """Null: not computed (``advice_skipped`` says why)."""
     verdict: FaceVerdict
+    """The worst of the ripple's verdict and the PDQ criteria's."""
     verdict_reason: str
     """One line with the numbers."""
     value: float
     """The number compared with the tolerance: ``budget[total | deviation][metric]``."""
     advice_skipped: str | None
+    """Why the advice was not computed (null: it was)."""
     ripple_verdict: FaceVerdict
     """The ripple's verdict (``verdict`` is the worst of it and the PDQ criteria's)."""
     criteria: list[CriterionRecord] | None

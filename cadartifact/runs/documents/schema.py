@@ -8,7 +8,7 @@ import functools
 import importlib
 from typing import Any
 
-__all__ = ["KINDS", "DIALECT", "json_schema"]
+__all__ = ["KINDS", "DIALECT", "json_schema", "key_docstrings"]
 
 #: Document kind -> (module, record type, the constant holding its version).
 KINDS = {"advise": ("advise", "AdviseDocument", "ADVISE_SCHEMA"),
@@ -30,8 +30,8 @@ def json_schema(kind: str) -> dict[str, Any]:
     -------
     dict
         The schema: ``title`` the document's version (``cadartifact.advise/3``), every record a ``$defs`` entry,
-        closed (``additionalProperties: false``: a key the record does not list fails), each key described by
-        its docstring.
+        closed (``additionalProperties: false``: a key the record does not list fails), each record and each
+        documented key described by its docstring (:func:`key_docstrings`).
 
     Raises
     ------
@@ -56,18 +56,59 @@ def _generated(kind: str) -> dict[str, Any]:
 
     module_name, record, version = KINDS[kind]
     module = importlib.import_module(f"{__package__}.{module_name}")
-    _describe_keys()
     schema: dict[str, Any] = TypeAdapter(getattr(module, record)).json_schema()
+    records = _records()
+    for name, part in [(record, schema), *schema.get("$defs", {}).items()]:
+        _describe(part, records.get(name))
     schema.pop("title", None)
     return {"$schema": DIALECT, "title": getattr(module, version), **schema}
 
 
-def _describe_keys() -> None:
-    """Let pydantic read each key's docstring as its description (``use_attribute_docstrings``), set on every
-    record of the documents' modules: they stay plain typing, with no pydantic at run time."""
+def _records() -> dict[str, type]:
+    """Every record of the documents' modules by name (the names pydantic gives their ``$defs``)."""
     from . import advise, face, gate, inspected
 
-    for module in (face, advise, gate, inspected):
-        for value in vars(module).values():
-            if isinstance(value, type) and issubclass(value, dict) and hasattr(value, "__required_keys__"):
-                value.__pydantic_config__ = {"use_attribute_docstrings": True}  # type: ignore[attr-defined]
+    return {name: value for module in (face, advise, gate, inspected) for name, value in vars(module).items()
+            if isinstance(value, type) and issubclass(value, dict) and hasattr(value, "__required_keys__")}
+
+
+def _describe(part: dict[str, Any], record: type | None) -> None:
+    """Each property of a record's schema gets its key's docstring as ``description`` (inherited keys too:
+    pydantic's own reading of attribute docstrings sees the record's class body only)."""
+    if record is None:
+        return
+    docs = key_docstrings(record)
+    for key, prop in part.get("properties", {}).items():
+        if key in docs:
+            prop["description"] = docs[key]
+
+
+def key_docstrings(record: type) -> dict[str, str]:
+    """``{key: docstring}`` of a ``TypedDict``'s keys, its bases' first: the string literal under each annotated
+    key in the class bodies (records made by the functional form have none)."""
+    import ast
+    import inspect
+    import textwrap
+
+    out: dict[str, str] = {}
+    for cls in _lineage(record):
+        try:
+            tree = ast.parse(textwrap.dedent(inspect.getsource(cls)))
+        except (OSError, TypeError, SyntaxError):  # no source (the functional form; a frozen package)
+            continue
+        body = tree.body[0].body if tree.body and isinstance(tree.body[0], ast.ClassDef) else []
+        for node, after in zip(body, body[1:]):
+            if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) and isinstance(after, ast.Expr) \
+                    and isinstance(after.value, ast.Constant) and isinstance(after.value.value, str):
+                out[node.target.id] = inspect.cleandoc(after.value.value)
+    return out
+
+
+def _lineage(record: type) -> list[type]:
+    """A ``TypedDict`` and the records it extends, bases first (a TypedDict's ``__mro__`` lists none of them:
+    they are in ``__orig_bases__``)."""
+    out: list[type] = []
+    for base in getattr(record, "__orig_bases__", ()):
+        if isinstance(base, type) and hasattr(base, "__required_keys__"):
+            out += [b for b in _lineage(base) if b not in out]
+    return out + [record]
