@@ -7,7 +7,7 @@ or input error. Errors are one line on stderr, never a traceback.
 - :mod:`.usage`: one-line usage errors;
 - :mod:`.root`: the command group and what the commands share (one-line errors, the consoles);
 - :mod:`.catalogue_cmds` (schemes, maps), :mod:`.advise_cmds` (advise, demo), :mod:`.gate_cmd` (gate),
-  :mod:`.files_cmds` (inspect, view): the commands;
+  :mod:`.files_cmds` (inspect, view), :mod:`.design_cmd` (design), :mod:`.schema_cmd` (schema): the commands;
 - :mod:`.app`: the app with every command, and :func:`~.app.run`.
 """
 

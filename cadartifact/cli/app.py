@@ -14,7 +14,7 @@ import sys
 import warnings
 
 # the command modules register their commands on app, in this order (the order of --help)
-from . import catalogue_cmds, advise_cmds, gate_cmd, files_cmds, design_cmd  # noqa: F401, I001
+from . import catalogue_cmds, advise_cmds, gate_cmd, files_cmds, design_cmd, schema_cmd  # noqa: F401, I001
 from .root import app
 from .usage import quiet_warnings
 

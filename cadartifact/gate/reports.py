@@ -32,11 +32,16 @@ import json
 import os
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import quote
 
 from ..errors import InputError
 from ..runs.face_instances import NOTE as REPEAT_NOTE
 from ..runs.records import plural, unit_name
+
+if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.md)
+    from ..runs.documents.face import AdviceRecord
+    from ..runs.documents.gate import CriterionAt, CriterionRecord, GateDocument, GateFace, GateFile
 
 __all__ = ["FORMATS", "RULES", "CRITERION_RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit",
            "to_sarif", "write_atomic", "face_label", "criterion_text", "criteria_lines", "profile_line"]
@@ -82,7 +87,7 @@ _COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red
 _DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total")
 
 
-def face_label(path: str, face: dict) -> str:
+def face_label(path: str, face: GateFace) -> str:
     """``"<file>#<face> <name>"`` (no trailing name when the face has none)."""
     return f"{path}#{face['face']}" + (f" {face['name']}" if face.get("name") else "")
 
@@ -91,7 +96,7 @@ def _net(shape) -> str:
     return "x".join(str(n) for n in shape)
 
 
-def _advice_text(face: dict) -> str:
+def _advice_text(face: GateFace) -> str:
     adv = face["advice"]
     if adv is None:  # gate --advise: the verdict needs today's budget only
         return f"advice {face.get('advice_skipped') or 'not computed'}"
@@ -108,7 +113,7 @@ def _num(x) -> str:
     return "n/a" if x is None else f"{x:.4g}"
 
 
-def where_text(face: dict, units: str) -> str:
+def where_text(face: GateFace, units: str) -> str:
     """``"STEP #17 (line 28); peak at uv (1, 0.9333), xyz (1000, 11.63, 19.87) mm"``, or ``""``."""
     parts = []
     if face.get("entity") is not None:
@@ -120,14 +125,14 @@ def where_text(face: dict, units: str) -> str:
     return "; ".join(parts)
 
 
-def _at_text(at: dict | None, units: str) -> str:
+def _at_text(at: CriterionAt | None, units: str) -> str:
     if not at:
         return ""
     xyz = f", xyz ({', '.join(_num(c) for c in at['xyz'])}) {units}" if at.get("xyz") else ""
     return f" at uv ({', '.join(_num(t) for t in at['uv'])}){xyz}"
 
 
-def criterion_text(c: dict, units: str, where: bool = True) -> str:
+def criterion_text(c: CriterionRecord, units: str, where: bool = True) -> str:
     """``"waviness 5 inflections (fail: warn > 1, fail > 3) at uv (0.2, 0.5), xyz (1, 2, 3) mm"``, or
     ``"knots not evaluated (a subdivision cage has no knots ...)"``."""
     if not c["evaluated"]:
@@ -140,7 +145,7 @@ def criterion_text(c: dict, units: str, where: bool = True) -> str:
             + (_at_text(c.get("at"), units) if where else ""))
 
 
-def criteria_summary(face: dict) -> str:
+def criteria_summary(face: GateFace) -> str:
     """One line with every criterion's value of a face: ``waviness 2 W, degree 3, ..., knots n/e``."""
     mark = {"warn": " W", "fail": " F", "pass": ""}
     return ", ".join(f"{c['criterion']} " + ("n/e" if not c["evaluated"] else
@@ -148,7 +153,7 @@ def criteria_summary(face: dict) -> str:
                                              f"{mark[c['verdict']]}") for c in face["criteria"])
 
 
-def criteria_lines(entry: dict, units: str) -> list[str]:
+def criteria_lines(entry: GateFile, units: str) -> list[str]:
     """The text report's PDQ lines of one file: per face its criteria, then each criterion that warns or fails
     with threshold and place, then what could not be evaluated and why (never silent)."""
     lines = []
@@ -167,7 +172,7 @@ def criteria_lines(entry: dict, units: str) -> list[str]:
     return lines
 
 
-def profile_line(doc: dict) -> str | None:
+def profile_line(doc: GateDocument) -> str | None:
     """``"PDQ profile default: waviness warn > 1, fail > 3; ..."`` (None without a profile)."""
     prof = doc.get("profile")
     if not prof:
@@ -185,7 +190,7 @@ def profile_line(doc: dict) -> str | None:
     return f"PDQ profile {prof['name']}{src}: " + "; ".join(parts)
 
 
-def face_numbers(doc: dict, entry: dict, face: dict) -> str:
+def face_numbers(doc: GateDocument, entry: GateFile, face: GateFace) -> str:
     """One line with the numbers of a face: value against tolerance, per-direction peaks, advice."""
     pol = entry["policy"]
     units = file_units(doc, entry)
@@ -201,7 +206,7 @@ def face_numbers(doc: dict, entry: dict, face: dict) -> str:
 
 
 # ---------------------------------------------------------------- text
-def _advised_cell(adv: dict | None) -> str:
+def _advised_cell(adv: AdviceRecord | None) -> str:
     if adv is None:  # skipped (gate --advise): the reason is in the JSON's advice_skipped
         return "-"
     if adv.get("verifiable") is False:
@@ -209,7 +214,7 @@ def _advised_cell(adv: dict | None) -> str:
     return _net(adv["net"]) if adv["meets_tolerance"] else "out of reach"
 
 
-def _u_cell(face: dict) -> str:
+def _u_cell(face: GateFace) -> str:
     """The intent's uncertainty U of a face (``-`` without one)."""
     unc = face.get("uncertainty")
     return "-" if not unc else f"{unc['peak']:.2g}"
@@ -219,12 +224,12 @@ def _share(x) -> str:
     return "" if x is None else f"{100 * x:.0f}%"
 
 
-def file_units(doc: dict, entry: dict) -> str:
+def file_units(doc: GateDocument, entry: GateFile) -> str:
     """The unit of one file (never another file's: an OBJ beside STEP files stays in model units)."""
     return unit_name(entry.get("units") if entry.get("units") else (doc["units"] if entry.get("faces") else None))
 
 
-def render_text(doc: dict, console, wide: bool | None = None) -> None:
+def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
     """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary.
 
     ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
@@ -310,7 +315,7 @@ def render_text(doc: dict, console, wide: bool | None = None) -> None:
     console.print(summary_line(doc))
 
 
-def summary_line(doc: dict) -> str:
+def summary_line(doc: GateDocument) -> str:
     """``gate FAIL: 3 file(s), 10 face(s): 7 pass, 2 warn, 1 fail; 1 file(s) unreadable (exit 1)``."""
     s = doc["summary"]
     faces = s["verdicts"]["faces"]
@@ -329,7 +334,7 @@ def summary_line(doc: dict) -> str:
     return text + f" (exit {doc['exit_code']})"
 
 
-def to_text(doc: dict, width: int = 132) -> str:
+def to_text(doc: GateDocument, width: int = 132) -> str:
     """The text report without colours (for ``--output``): a file, so nothing wraps (a path or a name is one
     token to grep); ``width`` chooses the layout (``render_text``'s ``wide``) and fits tables that can."""
     from rich.console import Console
@@ -341,13 +346,13 @@ def to_text(doc: dict, width: int = 132) -> str:
 
 
 # ---------------------------------------------------------------- json
-def to_json(doc: dict) -> str:
+def to_json(doc: GateDocument) -> str:
     """The gate document as JSON (strict: no NaN)."""
     return json.dumps(doc, indent=2, allow_nan=False) + "\n"
 
 
 # ---------------------------------------------------------------- junit
-def to_junit(doc: dict) -> str:
+def to_junit(doc: GateDocument) -> str:
     """JUnit XML: a testsuite per file, a testcase per face; failures carry the numbers."""
     import xml.etree.ElementTree as ET
 
@@ -441,7 +446,7 @@ def _fingerprint(*parts) -> str:
     return hashlib.sha256("\0".join(map(str, parts)).encode()).hexdigest()[:32]
 
 
-def to_sarif(doc: dict, cwd: str | None = None) -> str:
+def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
     """SARIF 2.1.0 log: tool.driver ``cadartifact`` with rules CA001-CA004, one result per finding."""
     from .. import __version__
 
@@ -452,7 +457,7 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
              for rid, name, level, text in RULES]
     results = []
 
-    def add(rule_id: str, level: str, text: str, path: str, face: dict | None, props: dict):
+    def add(rule_id: str, level: str, text: str, path: str, face: GateFace | None, props: dict):
         # the line of the face's STEP entity (#id = ADVANCED_FACE...); line 1 where there is none (OBJ)
         line = (face or {}).get("entity_line") or 1
         loc = {"physicalLocation": {"artifactLocation": {"uri": _uri(path, cwd)}, "region": {"startLine": line}}}
@@ -505,7 +510,7 @@ def to_sarif(doc: dict, cwd: str | None = None) -> str:
     return json.dumps(log, indent=2, allow_nan=False) + "\n"
 
 
-def _criteria_results(add, f: dict, path: str, units: str) -> None:
+def _criteria_results(add, f: GateFace, path: str, units: str) -> None:
     """SARIF results of a face's PDQ criteria: one per criterion that warns or fails, one note for those not
     evaluated."""
     crit = f.get("criteria") or []

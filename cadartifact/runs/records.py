@@ -1,68 +1,12 @@
-"""The advise document's records: one face's budget, advice and peak, and the schema they make.
+"""The advise document's records: one face's budget, advice and peak.
 
-The document (``cadartifact advise --json``) has this schema (version 2: issue 22 added ``uncertainty`` and
-``decision``, and ``meets_tolerance`` is true only for what conforms, ``value + U <= t``; version 3: issue 23
-analyses and advises the spans the trimmed face uses, so ``advice.reasons.*.today`` counts those spans' points,
-and adds ``outside_trim``, ``advice.joins``, ``advice.no_density``, ``advice.outside_trim`` and the comparison's
-``advice`` flag)::
-
-    {
-      "schema": "cadartifact.advise/3",
-      "tolerance": float, "units": "mm", "metric": "peak" | "rms",
-      "intent": "surface" | "net", "include_signal_error": bool,
-      "files": [{
-        "path": str, "units": "mm" | "model" | null,
-        "faces_total": int, "skipped": {kind: count}, "warnings": [str],
-        "analysed_share": float | null (OBJ: share of the cage's area in analysed charts),
-        "faces": [{
-          "face": int, "name": str | null, "kind": "bspline" | "bezier" | "converted" | "quad-chart",
-          "net": [nu, nv], "degrees": [p, q] | null, "units": "mm" | "model", "scheme": str,
-          "entity": int | null (STEP: the face's #id in the file), "entity_line": int | null (its line),
-          "canonical": str | null (what the face exactly is: "sphere r=12.5", "revolved: circular in u"),
-          "exact": [u, v] each null | "line" | "circle" | "surface" (directions without artifact),
-          "peak_at": null | {"value", "index": [x, y], "uv": [u, v] | null, "xyz": [x, y, z]}
-                     (faces beyond the tolerance: where the ripple peaks),
-          "method": "predicted" | "measured", "reason": str, "intent": "surface" | "net",
-          "uniform": bool (uniform knots and constant weights, or a cage), "notes": [str],
-          "budget": {"x1" | "x2" | "diagonal" | "lateral" | "total" | "signal_error" | "deviation":
-                     {"peak": float, "rms": float}},
-          "share": {same keys: value / tolerance under the metric},
-          "meets_tolerance": bool (conforms: value + U <= t),
-          "uncertainty": {"peak", "u", "v" (the intent's expanded uncertainty U, model units), "reading",
-                          "coverage_factor", "estimated" (false: the surface reading, U = 0)} | null,
-          "decision": "conforms" | "undecided" | "does not conform" (ISO 14253-1, today's net) | null,
-          "outside_trim": {"u", "v", "share"} (shares of the surface's parameter range outside the trimmed
-                          face: those spans are not analysed or advised) | null (untrimmed),
-          "advice": {"net": [n'u, n'v], "points": int, "intent": str, "objective": "deviation" | "ripple",
-                     "budget": {"deviation" (the advised net against the intent), "boundary" (its borders
-                                against today's), its own "x1" ... "total": {"peak", "rms"}},
-                     "share": {...}, "today": {"peak", "rms", "boundary"} (today's net, scored the same way),
-                     "meets_tolerance": bool (the advised net conforms), "uncertainty": {...} (as above),
-                     "decision": str (the advised net's), "today_decision": str, "verifiable": bool (false:
-                     U alone is near t, no net can conform; a note says so),
-                     "binding": "u" | "v" | null, "kept_today": bool,
-                     "reasons": {"u" | "v": {"today", "advised", "change", "coarser_value", "binding", "reason"}},
-                     "verification": {"method": "occt" | "today", "levels", "region": "face", "value", "rms",
-                                      "meets", "coarser": {"shape", "value", "meets"},
-                                      "samples" (net reading: distance to today's points)} | null,
-                     "comparison": {scheme: {"net", "points", "meets_tolerance", "objective",
-                                             "advice" (true: this row is the advice itself)}},
-                     "joins": {"u" | "v": {"joins": [float], "multiplicity", "today_spans": [int],
-                                           "plan": "per piece" | "proportional" | "today's",
-                                           "advised_spans": [int],
-                                           "pieces": [{"range", "today_spans", "advised_spans", "points",
-                                                       "deviation", "meets_tolerance"}] | null}} (directions whose joins the advice keeps),
-                     "outside_trim": {"u", "v", "share"} | null,
-                     "no_density": {"why": ["crease" | "uncertainty" | "stops improving" | "growth limit"],
-                                    "best": {"net", "value", "uncertainty"}, "reason": str} | null
-                                   (no density within the limits conforms: the best found, and why),
-                     "notes": [str]}
-        }]
-      }],
-      "summary": {"files": int, "faces": int, "within": int (conform), "exceeding": int (do not conform),
-                  "undecided": int, "unreachable": int},
-      "written": {...}  (only with --write-resampled: see :func:`write_advised`)
-    }
+The records and the document they make are typed in :mod:`cadartifact.runs.documents` (the advise document:
+:class:`~cadartifact.runs.documents.advise.AdviseDocument`, its faces
+:class:`~cadartifact.runs.documents.face.AdviseFace`, its version history in
+:mod:`cadartifact.runs.documents.advise`); ``cadartifact schema advise`` prints its JSON Schema (docs/schema.md).
+In short: per file and face, ``budget`` (``x1``, ``x2``, ``diagonal``, ``lateral``, ``total``, ``signal_error``,
+``deviation``: ``{"peak", "rms"}``), ``share`` of the tolerance, ``uncertainty``, ``decision``,
+``meets_tolerance``, ``peak_at`` and the ``advice``; a ``summary`` of counts.
 
 ``total`` is the whole ripple (x1 + x2 + diagonal); ``deviation`` is everything the surface differs
 from the intent (ripple and signal error); ``lateral`` is the part of the ripple running across
@@ -72,6 +16,10 @@ features (SPEC §3 weighting).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .documents.face import PeakAt, UncertaintyRecord
 
 __all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "uncertainty_record", "peak_location", "face_record", "analysed_share",
            "kind_count", "plural", "unit_name"]
@@ -88,7 +36,8 @@ def json_number(x):
 
 
 def budget_record(net, budget, include_signal_error: bool = False, uncertainty=None) -> dict:
-    """One face's entry of the document from its :class:`~cadartifact.budget.Budget` (``advice`` None).
+    """One face's entry of the document from its :class:`~cadartifact.budget.Budget` (``advice`` None): the keys of
+    :class:`~cadartifact.runs.documents.face.FaceRecord` but ``entity_line`` and ``peak_at``, which the caller adds.
 
     ``uncertainty`` (:class:`~cadartifact.analysis.uncertainty.Uncertainty`, optional): the intent's ``U``;
     ``decision`` is then the ISO 14253-1 rule on today's value (:func:`cadartifact.advice.decision.decide`)
@@ -128,7 +77,7 @@ def budget_record(net, budget, include_signal_error: bool = False, uncertainty=N
     }
 
 
-def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
+def peak_location(net, scheme=None, field: str = "total", current=None) -> PeakAt:
     """Where a face's ripple peaks: fine-grid index, surface parameters and position.
 
     Parameters
@@ -174,7 +123,7 @@ def peak_location(net, scheme=None, field: str = "total", current=None) -> dict:
             "uv": None if uv is None else [round(t, 9) for t in uv], "xyz": [json_number(c) for c in xyz]}
 
 
-def uncertainty_record(u) -> dict:
+def uncertainty_record(u) -> UncertaintyRecord:
     """``{"peak", "u", "v", "reading", "coverage_factor"}`` of an :class:`~cadartifact.analysis.uncertainty.Uncertainty`
     (numbers rounded as every number of the document)."""
     return {"peak": json_number(u.peak), "u": json_number(u.u), "v": json_number(u.v), "reading": u.reading,
@@ -182,7 +131,8 @@ def uncertainty_record(u) -> dict:
 
 
 def face_record(net, advice) -> dict:
-    """One face's entry of the document from its :class:`~cadartifact.advice.advise.Advice`."""
+    """One face's entry of the document from its :class:`~cadartifact.advice.advise.Advice` (as
+    :func:`budget_record`, with ``advice``: :class:`~cadartifact.runs.documents.face.AdviceRecord`)."""
     rec = budget_record(net, advice.current, advice.include_signal_error, advice.uncertainty)
     rec["advice"] = advice.to_dict()
     return rec

@@ -9,8 +9,15 @@ a path or a name stays one token on one line, to copy or grep, and a table takes
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from .records import kind_count, plural, unit_name
+
+if TYPE_CHECKING:  # the records the tables read (runs/documents: docs/schema.md)
+    from collections.abc import Iterable
+
+    from .documents.advise import AdviseDocument
+    from .documents.face import FaceRecord, Shares
 
 __all__ = ["WIDE_COLUMNS", "canonical_lines", "face_cell", "worst_direction", "wraps_nothing", "print_table", "render",
            "RichProgress", "LineProgress"]
@@ -39,7 +46,7 @@ def _bar(share: float | None, width: int = 4) -> str:
 WIDE_COLUMNS = 110
 
 
-def worst_direction(share: dict) -> str:
+def worst_direction(share: Shares) -> str:
     """``"X2 204%"``: the direction (X1, X2, diagonal) whose ripple takes most of the tolerance."""
     name, value = max(((k, share.get(k) or 0.0) for k in ("x1", "x2", "diagonal")), key=lambda kv: kv[1])
     label = {"x1": "X1", "x2": "X2", "diagonal": "diag"}[name]
@@ -47,7 +54,7 @@ def worst_direction(share: dict) -> str:
     return f"{label} {pct}"
 
 
-def canonical_lines(faces) -> list[str]:
+def canonical_lines(faces: Iterable[FaceRecord]) -> list[str]:
     """One line per canonical label among face records: ``"canonical: sphere r=12.5: faces 3, 15"``.
 
     Canonical faces (exactly a plane, cylinder, ..., or exactly straight/circular along a direction)
@@ -61,7 +68,7 @@ def canonical_lines(faces) -> list[str]:
             for label, ids in groups.items()]
 
 
-def face_cell(r: dict, limit: int | None = 24) -> str:
+def face_cell(r: FaceRecord, limit: int | None = 24) -> str:
     """``"3 hood_left"``: the face's index and name, cut to ``limit`` characters (``~`` at the end); whole
     with ``limit=None``."""
     label = str(r["face"]) + (f" {r['name']}" if r["name"] else "")
@@ -92,7 +99,7 @@ def print_table(console, table, heading: str | None = None) -> None:
     console.print(table)
 
 
-def render(doc: dict, console, wide: bool | None = None) -> None:
+def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
     """Print one rich table per file and a summary line.
 
     Each direction column shows that ripple's share of the tolerance (peak or RMS, as the

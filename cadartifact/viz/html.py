@@ -23,9 +23,21 @@ import datetime
 import html
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import CadArtifactError, OptionError
 from .facemaps import unit_text
+
+if TYPE_CHECKING:  # the records the page reads (runs/documents: docs/schema.md); gate records extend advise's
+    from typing import TypeAlias
+
+    from ..runs.documents.advise import AdviseDocument, AdviseFile
+    from ..runs.documents.face import AdviseFace
+    from ..runs.documents.gate import GateDocument, GateFace, GateFile
+
+    Document: TypeAlias = AdviseDocument | GateDocument
+    FileEntry: TypeAlias = AdviseFile | GateFile
+    Face: TypeAlias = AdviseFace | GateFace
 
 __all__ = ["write_report", "render_html", "HEATMAP_FACES", "HEATMAP_FILES", "MAP_SCHEMES"]
 
@@ -101,18 +113,18 @@ def _percent(share: float) -> str:
     return f"{pct:.0f}&#8239;%" if abs(pct) >= 100 else f"{pct:.1f}&#8239;%"
 
 
-def _value_key(doc: dict) -> str:
+def _value_key(doc: Document) -> str:
     return "deviation" if doc.get("include_signal_error") else "total"
 
 
-def _face_value(face: dict, doc: dict) -> float:
+def _face_value(face: Face, doc: Document) -> float:
     share = (face.get("share") or {}).get(_value_key(doc))
     if share is not None and math.isfinite(share):
         return share
     return -1.0
 
 
-def _verdict(face: dict) -> tuple[str, str, str]:
+def _verdict(face: Face) -> tuple[str, str, str]:
     """``(css class, text, explanation)``: the gate verdict when present, else from the advise fields."""
     if face.get("verdict"):
         v = str(face["verdict"])
@@ -129,7 +141,7 @@ def _verdict(face: dict) -> tuple[str, str, str]:
                                   else "no density up to the search limit meets the tolerance")
 
 
-def _advised(face: dict) -> str:
+def _advised(face: Face) -> str:
     adv = face.get("advice")
     if not adv:
         return "–"
@@ -148,7 +160,7 @@ def _advised(face: dict) -> str:
     return text
 
 
-def _face_rows(faces: list, doc: dict, unit: str, warn_fraction: float) -> str:
+def _face_rows(faces: list[Face], doc: Document, unit: str, warn_fraction: float) -> str:
     key = _value_key(doc)
     metric = doc.get("metric", "peak")
     rows = []
@@ -175,7 +187,7 @@ def _img(png: bytes, alt: str, cls: str) -> str:
     return f'<img class="{cls}" alt="{_e(alt)}" src="data:image/png;base64,{data}">'
 
 
-def _heatmap(entry: dict, doc: dict, tol: float, unit: str) -> str:
+def _heatmap(entry: FileEntry, doc: Document, tol: float, unit: str) -> str:
     """One picture of the file's worst faces, or a note saying why there is none."""
     from ..exchange.load import read
     from .view import face_maps, png_bytes, render_image
@@ -205,7 +217,7 @@ def _heatmap(entry: dict, doc: dict, tol: float, unit: str) -> str:
     return f"<figure>{_img(png_bytes(image), title, 'heatmap')}<figcaption>{caption}</figcaption></figure>"
 
 
-def _response_maps(doc: dict) -> str:
+def _response_maps(doc: Document) -> str:
     from .maps import maps_figure
 
     names, more = map_schemes(doc)
@@ -229,7 +241,7 @@ def _response_maps(doc: dict) -> str:
             f"<figcaption>{caption}</figcaption></figure></section>")
 
 
-def map_schemes(doc: dict) -> tuple[list, list]:
+def map_schemes(doc: Document) -> tuple[list, list]:
     """The schemes the faces use, most used first, one name per distinct scheme (``bicubic`` and
     ``bspline(3,3)`` are one mask): ``(drawn, not drawn)``, at most :data:`MAP_SCHEMES` drawn."""
     import numpy as np
@@ -258,7 +270,7 @@ def map_schemes(doc: dict) -> tuple[list, list]:
     return names[:MAP_SCHEMES], names[MAP_SCHEMES:]
 
 
-def _contents(doc: dict) -> str:
+def _contents(doc: Document) -> str:
     """A table of contents: one link per file with its verdict and face count."""
     items = []
     for k, entry in enumerate(doc["files"]):
@@ -271,7 +283,7 @@ def _contents(doc: dict) -> str:
     return f'<nav class="toc"><b>Contents</b><ol>{"".join(items)}</ol></nav>'
 
 
-def _relation(doc: dict) -> str:
+def _relation(doc: Document) -> str:
     """How the advise counts (within / exceeding) relate to the gate verdicts (pass / warn / fail)."""
     faces = [f for e in doc["files"] for f in e.get("faces") or []]
     exceeding = [f for f in faces if f.get("meets_tolerance") is False]
@@ -287,7 +299,7 @@ def _relation(doc: dict) -> str:
     return f'<p class="small">{_e(text)}</p>'
 
 
-def _advice_details(faces: list, doc: dict, unit: str) -> str:
+def _advice_details(faces: list[Face], doc: Document, unit: str) -> str:
     """Per face, folded: why each direction has its count, how the advice was verified, and what the other
     schemes would need."""
     rows = []
@@ -307,8 +319,7 @@ def _advice_details(faces: list, doc: dict, unit: str) -> str:
         if ver is not None:
             ok = "meets" if ver.get("meets") else "does not meet"
             bits.append(f"verification ({_e(ver.get('method'))}, K = {2 ** int(ver.get('levels') or 0)}): "
-                        f"{_num(ver.get('value'))} {_e(unit)} {ok} the tolerance"
-                        + (f"; {_e(ver['note'])}" if ver.get("note") else ""))
+                        f"{_num(ver.get('value'))} {_e(unit)} {ok} the tolerance")
         if comp:
             bits.append("other schemes: " + ", ".join(
                 f"{_e(k)} {'×'.join(map(str, v.get('net') or []))} ({v.get('points')} points"
@@ -320,7 +331,7 @@ def _advice_details(faces: list, doc: dict, unit: str) -> str:
     return f'<details class="small"><summary>Advice details</summary><ul>{"".join(rows)}</ul></details>'
 
 
-def _criteria_table(entry: dict, unit: str) -> str:
+def _criteria_table(entry: FileEntry, unit: str) -> str:
     """The PDQ criteria of a gate run with a profile: a row per face and criterion (value, verdict, thresholds,
     worst place, detail or why it was not evaluated); empty without criteria."""
     from ..gate.reports import criterion_text
@@ -346,7 +357,7 @@ def _criteria_table(entry: dict, unit: str) -> str:
             + "</tbody></table></div></details>")
 
 
-def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
+def render_html(doc: Document, *, heatmaps: bool = True, maps: bool = True) -> str:
     """The report page as a string (see :func:`write_report`)."""
     if not isinstance(doc, dict) or not isinstance(doc.get("files"), list):
         raise OptionError("doc", "an advise or gate document (cadartifact.runs.records schema)", type(doc).__name__)
@@ -445,14 +456,14 @@ def render_html(doc: dict, *, heatmaps: bool = True, maps: bool = True) -> str:
     return "\n".join(p for p in parts if p)
 
 
-def write_report(doc: dict, path, *, heatmaps: bool = True, maps: bool = True) -> Path:
+def write_report(doc: Document, path, *, heatmaps: bool = True, maps: bool = True) -> Path:
     """Write the document as one self-contained HTML page.
 
     Parameters
     ----------
     doc : dict
-        An advise document (:mod:`cadartifact.runs.records`) or a gate document (:mod:`cadartifact.gate.run`,
-        which adds verdicts).
+        An advise document (:class:`~cadartifact.runs.documents.advise.AdviseDocument`) or a gate document
+        (:class:`~cadartifact.runs.documents.gate.GateDocument`, which adds verdicts).
     path : path-like
         The ``.html`` file, written atomically (temporary file + rename), in an existing folder.
     heatmaps : bool

@@ -1,0 +1,103 @@
+"""The advise document (``cadartifact advise --json``, :func:`cadartifact.runs.advising.advise_files`): its
+files, their faces (:mod:`.face`), the summary and, with ``--write-resampled``, what was written.
+
+Versions: 2 added ``uncertainty`` and ``decision`` (``meets_tolerance`` true only for what conforms,
+``value + U <= t``); 3 analyses and advises the spans the trimmed face uses (``advice.reasons.*.today`` counts
+those spans' points) and adds ``outside_trim``, ``advice.joins``, ``advice.no_density``, ``advice.outside_trim``
+and the comparison's ``advice`` flag.
+"""
+
+from __future__ import annotations
+
+from typing import Literal, NotRequired
+
+from .face import AdviseFace, Metric, Reading
+from .keys import TypedDict
+
+__all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "WrittenFile", "Written", "AdviseDocument"]
+
+#: The ``schema`` key of the advise document (and of the gate document, which extends it).
+ADVISE_SCHEMA = "cadartifact.advise/3"
+
+
+class AdviseFile(TypedDict, closed=True):
+    """One file of the advise document."""
+
+    path: str
+    units: Literal["mm", "model"] | None
+    """The unit of its faces (null: no analysable face)."""
+    faces_total: int
+    analysed_share: float | None
+    """An OBJ cage: the share of its area in analysed charts (null: a B-rep file)."""
+    skipped: dict[str, int]
+    """Faces not analysed, counted per kind (``plane``, ``triangle``, ...)."""
+    warnings: list[str]
+    faces: list[AdviseFace]
+
+
+class AdviseSummary(TypedDict, closed=True):
+    """Counts of faces over every file."""
+
+    files: int
+    faces: int
+    within: int
+    """Faces that conform."""
+    exceeding: int
+    """Faces that do not conform."""
+    undecided: int
+    unreachable: int
+    """Faces for which no density within the search's limits conforms."""
+
+
+class WrittenFace(TypedDict, closed=True):
+    """One face written with its advised net."""
+
+    face: int
+    name: str | None
+    max_distance: float | None
+    mean_distance: float | None
+    edge_tolerance: float | None
+    valid: bool | None
+    model_valid: NotRequired[bool | None]
+    """A B-rep source: whether the written model checks valid (absent for OBJ sources)."""
+    file: NotRequired[str]
+    """Several input files: the output file this face was written to."""
+
+
+class WrittenFile(TypedDict, closed=True):
+    """One output file."""
+
+    path: str
+    source: str
+    mode: Literal["model", "faces-only"]
+    faces: list[WrittenFace]
+    kept: list[int]
+    """Faces whose advice keeps today's net: left as they were."""
+    valid: bool | None
+
+
+class Written(TypedDict, closed=True):
+    """What ``--write-resampled`` wrote (:func:`cadartifact.runs.advising.write_advised`)."""
+
+    mode: Literal["model", "faces-only", "mixed"]
+    files: list[WrittenFile]
+    path: str
+    """The first output file."""
+    faces: list[WrittenFace]
+    """One input file: its faces; several: every file's, each with ``file``."""
+
+
+class AdviseDocument(TypedDict, closed=True):
+    """The advise document: per file and face, today's ripple budget against the tolerance and the density
+    advice."""
+
+    schema: Literal["cadartifact.advise/3"]
+    tolerance: float
+    units: Literal["mm", "model"]
+    metric: Metric
+    intent: Reading
+    include_signal_error: bool
+    files: list[AdviseFile]
+    summary: AdviseSummary
+    written: NotRequired[Written]
+    """Only with ``--write-resampled``."""

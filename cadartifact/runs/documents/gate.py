@@ -1,0 +1,196 @@
+"""The gate document (``cadartifact gate --format json``, :func:`cadartifact.gate.run.build_document`): the advise
+document's keys, each face's verdict and PDQ criteria, each file's policy and verdict, the summary and the exit
+code.
+
+Versions: 3 added the PDQ criteria (``profile``, per face ``criteria`` and ``ripple_verdict``).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal, NotRequired
+
+from .face import AdviceRecord, FaceRecord, Metric, Reading
+from .keys import Pair, Triple, TypedDict
+
+__all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "CriterionAt", "CriterionRecord",
+           "GateFace", "ProfileRecord", "PolicyRecord", "GateFile", "CriterionCounts", "FaceCounts", "FileCounts",
+           "VerdictCounts", "GateSummary", "GateDocument"]
+
+#: The ``gate`` key of the gate document.
+GATE_SCHEMA = "cadartifact.gate/3"
+
+#: A face's verdict.
+FaceVerdict = Literal["pass", "warn", "fail"]
+#: A file's verdict, and the run's (``error``: a file could not be read or analysed).
+Verdict = Literal["pass", "warn", "fail", "error"]
+#: ``above``: a value above the threshold is bad; ``below``: a value below it.
+Sense = Literal["above", "below"]
+
+
+class Threshold(TypedDict, closed=True):
+    """A criterion's thresholds (null: none at that level)."""
+
+    warn: float | None
+    fail: float | None
+    sense: Sense
+
+
+class CriterionAt(TypedDict, closed=True):
+    """Where the face is worst under a criterion."""
+
+    uv: Annotated[list[float | None], Pair]
+    xyz: Annotated[list[float | None], Triple] | None
+
+
+class CriterionRecord(TypedDict, closed=True):
+    """One PDQ criterion on one face (:mod:`cadartifact.analysis.quality`)."""
+
+    criterion: str
+    """The criterion's key (``waviness``, ``degree``, ...)."""
+    code: str
+    """Its PDQ code (``G-SU-WV``) or the checkers' name for it."""
+    evaluated: bool
+    """False: ``reason`` says why it could not be (or that the profile turns it off)."""
+    value: float | None
+    unit: str
+    verdict: FaceVerdict | None
+    """Null when not evaluated."""
+    threshold: Threshold | None
+    at: CriterionAt | None
+    """Null where the criterion has no place (degree, counts)."""
+    detail: str
+    reason: str | None
+
+
+class GateFace(FaceRecord, closed=True):
+    """A face of the gate document: its record, its verdict and, where the policy asks, its advice."""
+
+    advice: AdviceRecord | None
+    """Null: not computed (``advice_skipped`` says why)."""
+    verdict: FaceVerdict
+    """The worst of the ripple's verdict and the PDQ criteria's."""
+    verdict_reason: str
+    """One line with the numbers."""
+    value: float
+    """The number compared with the tolerance: ``budget[total | deviation][metric]``."""
+    advice_skipped: str | None
+    """Why the advice was not computed (null: it was)."""
+    ripple_verdict: FaceVerdict
+    """The ripple's verdict (``verdict`` is the worst of it and the PDQ criteria's)."""
+    criteria: list[CriterionRecord] | None
+    """Null without a PDQ profile."""
+
+
+class ProfileRecord(TypedDict, extra_items=Threshold | None):  # type: ignore[call-arg]  # mypy: no extra_items yet
+    """A PDQ profile: per criterion key its thresholds (null: the criterion is off), besides the keys below."""
+
+    name: str
+    source: str | None
+    """The profile file (null: built in)."""
+    flat_radius: float
+    knot_parameter: float
+
+
+class PolicyRecord(TypedDict, closed=True):
+    """The settings one file was gated under (:class:`cadartifact.gate.policy.FileSettings`)."""
+
+    tolerance: float
+    metric: Metric
+    warn_fraction: float
+    include_signal_error: bool
+    scheme: str | None
+    """Null: each face's own degrees (Catmull-Clark for cages)."""
+    measured: Literal["warn", "fail"]
+    undecided: FaceVerdict
+    intent: Reading
+    convert: bool
+    min_analysed_share: float
+    advise: Literal["failing", "all", "none"]
+    ignore_faces: list[int]
+    profile: ProfileRecord | None
+
+
+class GateFile(TypedDict, closed=True):
+    """One file of the gate document; a file that could not be read has ``error`` and no faces."""
+
+    path: str
+    units: Literal["mm", "model"] | None
+    faces_total: int | None
+    """Null: the file could not be read."""
+    analysed_share: NotRequired[float | None]
+    """An OBJ cage: the share of its area in analysed charts (absent when the file could not be read)."""
+    skipped: dict[str, int]
+    warnings: list[str]
+    notes: list[str]
+    ignored_faces: list[int]
+    policy: PolicyRecord | None
+    faces: list[GateFace]
+    verdict: Verdict
+    error: NotRequired[str]
+    """Why the file could not be read or analysed (verdict ``error``)."""
+    share_failure: NotRequired[str]
+    """An OBJ cage whose analysed share is below the policy's ``min_analysed_share`` (it fails)."""
+
+
+class CriterionCounts(TypedDict, closed=True):
+    """Faces per outcome of one PDQ criterion."""
+
+    warn: int
+    fail: int
+    not_evaluated: int
+
+
+# "pass" is a keyword: the functional form
+FaceCounts = TypedDict("FaceCounts", {"pass": int, "warn": int, "fail": int}, closed=True)
+FaceCounts.__doc__ = "Faces per verdict."
+FileCounts = TypedDict("FileCounts", {"pass": int, "warn": int, "fail": int, "error": int}, closed=True)
+FileCounts.__doc__ = "Files per verdict."
+
+
+class VerdictCounts(TypedDict, closed=True):
+    """Files and faces per verdict."""
+
+    files: FileCounts
+    faces: FaceCounts
+
+
+class GateSummary(TypedDict, closed=True):
+    """Counts over every file."""
+
+    files: int
+    faces: int
+    within: int
+    exceeding: int
+    undecided: int
+    """Faces the decision rule left undecided."""
+    unreachable: int
+    criteria: NotRequired[dict[str, CriterionCounts]]
+    """Per PDQ criterion (only with a profile)."""
+    errors: int
+    """Files that could not be read or analysed."""
+    verdicts: VerdictCounts
+
+
+class GateDocument(TypedDict, closed=True):
+    """The gate document: pass / warn / fail per face and file, and the exit code."""
+
+    schema: Literal["cadartifact.advise/3"]
+    gate: Literal["cadartifact.gate/3"]
+    tolerance: float | None
+    """The run's tolerance (with tolerances only in the policy's overrides, the first file's)."""
+    units: Literal["mm", "model"]
+    metric: Metric
+    include_signal_error: bool
+    intent: Reading
+    warn_fraction: float
+    measured: Literal["warn", "fail"]
+    undecided: FaceVerdict
+    scheme: str | None
+    profile: ProfileRecord | None
+    """The PDQ profile's thresholds (null: no criteria)."""
+    policy: str | None
+    """The policy file (null: none)."""
+    files: list[GateFile]
+    summary: GateSummary
+    verdict: Verdict
+    exit_code: Literal[0, 1, 2]
