@@ -6,8 +6,9 @@ the file's faces in rounds (half of what is left, longest first, whenever it has
 the rest here at the same time and returns one outcome per face in face order, as the serial loop
 would: the same records (the child runs the same code, with the same one BLAS thread, so the numbers
 are the same to the bit) and the same first error.
-:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's; both
-analyse a face that repeats an earlier one moved rigidly only once (:func:`per_instance`).
+:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's: both run the one
+face pipeline (:mod:`cadartifact.runs.face`, its two phases) under their door's options and word its errors as
+their documents do; both analyse a face that repeats an earlier one moved rigidly only once (:func:`per_instance`).
 
 The faces are shared only when that pays: this process is the only worker (:func:`enabled`;
 ``--jobs 2`` workers already fill the cores), the machine has a second core, the reader child is
