@@ -92,7 +92,7 @@ def face_times(net, settings, repeat: int, profile=None) -> tuple[float, float]:
 
 def gate_times(net, settings, repeat: int) -> tuple[float, float]:
     """``(budget seconds, U seconds)`` of one cold face as the gate's verdict computes it without advice
-    (:func:`cadartifact.runs.verdicts.face_entry`: today's budget, then today's U), best of ``repeat``."""
+    (:func:`cadartifact.runs.face.start_face`: today's budget, then today's U), best of ``repeat``."""
     from cadartifact.advice.decision import face_uncertainty
     from cadartifact.analysis.budget import budget_for
 

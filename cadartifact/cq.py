@@ -20,6 +20,7 @@ carry no control net and pass.
 
 from __future__ import annotations
 
+import math
 import warnings
 
 from .errors import ArtifactToleranceError, OptionError, check_option
@@ -59,13 +60,6 @@ def _nets(obj, convert: bool, name):
     return nets
 
 
-def _record(net, b, include_signal_error: bool, uncertainty=None) -> dict:
-    """A face entry shaped as :func:`cadartifact.runs.records.face_record`, from a budget (no advice yet)."""
-    from .runs.records import budget_record
-
-    return budget_record(net, b, include_signal_error, uncertainty)
-
-
 def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak", scheme=None,
            include_signal_error: bool = False, compare: bool = False, verify: bool = False,
            convert: bool = False, name: str | None = None, intent: str = "surface") -> list[dict]:
@@ -99,19 +93,13 @@ def report(shape_or_workplane, tol: float | None = None, *, metric: str = "peak"
         method, reason, budget {direction: {peak, rms}}, share, meets_tolerance, advice``.
         Without ``tol``: ``share``, ``meets_tolerance`` and ``advice`` are None.
     """
-    from .advice.advise import advise_for
-    from .analysis.budget import budget_for
-    from .runs.records import face_record
+    from .runs.face import HOOK_REPORT, analyse_face
 
     settings = _settings(tol, metric, scheme, intent, include_signal_error)
-    rows = []
-    for net in _nets(shape_or_workplane, convert, name):
-        if settings.tolerance is None:
-            rows.append(_record(net, budget_for(net, settings), include_signal_error))
-        else:
-            adv = advise_for(net, settings.replace(intent=settings.reading), compare=compare, verify=verify)
-            rows.append(face_record(net, adv))
-    return rows
+    # without a tolerance: the budget under the intent as given; with one, the advice's reading (as advise's)
+    options = (HOOK_REPORT.replace(reading="intent") if settings.tolerance is None else
+               HOOK_REPORT.replace(compare=compare, verify=verify))
+    return [analyse_face(net, settings, options) for net in _nets(shape_or_workplane, convert, name)]
 
 
 def _describe(row: dict, settings, units: str = "mm") -> str:
@@ -175,16 +163,14 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
 
     # Workplane.invoke reads the arity from __code__, so this must be a plain one-argument function.
     def artifact_check(workplane):
-        from .advice.advise import advise_for
-        from .analysis.budget import budget_for
-
-        from .advice.decision import NONCONFORMING, UNDECIDED, face_uncertainty
+        from .advice.decision import NONCONFORMING, UNDECIDED
+        from .runs.face import HOOK_CHECK, HOOK_REPORT, analyse_face
 
         rows, undecided = [], []
         for net in _nets(workplane, convert, None):
-            b = budget_for(net, settings, keep_fields=settings.reading == "surface")
-            rec = _record(net, b, include_signal_error, face_uncertainty(net, settings, b))
-            value = b.stats[settings.compared].get(metric)
+            rec = analyse_face(net, settings, HOOK_CHECK)
+            value = rec["budget"][settings.compared][metric]  # None: not finite, the worst of all
+            value = math.inf if value is None else value
             if rec["decision"] == NONCONFORMING:
                 rows.append((value, net, rec))
             elif rec["decision"] == UNDECIDED:
@@ -199,8 +185,7 @@ def check(tol: float = 0.05, *, mode: str = "raise", metric: str = "peak", schem
             return workplane
         rows.sort(key=lambda r: -r[0])
         _, worst_net, worst = rows[0]
-        adv = advise_for(worst_net, settings.replace(intent=settings.reading), compare=False, verify=False)
-        worst["advice"] = adv.to_dict()
+        worst["advice"] = analyse_face(worst_net, settings, HOOK_REPORT)["advice"]  # the worst face's only
         message = _describe(worst, settings, worst_net.unit)
         if len(rows) > 1:
             message = f"{len(rows)} faces exceed the tolerance; worst {message}"

@@ -102,26 +102,26 @@ def test_a_child_that_fails_its_share_costs_only_time(many, monkeypatch):
 def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
     """The child's side run in this process (so that one face can be made to fail on both sides): the
     outcomes are the serial loop's, errors included, in face order."""
-    import cadartifact.runs.verdicts as verdicts
+    import cadartifact.runs.face as pipeline
     import cadartifact.runs.face_sharing as split
     from cadartifact.errors import CadArtifactError
     from cadartifact.exchange import isolation
     from cadartifact.gate.policy import FileSettings
 
-    real_entry = verdicts.face_entry
+    real_entry = pipeline.start_face
 
-    def entry(net, settings, verify):
+    def entry(net, settings, options, **kwargs):
         if net.origin.name in ("bad", "worse"):
             raise CadArtifactError(f"{net.origin.name} cannot be analysed")
         if net.origin.name == "odd":
             raise ZeroDivisionError("division by zero")
-        return real_entry(net, settings, verify)
+        return real_entry(net, settings, options, **kwargs)
 
     def call(function, args, *, during=None, **kwargs):
         during()
         return split.child_gate(*args)
 
-    monkeypatch.setattr(verdicts, "face_entry", entry)
+    monkeypatch.setattr(pipeline, "start_face", entry)
     monkeypatch.setattr(isolation, "call", call)
     names = ["a", "bad", "b", "odd", "c", "worse", "d", "e"]
     nets = [_net(10 + k, 8 + k % 3, 1.0, n).replace(origin=NetOrigin(name=n, face=k, kind="bspline"))

@@ -321,7 +321,7 @@ def _batch_file(tmp_path):
 
 
 def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
-    import cadartifact.runs.verdicts as verdicts
+    import cadartifact.runs.face as pipeline
     from cadartifact.errors import CadArtifactError
     from cadartifact.gate.run import gate_file, merge_parts
     from cadartifact.gate.policy import FileSettings
@@ -334,14 +334,14 @@ def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
         parts = [gate_file(path, settings, part=(r, k)) for r in range(k)]
         assert json.dumps(merge_parts(parts, settings)) == json.dumps(whole), k
     # the first error of all batches, in face order, is the whole file's error
-    real = verdicts.face_entry
+    real = pipeline.start_face
 
-    def entry(net, s, verify):
+    def entry(net, s, options, **kwargs):
         if net.origin.face in (4, 7):
             raise CadArtifactError(f"face {net.origin.face} refuses")
-        return real(net, s, verify)
+        return real(net, s, options, **kwargs)
 
-    monkeypatch.setattr(verdicts, "face_entry", entry)
+    monkeypatch.setattr(pipeline, "start_face", entry)
     whole = gate_file(path, settings)
     assert whole["verdict"] == "error" and "face 4" in whole["error"]
     for k in (2, 3, 5):

@@ -6,8 +6,9 @@ the file's faces in rounds (half of what is left, longest first, whenever it has
 the rest here at the same time and returns one outcome per face in face order, as the serial loop
 would: the same records (the child runs the same code, with the same one BLAS thread, so the numbers
 are the same to the bit) and the same first error.
-:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's; both
-analyse a face that repeats an earlier one moved rigidly only once (:func:`per_instance`).
+:func:`analyse_faces` is the gate's per-face work, :func:`advise_faces` the advise document's: both run the one
+face pipeline (:mod:`cadartifact.runs.face`, its two phases) under their door's options and word its errors as
+their documents do; both analyse a face that repeats an earlier one moved rigidly only once (:func:`per_instance`).
 
 The faces are shared only when that pays: this process is the only worker (:func:`enabled`;
 ``--jobs 2`` workers already fill the cores), the machine has a second core, the reader child is
@@ -205,13 +206,11 @@ def analyse_faces(nets: list, settings, verify: bool, *, only=None) -> list:
     only : list of int, optional
         The outcomes of these faces only (a batch of the file's faces), as the whole file's run gives them.
     """
-    key = settings.run.compared
-
     def run(faces, done):
         if verify:
             return [face_outcome(n, settings, verify) for n in faces]
         return share(faces, [estimated_ms(n) for n in faces], lambda n: _budgeted(n, settings, verify),
-                     lambda n, first: _located(*first, n, key), "cadartifact.runs.face_sharing:child_gate",
+                     lambda n, first: _located(first, settings, verify), "cadartifact.runs.face_sharing:child_gate",
                      (settings, verify))
 
     from .face_instances import instance_record
@@ -234,8 +233,8 @@ def advise_faces(nets: list, settings, advice: dict, path, *, done=None, keep: b
     """
     def run(faces, done):
         costs = [ADVICE_MS + 4.0 * estimated_ms(n) for n in faces]  # a search and a comparison: several budgets
-        return share(faces, costs, lambda n: _advised(n, settings, advice, later=True),
-                     lambda n, adv: _recorded(adv, n, settings, path, keep),
+        return share(faces, costs, lambda n: _advised(n, settings, advice, path, later=True),
+                     lambda n, work: _recorded(work, n, settings, path, keep),
                      "cadartifact.runs.face_sharing:child_advise", (settings, advice, str(path)), done=done)
 
     if keep:  # the Advice objects (advised nets to write) are each face's own
@@ -276,41 +275,40 @@ def per_instance(nets: list, run, moved, *, done=None, only=None) -> list:
 
 def child_advise(nets: list, settings, advice: dict, path) -> list:
     """The reader child's side of :func:`advise_faces`: records only (an Advice stays where it was made)."""
-    return _in_child(lambda n: _recorded(_advised(n, settings, advice, later=False), n, settings, path, False), nets)
+    return _in_child(lambda n: _recorded(_advised(n, settings, advice, path, later=False), n, settings, path, False),
+                     nets)
 
 
-def _advised(net, settings, advice: dict, later: bool):
-    """Phase one of the advise work: the :class:`~cadartifact.advice.advise.Advice` under the run's reading (its
-    verification left for later with ``later``) or the exception."""
-    from ..advice.advise import advise_for
+def _advise_options(advice: dict):
+    """The advise door's :class:`~cadartifact.runs.face.FaceOptions`, with the run's ``compare`` and ``verify``."""
+    from .face import ADVISE
+
+    return ADVISE.replace(**advice)
+
+
+def _advised(net, settings, advice: dict, path, later: bool):
+    """Phase one of the advise work (:func:`cadartifact.runs.face.start_face`: the advice's verification left for
+    later with ``later``) or the exception."""
+    from . import face
 
     try:
-        opts = dict(advice)
-        if later and opts.get("verify", True):
-            opts["verify"] = "later"
-        return advise_for(net, settings.replace(intent=settings.reading), **opts)
+        return face.start_face(net, settings, _advise_options(advice), later=later)
+    except face.NonFiniteResult as exc:
+        return FileFormatError(path, f"face {net.origin.face}: {exc}")
     except Exception as exc:  # noqa: BLE001 - raised by the caller, in face order
         return exc
 
 
-def _recorded(adv, net, settings, path, keep: bool):
-    """Phase two: the verification left for later, then ``(record, advice if keep else None)``, checked and
-    located, or the exception."""
-    from .records import face_record
-    from ..advice.verification import complete
+def _recorded(work, net, settings, path, keep: bool):
+    """Phase two (:func:`cadartifact.runs.face.finish_face`: the verification left for later, the peak's location):
+    ``(record, advice if keep else None)`` or the exception."""
+    from . import face
 
-    if isinstance(adv, BaseException):
-        return adv
+    if isinstance(work, BaseException):
+        return work
     try:
-        adv = complete(adv)
-        rec = face_record(net, adv)
-        key = settings.compared
-        if any(rec["budget"][k][settings.metric] is None for k in {key, "total"}):
-            return FileFormatError(path, f"face {net.origin.face}: the analysis gave a non-finite value "
-                                         "(coordinates or weights too large?)")
-        rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
-        rec["peak_at"] = _peak_at(net, rec["scheme"], key, None) if _beyond(rec) else None
-        return rec, (adv if keep else None)
+        work = face.finish_face(work, settings, _advise_options({}))
+        return work.record, (work.advice if keep else None)
     except Exception as exc:  # noqa: BLE001
         return exc
 
@@ -339,63 +337,40 @@ def unpack(answer):
 def face_outcome(net, settings, verify: bool):
     """The gate record of one face with its peak location, or the :class:`CadArtifactError` the serial
     gate raises for it (other exceptions become ``analysis failed (Type: message)``, as the gate words them)."""
-    return _located(*_budgeted(net, settings, verify), net, settings.run.compared)
+    return _located(_budgeted(net, settings, verify), settings, verify)
+
+
+def _gate_options(settings, verify: bool):
+    """The gate door's :class:`~cadartifact.runs.face.FaceOptions` under a file's settings (its ``advise``)."""
+    from .face import GATE
+
+    return GATE.replace(advice=settings.advise, verify="failing" if verify else False)
 
 
 def _budgeted(net, settings, verify: bool):
-    """``(record or error, whether its peak is to be located, today's budget with fields or None)``: no OCCT
-    evaluation except the advice's verification."""
-    import numpy as np
-
-    from .verdicts import face_entry
+    """Phase one of the gate's work (:func:`cadartifact.runs.face.start_face`, no OCCT evaluation except the
+    advice's verification) or the error, worded as the gate words it."""
+    from . import face
 
     try:
-        if not np.isfinite(np.sum(net.points ** 2)):  # squared norms overflow: nothing finite would come out
-            return CadArtifactError(f"face {net.origin.face}: coordinates too large to analyse "
-                                    f"(max |x| = {np.abs(net.points).max():.3g})"), False, None
-        try:
-            rec, current = face_entry(net, settings, verify)
-        except ChildFailed as exc:  # OCCT's evaluation crashed or hung in the child: it names the face
-            return exc, False, None
-        except CadArtifactError as exc:
-            return CadArtifactError(f"face {net.origin.face}: {exc}"), False, None
-        located = _beyond(rec)
-        rec["entity_line"] = None  # set by the caller (it has the file's entity index); the records' key order
-        rec["peak_at"] = None
-        return rec, located, current if located else None
+        return face.start_face(net, settings, _gate_options(settings, verify))
+    except ChildFailed as exc:  # OCCT's evaluation crashed or hung in the child: it names the face
+        return exc
+    except CadArtifactError as exc:
+        return CadArtifactError(f"face {net.origin.face}: {exc}")
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
-        return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})"), False, None
+        return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})")
 
 
-def _beyond(rec: dict) -> bool:
-    """Whether a face's record is beyond the tolerance or warns: its peak is located."""
-    return rec["meets_tolerance"] is False or rec.get("ripple_verdict", rec.get("verdict")) in ("warn", "fail")
+def _located(work, settings, verify: bool):
+    """Phase two (:func:`cadartifact.runs.face.finish_face`: the peak's location) and the record, or the error."""
+    from . import face
 
-
-def _located(outcome, located: bool, current, net, key: str):
-    """The record with ``peak_at`` (:func:`cadartifact.runs.records.peak_location`, on ``current`` when given)
-    where ``located`` asks."""
-    if not located or isinstance(outcome, BaseException):
-        return outcome
+    if isinstance(work, BaseException):
+        return work
     try:
-        outcome["peak_at"] = _peak_at(net, outcome["scheme"], key, current)
+        return face.finish_face(work, settings, _gate_options(settings, verify)).record
     except ChildFailed as exc:  # OCCT's evaluation crashed or hung in the child: the face's error, named
         return exc
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
         return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})")
-    return outcome
-
-
-def _peak_at(net, scheme: str, key: str, current):
-    """:func:`cadartifact.runs.records.peak_location`, or None where it cannot say (a location helps; it never fails
-    a run). Other exceptions pass: each caller words them as its document does; so does OCCT's evaluation
-    crashing or hanging in the reader child (:class:`~cadartifact.exchange.isolation.ChildFailed`): the face's
-    error, a face never passes on a location that could not be made."""
-    from .records import peak_location
-
-    try:
-        return peak_location(net, scheme, key, current)
-    except ChildFailed:
-        raise
-    except (CadArtifactError, ValueError, KeyError):
-        return None

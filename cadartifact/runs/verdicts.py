@@ -1,12 +1,11 @@
-"""One face's gate record and verdict, wherever the face is analysed (this process, the reader child, a
-pool worker or a Dask worker): today's budget against the tolerance, and the density advice where the
-policy asks for it. The gate (:mod:`cadartifact.gate.run`) judges whole files from these records."""
+"""The gate's verdict of one face record, and its PDQ criteria: today's value against the tolerance by the
+decision rule, the policy's caps, the criteria's verdicts. The face pipeline (:mod:`cadartifact.runs.face`) adds
+them to the record where the door asks (``FaceOptions.verdict``, ``criteria``); the gate
+(:mod:`cadartifact.gate.run`) judges whole files from these records."""
 
 from __future__ import annotations
 
-from ..errors import CadArtifactError
-
-__all__ = ["VERDICTS", "worst_verdict", "face_verdict", "advice_wanted", "face_entry", "add_criteria"]
+__all__ = ["VERDICTS", "worst_verdict", "face_verdict", "add_criteria"]
 
 #: Verdicts from best to worst.
 VERDICTS = ("pass", "warn", "fail", "error")
@@ -68,58 +67,6 @@ def face_verdict(record: dict, settings) -> tuple[str, str, float]:
         verdict = "warn"
         reason += " (non-uniform knots: capped at warn by policy measured = 'warn')"
     return verdict, reason, value
-
-
-def advice_wanted(settings, verdict: str) -> str | None:
-    """None when the face gets the density advice under ``settings.advise``, else why it does not."""
-    if settings.advise == "all" or (settings.advise == "failing" and verdict in ("warn", "fail")):
-        return None
-    if settings.advise == "none":
-        return "not computed (--advise none)"
-    return "face passes (--advise failing)"
-
-
-def face_entry(net, settings, verify: bool) -> tuple[dict, object]:
-    """One face's gate record (today's budget and verdict, and the advice where ``settings.advise`` asks)
-    and today's :class:`~cadartifact.budget.Budget` with its fields when it is the ``surface`` reading's
-    (what :func:`cadartifact.runs.records.peak_location` needs: it is not computed again), else None.
-
-    The verdict needs today's budget only; the advice (a density search, the costly part) is added
-    only for the faces ``settings.advise`` selects. A face without advice keeps the record's schema:
-    ``advice`` is None and ``advice_skipped`` says why (None where the advice was computed).
-    """
-    from ..advice.advise import advise_for
-    from ..analysis.budget import budget_for
-    from .records import budget_record, face_record
-
-    run = settings.run
-    key = run.compared
-    # the reading advise() scores today's net under (include_signal_error is the net reading)
-    reading = run.reading
-    scored = run.replace(intent=reading)
-    current = budget_for(net, scored, keep_fields=reading == "surface")
-
-    def finite(rec):
-        if rec["budget"][key][settings.metric] is None:  # report.face_record maps inf/NaN to None
-            raise CadArtifactError("the analysis gave a non-finite value (coordinates too large?)")
-        return rec
-
-    from ..advice.decision import face_uncertainty
-
-    unc = face_uncertainty(net, scored, current)  # the same U the advice's rule uses (SPEC §4)
-    rec = finite(budget_record(net, current, reading == "net", unc))
-    verdict, reason, value = face_verdict(rec, settings)
-    skipped = advice_wanted(settings, verdict)
-    if skipped is None:
-        # verification costs a real-surface evaluation: only for faces that fail today
-        check = verify and not current.meets(settings.include_signal_error)
-        adv = advise_for(net, scored, compare=False, verify=check,
-                         current=current if current.fields is not None else None, uncertainty=unc)
-        rec = finite(face_record(net, adv))
-        verdict, reason, value = face_verdict(rec, settings)
-    rec.update(verdict=verdict, verdict_reason=reason, value=value, advice_skipped=skipped)
-    add_criteria(rec, net, settings)
-    return rec, (current if reading == "surface" else None)
 
 
 def add_criteria(rec: dict, net, settings) -> dict:
