@@ -11,13 +11,14 @@ import typer
 from .root import _console, app, cli_errors
 from .usage import escape
 from ..errors import OptionError, check_option
+from ..exchange import formats
 
 
 # ---------------------------------------------------------------- gate (CI quality gate)
 @app.command("gate", short_help="CI quality gate: pass / warn / fail per face, reports.")
 @cli_errors
 def gate_cmd(
-    paths: List[str] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files, folders (recursive) or globs.",
+    paths: List[str] = typer.Argument(..., help=f"{formats.labels()} files, folders (recursive) or globs.",
                                       show_default=False),
     tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
     policy: Optional[Path] = typer.Option(None, "--policy",

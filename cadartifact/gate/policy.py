@@ -54,6 +54,7 @@ from pathlib import Path
 
 from ..analysis.settings import METRICS, READINGS, RunSettings
 from ..errors import InputError, OptionError
+from ..exchange import formats
 from .policy_error import PolicyError
 
 __all__ = [
@@ -70,8 +71,9 @@ __all__ = [
     "parse_policy",
 ]
 
-#: Extensions a directory or glob contributes (any case).
-CAD_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp", ".obj")
+#: Extensions a directory or glob contributes (any case): the gated formats of the registry
+#: (:func:`cadartifact.exchange.formats.cad_suffixes`).
+CAD_SUFFIXES = formats.LiveTuple(formats.cad_suffixes)
 
 POLICY_FILE = "cadartifact.toml"
 MEASURED = ("warn", "fail")
@@ -413,7 +415,7 @@ def find_policy(start=None) -> Policy:
 
 # ---------------------------------------------------------------- inputs
 def _is_cad(path: Path) -> bool:
-    return path.suffix.lower() in CAD_SUFFIXES
+    return path.suffix.lower() in formats.cad_suffixes()
 
 
 def _walk(folder: Path) -> list[Path]:
@@ -475,7 +477,7 @@ def expand_paths(args) -> list[Path]:
             found = []
         if not found:
             what = "no such file or folder" if not any(c in text for c in "*?[") and not p.exists() else \
-                "matches no STEP/IGES/BREP/OBJ file"
+                f"matches no {formats.labels()} file"
             raise PolicyError(f"PATH {text!r}", None, what)
         for f in found:
             add(f)
