@@ -15,12 +15,12 @@ Adding a format is one entry here (and its reader). Standard library only: the r
 from __future__ import annotations
 
 import importlib
-from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Union
 
 from ..errors import OptionError, UnsupportedFormatError
+from ..registry import LiveMapping, LiveTuple
 
 __all__ = ["FileFormat", "FORMATS", "register", "format_of", "suffixes", "brep_formats", "cad_suffixes",
            "labels", "hook_pattern", "LiveMapping", "LiveTuple"]
@@ -141,41 +141,3 @@ def labels() -> str:
 def hook_pattern() -> str:
     """The pre-commit hook's ``files:`` regex (``.pre-commit-hooks.yaml``): the gated suffixes, any case."""
     return r"(?i)\.(" + "|".join(s[1:] for s in cad_suffixes()) + r")$"
-
-
-class LiveMapping(Mapping):
-    """A read-only mapping computed from the registry at each use (a format registered later is in it)."""
-
-    def __init__(self, compute: Callable[[], dict]):
-        self._compute = compute
-
-    def __getitem__(self, key):
-        return self._compute()[key]
-
-    def __iter__(self):
-        return iter(self._compute())
-
-    def __len__(self):
-        return len(self._compute())
-
-    def __repr__(self):
-        return repr(self._compute())
-
-
-class LiveTuple(Sequence):
-    """A read-only sequence computed from the registry at each use (``tuple(view)`` for ``str.endswith``)."""
-
-    def __init__(self, compute: Callable[[], tuple]):
-        self._compute = compute
-
-    def __getitem__(self, index):
-        return self._compute()[index]
-
-    def __len__(self):
-        return len(self._compute())
-
-    def __contains__(self, item):
-        return item in self._compute()
-
-    def __repr__(self):
-        return repr(self._compute())
