@@ -14,7 +14,7 @@ __all__ = ["LiveMapping", "LiveTuple"]
 
 
 class LiveMapping(Mapping):
-    """A read-only mapping computed from the registry at each use (a format registered later is in it)."""
+    """A read-only mapping computed from the registry at each use (an entry registered later is in it)."""
 
     def __init__(self, compute: Callable[[], dict]):
         self._compute = compute
@@ -43,6 +43,9 @@ class LiveTuple(Sequence):
 
     def __len__(self):
         return len(self._compute())
+
+    def __iter__(self):
+        return iter(self._compute())
 
     def __contains__(self, item):
         return item in self._compute()
