@@ -13,39 +13,34 @@ from typing import Callable
 __all__ = ["LiveMapping", "LiveTuple"]
 
 
-class LiveMapping(Mapping):
-    """A read-only mapping computed from the registry at each use (an entry registered later is in it)."""
+class _Live:
+    """What both views share: the function that computes the table from the registry, at each use."""
 
-    def __init__(self, compute: Callable[[], dict]):
+    def __init__(self, compute: Callable):
         self._compute = compute
-
-    def __getitem__(self, key):
-        return self._compute()[key]
-
-    def __iter__(self):
-        return iter(self._compute())
 
     def __len__(self):
         return len(self._compute())
+
+    def __iter__(self):
+        return iter(self._compute())
 
     def __repr__(self):
         return repr(self._compute())
 
 
-class LiveTuple(Sequence):
-    """A read-only sequence computed from the registry at each use (``tuple(view)`` for ``str.endswith``)."""
+class LiveMapping(_Live, Mapping):
+    """A read-only mapping computed from the registry at each use (an entry registered later is in it)."""
 
-    def __init__(self, compute: Callable[[], tuple]):
-        self._compute = compute
+    def __getitem__(self, key):
+        return self._compute()[key]
+
+
+class LiveTuple(_Live, Sequence):
+    """A read-only sequence computed from the registry at each use (``tuple(view)`` for ``str.endswith``)."""
 
     def __getitem__(self, index):
         return self._compute()[index]
-
-    def __len__(self):
-        return len(self._compute())
-
-    def __iter__(self):
-        return iter(self._compute())
 
     def __contains__(self, item):
         return item in self._compute()
@@ -54,6 +49,3 @@ class LiveTuple(Sequence):
         return tuple(self._compute()) == (tuple(other) if isinstance(other, LiveTuple) else other)
 
     __hash__ = None
-
-    def __repr__(self):
-        return repr(self._compute())
