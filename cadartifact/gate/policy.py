@@ -52,7 +52,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..exchange import formats
-from .keys import ADVISE, MEASURED, UNDECIDED, FileSettings, Key, keys
+from .keys import ADVISE, MEASURED, UNDECIDED, FileSettings, Key, keys  # noqa: F401 - importable from here as before
 from .policy_error import PolicyError
 
 __all__ = [
