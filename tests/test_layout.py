@@ -19,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "cadartifact"
 #: The wings, bottom to top: a module may import its own wing and the wings before it. The package's
 #: ``__init__`` and ``__main__`` are its front door (the lazy public API), above every wing.
 WINGS = (
-    ("errors", "dependencies"),  # the error hierarchy and require(): standard library only
+    ("errors", "dependencies", "registry"),  # the error hierarchy, require(), live views: standard library only
     ("numerics",),  # tensor products, exact B-spline bases, the operator cache, read-only arrays
     ("theory",),  # the paper: symbols, the scheme catalogue, spectral responses
     ("net",),  # the data model: ControlNet
@@ -33,7 +33,7 @@ WINGS = (
     ("cli",),  # the command line
 )
 RANK = {name: k for k, names in enumerate(WINGS) for name in names}
-STDLIB_ONLY = ("errors", "dependencies")
+STDLIB_ONLY = ("errors", "dependencies", "registry")
 FRONT_DOOR = ("__init__", "__main__")
 MAX_LINES = 600
 

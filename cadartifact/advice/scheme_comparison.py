@@ -16,14 +16,15 @@ from __future__ import annotations
 from ..analysis.budget import total_ripple
 from ..analysis.settings import RunSettings
 from ..analysis.baseband import baseband_at
-from ..theory.catalogue import scheme as get_scheme
+from ..theory.catalogue import SCHEME_NAMES, scheme as get_scheme
 from .density_search import frontier
 from ..analysis.frames import fine_positions
 from ..net import ControlNet
 
 __all__ = ["NAMED_SCHEMES", "compare_schemes"]
 
-NAMED_SCHEMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
+#: The schemes compared: the named catalogue (:data:`cadartifact.theory.catalogue.NAMED`, read at each use).
+NAMED_SCHEMES = SCHEME_NAMES
 
 
 def compare_schemes(net: ControlNet, work: ControlNet, sch, shape, meets: bool, settings: RunSettings, fine, *,

@@ -14,9 +14,12 @@ The surface is evaluated here in numpy (B-spline basis functions and their deriv
 :func:`cadartifact.numerics.splines.basis_derivatives`, rational faces through their homogeneous form), never with OCCT: the tests
 check every number against OCCT's ``GeomLProp_SLProps`` / ``Geom_BSplineSurface.D2`` / ``BRepGProp``.
 
-Sampling (per direction): the trim box ``[lo, hi]`` is cut at the distinct knots into pieces; each piece gets
-``m`` Gauss-Legendre nodes (``m = clip(240 // pieces, 2, 6)``) and the box's ends are added with weight 0, so
-that ``sum_i w_i f(u_i)`` integrates a function of the parameter and curvature is seen in every span.
+The face's sampling (the quadrature grid of its trim box, the curvatures) is :mod:`.face_samples`.
+
+Every criterion is one :class:`CriterionSpec` in :data:`CRITERIA` (code, unit, sense, SARIF rule, the default
+profile's thresholds, its measure): the default profile, the gate's profile files, its reports' rules and lines
+(:mod:`cadartifact.gate.profiles`, :mod:`cadartifact.gate.reports`) are derived from it. Adding a criterion is one
+entry there.
 
 References: SASIG / VDA, *Product Data Quality Guideline for the Global Automotive Industry* (VDA 4955; ISO/PAS
 26183:2006); PTC Creo ModelCHECK, *GeomIntegrityCHECK configuration options and their settings*; M. P. do Carmo,
@@ -27,30 +30,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
+from typing import Callable, NamedTuple
 
 import numpy as np
 
 from ..errors import OptionError
+from .face_samples import FaceSamples, curvatures, direction_range, inflections, sample_face, trim_box
 
-__all__ = ["CRITERIA", "Limit", "Profile", "Criterion", "DEFAULT_PROFILE", "criteria", "judge", "sample_face"]
-
-#: The criteria: id -> (PDQ code or the checker's name for it, what is measured, unit, sense). ``sense`` is
-#: ``"above"`` when a value above the threshold is bad, ``"below"`` when a value below it is.
-CRITERIA = {
-    "waviness": ("G-SU-WV", "inflections of the normal curvature along one isoparametric line", "inflections",
-                 "above"),
-    "degree": ("G-SU-HD", "highest polynomial degree", "degree", "above"),
-    "points": ("control points", "control points in one direction (the larger of u and v)", "points", "above"),
-    "points_total": ("control points", "control points in total (nu * nv)", "points", "above"),
-    "knots": ("G-SU-IK", "shortest knot span in model units among spans also shorter than the parameter "
-                         "threshold", "model units", "below"),
-    "unused": ("unused patches", "share of the surface's knot-span patches wholly outside the trimmed face",
-               "share", "above"),
-    "area": ("G-FA-TI", "area of the trimmed face", "model units^2", "below"),
-    "width": ("narrow face", "width in the narrower direction (longest isoparametric line across it)",
-              "model units", "below"),
-    "radius": ("tiny curvature radius", "smallest principal curvature radius", "model units", "below"),
-}
+__all__ = ["CRITERIA", "CriterionSpec", "Measured", "NotEvaluated", "FaceView", "Limit", "Profile", "Criterion",
+           "DEFAULT_PROFILE", "default_profile", "criteria", "judge", "sample_face", "curvatures", "inflections",
+           "trim_box"]
 
 #: Curvature below 1 / flat radius counts as no sign (a flat stretch, or numerical noise on a plane).
 DEFAULT_FLAT_RADIUS = 1.0e5
@@ -114,20 +104,6 @@ class Profile:
         return dict(self.limits)[key]
 
 
-#: The built-in profile (docs/quality-criteria.md justifies each figure and cites the checkers' defaults).
-DEFAULT_PROFILE = Profile(name="default", limits=(
-    ("waviness", Limit(warn=1, fail=3)),
-    ("degree", Limit(warn=7, fail=11)),
-    ("points", Limit(warn=100, fail=500)),
-    ("points_total", Limit(warn=5000, fail=50000)),
-    ("knots", Limit(warn=0.02, fail=0.01)),
-    ("unused", Limit(warn=0.0, fail=0.5)),
-    ("area", Limit(warn=0.01, fail=0.0004)),
-    ("width", Limit(warn=0.02, fail=0.01)),
-    ("radius", Limit(warn=None, fail=0.5)),
-))
-
-
 def judge(value: float, limit: Limit, sense: str) -> str:
     """``"fail"``, ``"warn"`` or ``"pass"`` of a value against a :class:`Limit` (strict inequalities)."""
     bad = (lambda x, t: x > t) if sense == "above" else (lambda x, t: x < t)
@@ -169,11 +145,11 @@ class Criterion:
     reason: str | None = None
 
     def to_dict(self) -> dict:
-        code, what, unit, sense = CRITERIA[self.key]
-        return {"criterion": self.key, "code": code, "evaluated": self.evaluated, "value": _num(self.value),
-                "unit": unit, "verdict": self.verdict,
+        spec = CRITERIA[self.key]
+        return {"criterion": self.key, "code": spec.code, "evaluated": self.evaluated, "value": _num(self.value),
+                "unit": spec.unit, "verdict": self.verdict,
                 "threshold": None if self.limit is None else {"warn": self.limit.warn, "fail": self.limit.fail,
-                                                              "sense": sense},
+                                                              "sense": spec.sense},
                 "at": None if self.uv is None else {"uv": [_num(t) for t in self.uv],
                                                     "xyz": None if self.xyz is None else [_num(c) for c in self.xyz]},
                 "detail": self.detail, "reason": self.reason}
@@ -183,278 +159,102 @@ def _num(x):
     return None if x is None or not math.isfinite(float(x)) else round(float(x), 9)
 
 
-# ---------------------------------------------------------------- evaluation
-@dataclass(frozen=True)
-class FaceSamples:
-    """A face sampled on the grid ``u x v`` (:func:`sample_face`).
-
-    Attributes
-    ----------
-    u, v : (a,), (b,) float
-        Parameters (increasing; the trim box's ends included).
-    wu, wv : (a,), (b,) float
-        Quadrature weights: ``sum_i wu_i f(u_i) ~ int f du`` over the box.
-    S, Su, Sv, Suu, Suv, Svv : (a, b, 3) float
-        The point and its partial derivatives.
-    """
-
-    u: np.ndarray
-    v: np.ndarray
-    wu: np.ndarray
-    wv: np.ndarray
-    S: np.ndarray
-    Su: np.ndarray
-    Sv: np.ndarray
-    Suu: np.ndarray
-    Suv: np.ndarray
-    Svv: np.ndarray
-
-
-def _direction_range(t, p: int, n: int, periodic: bool) -> tuple[float, float]:
-    return float(t[p]), float(t[n if not periodic else p + n])
-
-
-def _breaks(t: np.ndarray, p: int, n: int, periodic: bool, lo: float, hi: float) -> np.ndarray:
-    """Distinct knots strictly inside ``(lo, hi)`` (a periodic direction: the period's knots repeated)."""
-    a, b = _direction_range(t, p, n, periodic)
-    distinct = np.unique(t[p:(n if not periodic else p + n) + 1])
-    if periodic:
-        period = b - a
-        k0, k1 = math.floor((lo - a) / period) - 1, math.ceil((hi - a) / period) + 1
-        distinct = np.unique(np.concatenate([distinct + k * period for k in range(k0, k1 + 1)]))
-    tol = 1e-12 * max(1.0, abs(hi - lo), abs(lo), abs(hi))
-    return distinct[(distinct > lo + tol) & (distinct < hi - tol)]
-
-
-_GAUSS = {m: np.polynomial.legendre.leggauss(m) for m in range(2, 7)}
-
-
-def _nodes(lo: float, hi: float, inner: np.ndarray, cap: int = 240) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss-Legendre nodes and weights per piece of ``[lo, hi]`` cut at ``inner``, with the ends (weight 0)."""
-    edges = np.concatenate([[lo], inner, [hi]])
-    g, w = _GAUSS[int(np.clip(cap // (len(edges) - 1), 2, 6))]
-    a, b = edges[:-1, None], edges[1:, None]
-    x = (a + (b - a) * (g[None, :] + 1) / 2).ravel()
-    wx = ((b - a) / 2 * w[None, :]).ravel()
-    return np.concatenate([[lo], x, [hi]]), np.concatenate([[0.0], wx, [0.0]])
-
-
-def trim_box(net) -> tuple[float, float, float, float]:
-    """``uv_bounds`` clipped to the knot range (periodic: not clipped), or the knot range of an untrimmed net."""
-    box = []
-    for k, (t, p, n, per) in enumerate(zip(net.knots, net.degrees, net.shape, net.periodic)):
-        a, b = _direction_range(np.asarray(t, float), p, n, per)
-        if net.uv_bounds is None:
-            box += [a, b]
-            continue
-        lo, hi = net.uv_bounds[2 * k], net.uv_bounds[2 * k + 1]
-        if not per:
-            lo, hi = max(lo, a), min(hi, b)
-        box += [lo, hi]
-    return tuple(box)
-
-
-def sample_face(net, u: np.ndarray | None = None, v: np.ndarray | None = None) -> FaceSamples:
-    """Evaluate a B-spline/NURBS face and its first and second partial derivatives on a grid.
-
-    Parameters
-    ----------
-    net : ControlNet
-        With knots and degrees.
-    u, v : (a,), (b,) float, optional
-        Parameters (default: the quadrature grid of the trim box, see the module's notes; weights are then
-        those of the quadrature, else zero).
-
-    Notes
-    -----
-    Returns :class:`FaceSamples`. With homogeneous points ``H = (w P, w)`` and ``A = sum_ij N_i(u) N_j(v) H_ij`` (and its derivatives, by
-    the derivatives of the basis), ``S = A_xyz / A_w`` and, by the quotient rule (The NURBS Book, eq. 4.8),
-    ``S_u = (A_u - w_u S) / w``, ``S_uu = (A_uu - 2 w_u S_u - w_uu S) / w``,
-    ``S_uv = (A_uv - w_u S_v - w_v S_u - w_uv S) / w``.
-    """
-    (ku, kv), (p, q), (pu, pv), (nu, nv) = net.knots, net.degrees, net.periodic, net.shape
-    u0, u1, v0, v1 = trim_box(net)
-    wu = wv = None
-    if u is None:
-        u, wu = _nodes(u0, u1, _breaks(np.asarray(ku, float), p, nu, pu, u0, u1))
-    if v is None:
-        v, wv = _nodes(v0, v1, _breaks(np.asarray(kv, float), q, nv, pv, v0, v1))
-    from ..numerics.splines import basis_derivatives
-
-    u, v = np.asarray(u, float), np.asarray(v, float)
-    Bu = basis_derivatives(ku, p, u, nu, pu)
-    Bv = basis_derivatives(kv, q, v, nv, pv)
-    P = np.asarray(net.points, float)
-    w = np.ones(P.shape[:2]) if net.weights is None else np.asarray(net.weights, float)
-    H = np.concatenate([P * w[:, :, None], w[:, :, None]], axis=-1).reshape(nu, nv * 4)  # (w P, w)
-    T = [(Bu[a] @ H).reshape(len(u), nv, 4).transpose(0, 2, 1) for a in range(3)]  # (a, 4, nv)
-    A = {(a, b): (T[a] @ Bv[b].T).transpose(0, 2, 1) for a, b in ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))}
-    W = {ab: A[ab][..., 3:] for ab in A}
-    X = {ab: A[ab][..., :3] for ab in A}
-    w0 = W[0, 0]
-    S = X[0, 0] / w0
-    Su = (X[1, 0] - W[1, 0] * S) / w0
-    Sv = (X[0, 1] - W[0, 1] * S) / w0
-    Suu = (X[2, 0] - 2 * W[1, 0] * Su - W[2, 0] * S) / w0
-    Svv = (X[0, 2] - 2 * W[0, 1] * Sv - W[0, 2] * S) / w0
-    Suv = (X[1, 1] - W[1, 0] * Sv - W[0, 1] * Su - W[1, 1] * S) / w0
-    zero_u, zero_v = np.zeros(len(u)), np.zeros(len(v))
-    return FaceSamples(u=u, v=v, wu=zero_u if wu is None else wu, wv=zero_v if wv is None else wv, S=S, Su=Su,
-                       Sv=Sv, Suu=Suu, Suv=Suv, Svv=Svv)
-
-
-def curvatures(fs: FaceSamples) -> dict:
-    """Normals, principal and isoparametric normal curvatures on the samples.
-
-    Returns
-    -------
-    dict
-        ``"valid"`` (a, b) bool (the normal is defined: ``|S_u x S_v| > 1e-10 |S_u| |S_v|`` and neither
-        derivative below 1e-6 of its median over the face: a collapsed edge, such as a sphere's pole),
-        ``"kmax"`` (a, b): ``max |k_i| = |H| + sqrt(max(H^2 - K, 0))``, ``"ku"``, ``"kv"`` (a, b): the normal
-        curvature along the u and v lines, ``L / E`` and ``N / G``; NaN where not valid.
-
-    Notes
-    -----
-    First fundamental form ``E = S_u.S_u, F = S_u.S_v, G = S_v.S_v``, second ``L = S_uu.n, M = S_uv.n,
-    N = S_vv.n`` with ``n = S_u x S_v / |S_u x S_v|``; ``K = (LN - M^2) / (EG - F^2)``,
-    ``H = (EN - 2FM + GL) / (2 (EG - F^2))`` (do Carmo §3.3).
-    """
-    cross = np.cross(fs.Su, fs.Sv)
-    norm = np.linalg.norm(cross, axis=-1)
-    lu, lv = np.linalg.norm(fs.Su, axis=-1), np.linalg.norm(fs.Sv, axis=-1)
-    # a collapsed edge (a sphere's pole) has one derivative zero up to rounding, and the fundamental forms
-    # there are rounding noise: a derivative below 1e-6 of the face's typical one counts as zero
-    typical_u = float(np.median(lu)) if lu.size else 0.0
-    typical_v = float(np.median(lv)) if lv.size else 0.0
-    valid = (lu > 1e-6 * typical_u) & (lv > 1e-6 * typical_v) & (lu > 0) & (lv > 0) & (norm > 1e-10 * lu * lv)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        n = cross / norm[..., None]
-        E, F, G = lu ** 2, np.einsum("abk,abk->ab", fs.Su, fs.Sv), lv ** 2
-        L = np.einsum("abk,abk->ab", fs.Suu, n)
-        M = np.einsum("abk,abk->ab", fs.Suv, n)
-        N = np.einsum("abk,abk->ab", fs.Svv, n)
-        det = E * G - F ** 2
-        K = (L * N - M ** 2) / det
-        H = (E * N - 2 * F * M + G * L) / (2 * det)
-        kmax = np.abs(H) + np.sqrt(np.maximum(H ** 2 - K, 0.0))
-        ku, kv = L / E, N / G
-    nan = np.full(valid.shape, np.nan)
-    return {"valid": valid, "kmax": np.where(valid, kmax, nan), "ku": np.where(valid, ku, nan),
-            "kv": np.where(valid, kv, nan)}
-
-
-def inflections(k: np.ndarray, floor: float) -> tuple[int, float, int]:
-    """Sign changes of a curvature sequence along one line, ignoring ``|k| <= floor`` (and NaN).
-
-    Returns
-    -------
-    count : int
-        Lobes of one sign minus one (a lobe: consecutive samples of the same sign with ``|k| > floor``).
-    amplitude : float
-        Largest ``min(peak |k| of the lobe before, peak |k| of the lobe after)`` over the sign changes (0 without).
-    at : int
-        Index of the first sample after the largest sign change (-1 without).
-    """
-    k = np.asarray(k, float)
-    idx = np.flatnonzero(np.isfinite(k) & (np.abs(k) > floor))
-    if len(idx) < 2:
-        return 0, 0.0, -1
-    s = np.sign(k[idx])
-    starts = np.concatenate([[0], np.flatnonzero(np.diff(s) != 0) + 1])
-    if len(starts) < 2:
-        return 0, 0.0, -1
-    peaks = np.maximum.reduceat(np.abs(k[idx]), starts)
-    amps = np.minimum(peaks[:-1], peaks[1:])
-    best = int(np.argmax(amps))
-    return len(starts) - 1, float(amps[best]), int(idx[starts[best + 1]])
-
-
-# ---------------------------------------------------------------- the criteria
-def criteria(net, profile: Profile = DEFAULT_PROFILE) -> list[Criterion]:
-    """Every criterion of :data:`CRITERIA` on one face, in that order.
-
-    Parameters
-    ----------
-    net : ControlNet
-    profile : Profile
-
-    Returns
-    -------
-    list of Criterion
-        One per criterion: evaluated with value, verdict and location, or not evaluated with the reason
-        (a subdivision cage: only the control-point counts apply; the profile turns a criterion off).
-    """
-    out = {}
-    off = {k for k, lim in profile.limits if lim is None}
-    for k in off:
-        out[k] = Criterion(k, False, reason="off in this profile")
-
-    def put(key, value, uv=None, xyz=None, detail="", verdict=None):
-        if key in off:
-            return
-        lim = profile.limit(key)
-        verdict = verdict or judge(float(value), lim, CRITERIA[key][3])
-        out[key] = Criterion(key, True, value=float(value), verdict=verdict,
-                             limit=lim, uv=None if uv is None else tuple(float(t) for t in uv),
-                             xyz=None if xyz is None else tuple(float(c) for c in xyz), detail=detail)
-
-    def skip(key, reason):
-        if key not in off:
-            out[key] = Criterion(key, False, limit=profile.limit(key), reason=reason)
-
-    nu, nv = net.shape
-    put("points", max(nu, nv), detail=f"{nu} x {nv} control points (u x v)")
-    put("points_total", nu * nv, detail=f"{nu} x {nv} control points")
-    if net.knots is None:
-        why = "a subdivision cage has no knots, degree or trim (its limit surface is not evaluated here)"
-        for key in CRITERIA:
-            if key not in out:
-                skip(key, why)
-        return [out[k] for k in CRITERIA]
-    p, q = net.degrees
-    put("degree", max(p, q), detail=f"degrees {p} x {q} (u x v)" + (", rational" if net.rational else ""))
-    u0, u1, v0, v1 = trim_box(net)
-    if not (u1 > u0 and v1 > v0):
-        for key in ("waviness", "knots", "unused", "area", "width", "radius"):
-            skip(key, f"the trim box ({u0:g}..{u1:g}) x ({v0:g}..{v1:g}) is empty inside the knot range")
-        return [out[k] for k in CRITERIA]
-    fs = sample_face(net)
-    _unused(net, put)
-    _size(fs, put)
-    wanted = {"waviness", "radius"} - off
-    if wanted:
-        cv = curvatures(fs)
-        if not cv["valid"].any():
-            for key in wanted:
-                skip(key, "the normal is undefined at every sample (a degenerate face)")
-        else:
-            _curvature(fs, cv, profile, put)
-    if "knots" not in off:
-        _knots(net, fs, profile, put, skip)
-    return [out[k] for k in CRITERIA]
-
-
 def _points(net, u, v) -> np.ndarray:
     from ..numerics.splines import evaluate
 
     return evaluate(net, u, v)
 
 
-def _at(fs: FaceSamples, i: int, j: int) -> tuple:
-    return (fs.u[i], fs.v[j]), fs.S[i, j]
+# ---------------------------------------------------------------- the measures
+class Measured(NamedTuple):
+    """What a measure found: the value, where the face is worst (or None), one line of supporting numbers, and a
+    verdict when the measure decides it rather than the thresholds (None: judged against the profile)."""
 
-def _curvature(fs: FaceSamples, cv: dict, profile: Profile, put) -> None:
+    value: float
+    uv: tuple | None = None
+    xyz: tuple | None = None
+    detail: str = ""
+    verdict: str | None = None
+
+
+class NotEvaluated(NamedTuple):
+    """A measure that cannot be taken on this face, and why."""
+
+    reason: str
+
+
+class FaceView:
+    """One face as the measures read it: the net, the profile, and its samples and curvatures (computed once, on
+    first use, for every measure that reads them)."""
+
+    def __init__(self, net, profile: Profile):
+        self.net = net
+        self.profile = profile
+
+    @cached_property
+    def samples(self) -> FaceSamples:
+        """The face on the quadrature grid of its trim box (:func:`~cadartifact.analysis.face_samples.sample_face`)."""
+        return sample_face(self.net)
+
+    @cached_property
+    def curvatures(self) -> dict:
+        """:func:`~cadartifact.analysis.face_samples.curvatures` of the samples."""
+        return curvatures(self.samples)
+
+    def at(self, i: int, j: int) -> tuple:
+        """``(uv, xyz)`` of the sample ``(i, j)``."""
+        fs = self.samples
+        return (fs.u[i], fs.v[j]), fs.S[i, j]
+
+
+def _points_max(face: FaceView) -> Measured:
+    nu, nv = face.net.shape
+    return Measured(max(nu, nv), detail=f"{nu} x {nv} control points (u x v)")
+
+
+def _points_total(face: FaceView) -> Measured:
+    nu, nv = face.net.shape
+    return Measured(nu * nv, detail=f"{nu} x {nv} control points")
+
+
+def _degree(face: FaceView) -> Measured:
+    p, q = face.net.degrees
+    return Measured(max(p, q), detail=f"degrees {p} x {q} (u x v)" + (", rational" if face.net.rational else ""))
+
+
+def _no_normal(face: FaceView):
+    """The reason the curvature measures cannot be taken (the normal undefined everywhere), else None."""
+    if not face.curvatures["valid"].any():
+        return NotEvaluated("the normal is undefined at every sample (a degenerate face)")
+    return None
+
+
+def _undefined_note(cv: dict) -> str:
+    bad = int((~cv["valid"]).sum())
+    return f"; normal undefined at {bad} of {cv['valid'].size} samples" if bad else ""
+
+
+def _radius(face: FaceView):
+    """Smallest principal curvature radius, ``1 / max |k_i|``."""
+    if _no_normal(face):
+        return _no_normal(face)
+    cv = face.curvatures
     kmax = cv["kmax"]
     i, j = np.unravel_index(int(np.nanargmax(kmax)), kmax.shape)
-    bad = int((~cv["valid"]).sum())
-    note = f"; normal undefined at {bad} of {cv['valid'].size} samples" if bad else ""
+    note = _undefined_note(cv)
     radius = 1.0 / kmax[i, j] if kmax[i, j] > 0 else math.inf
     if math.isfinite(radius):
-        put("radius", radius, *_at(fs, i, j), detail=f"max |principal curvature| {kmax[i, j]:.4g}{note}")
-    else:
-        put("radius", math.inf, *_at(fs, i, j), detail=f"flat everywhere (no curvature){note}")
-    floor = 1.0 / profile.flat_radius
+        return Measured(radius, *face.at(i, j), detail=f"max |principal curvature| {kmax[i, j]:.4g}{note}")
+    return Measured(math.inf, *face.at(i, j), detail=f"flat everywhere (no curvature){note}")
+
+
+def _waviness(face: FaceView):
+    """Inflections of the normal curvature along the isoparametric lines (the line with the most, then the
+    largest sign change)."""
+    if _no_normal(face):
+        return _no_normal(face)
+    cv = face.curvatures
+    floor = 1.0 / face.profile.flat_radius
     best = (0, 0.0, 0, 0, "u")  # count, amplitude, i, j, along
     ku, kv = cv["ku"], cv["kv"]
     with np.errstate(invalid="ignore"):  # only lines with both signs can inflect
@@ -470,33 +270,38 @@ def _curvature(fs: FaceSamples, cv: dict, profile: Profile, put) -> None:
             best = (n, amp, i, at, "v")
     n, amp, i, j, along = best
     if n:
-        uv, xyz = _at(fs, i, j)
-        put("waviness", n, uv, xyz, detail=f"{n} inflection(s) along a {along} line; largest sign change "
-                                          f"{amp:.3g} per model unit (|curvature| <= {floor:.3g} counts as flat)")
-    else:
-        put("waviness", 0, detail=f"no inflection along any isoparametric line (|curvature| <= {floor:.3g} counts "
-                                  "as flat)" + note)
+        return Measured(n, *face.at(i, j), detail=f"{n} inflection(s) along a {along} line; largest sign change "
+                                                 f"{amp:.3g} per model unit (|curvature| <= {floor:.3g} counts as "
+                                                 "flat)")
+    return Measured(0, detail=f"no inflection along any isoparametric line (|curvature| <= {floor:.3g} counts "
+                              "as flat)" + _undefined_note(cv))
 
 
-def _size(fs: FaceSamples, put) -> None:
-    """Area ``int int |S_u x S_v| du dv`` and width ``min(max_v int |S_u| du, max_u int |S_v| dv)``."""
+def _area(face: FaceView) -> Measured:
+    """Area ``int int |S_u x S_v| du dv``, placed at the middle sample."""
+    fs = face.samples
     jac = np.linalg.norm(np.cross(fs.Su, fs.Sv), axis=-1)
     area = float(fs.wu @ jac @ fs.wv)
+    return Measured(area, *face.at(len(fs.u) // 2, len(fs.v) // 2), detail=f"area {area:.4g} over the trim box")
+
+
+def _width(face: FaceView) -> Measured:
+    """Width ``min(max_v int |S_u| du, max_u int |S_v| dv)``: at the middle of the longest line across."""
+    fs = face.samples
     len_u = fs.wu @ np.linalg.norm(fs.Su, axis=-1)  # (b,): length of each u line
     len_v = np.linalg.norm(fs.Sv, axis=-1) @ fs.wv  # (a,): length of each v line
     ju, iv = int(np.argmax(len_u)), int(np.argmax(len_v))
     wu_, wv_ = float(len_u[ju]), float(len_v[iv])
     a, b = len(fs.u), len(fs.v)
-    put("area", area, *_at(fs, a // 2, b // 2), detail=f"area {area:.4g} over the trim box")
+    detail = f"longest u line {wu_:.4g}, longest v line {wv_:.4g}"
     if wu_ <= wv_:  # narrow across u: the widest u line, at its middle
-        put("width", wu_, *_at(fs, a // 2, ju), detail=f"longest u line {wu_:.4g}, longest v line {wv_:.4g}")
-    else:
-        put("width", wv_, *_at(fs, iv, b // 2), detail=f"longest u line {wu_:.4g}, longest v line {wv_:.4g}")
+        return Measured(wu_, *face.at(a // 2, ju), detail=detail)
+    return Measured(wv_, *face.at(iv, b // 2), detail=detail)
 
 
 def _spans(t: np.ndarray, p: int, n: int, periodic: bool) -> np.ndarray:
     """Distinct-knot spans ``(k, 2)`` of one direction's knot range (one period)."""
-    a, b = _direction_range(t, p, n, periodic)
+    a, b = direction_range(t, p, n, periodic)
     d = np.unique(t[(t >= a) & (t <= b)])
     keep = np.concatenate([[True], np.diff(d) > 1e-12 * max(1.0, abs(b - a))])
     d = d[keep]
@@ -512,13 +317,14 @@ def _overlaps(spans: np.ndarray, lo: float, hi: float, periodic: bool, period: f
     return hit
 
 
-def _unused(net, put) -> None:
+def _unused(face: FaceView) -> Measured:
     """Share of the knot-span patches wholly outside the trim box, and of the parameter area."""
+    net = face.net
     used, shares, cells = [], [], []
     box = trim_box(net)
     for k, (t, p, n, per) in enumerate(zip(net.knots, net.degrees, net.shape, net.periodic)):
         t = np.asarray(t, float)
-        a, b = _direction_range(t, p, n, per)
+        a, b = direction_range(t, p, n, per)
         spans = _spans(t, p, n, per)
         lo, hi = box[2 * k], box[2 * k + 1]
         used.append(_overlaps(spans, lo, hi, per, b - a))
@@ -533,18 +339,18 @@ def _unused(net, put) -> None:
         i, j = np.argwhere(~inside)[0]
         uv = (cells[0][i].mean(), cells[1][j].mean())
         xyz = _points(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
-        put("unused", share, uv, xyz, detail=detail)
-    else:
-        put("unused", 0.0, detail=detail)
+        return Measured(share, uv, xyz, detail=detail)
+    return Measured(0.0, detail=detail)
 
 
-def _knots(net, fs: FaceSamples, profile: Profile, put, skip) -> None:
+def _knots(face: FaceView):
     """Spans close in parameter (``< knot_parameter`` of the range) and their length on the surface."""
+    net, fs, profile = face.net, face.samples, face.profile
     found = []  # (length, relative, direction, span)
     shortest = None
     for k, (t, p, n, per) in enumerate(zip(net.knots, net.degrees, net.shape, net.periodic)):
         t = np.asarray(t, float)
-        a, b = _direction_range(t, p, n, per)
+        a, b = direction_range(t, p, n, per)
         spans = _spans(t, p, n, per)
         rel = (spans[:, 1] - spans[:, 0]) / (b - a)
         order = np.argsort(rel)
@@ -556,19 +362,19 @@ def _knots(net, fs: FaceSamples, profile: Profile, put, skip) -> None:
             if shortest is None or rel[s] < shortest[1]:
                 shortest = item
     if shortest is None:
-        skip("knots", "no knot span")
-        return
+        return NotEvaluated("no knot span")
     if found:
         length, rel, d, span, uv, xyz = min(found, key=lambda f: f[0])
-        put("knots", length, uv, xyz, detail=f"{len(found)} span(s) under {profile.knot_parameter:g} of the "
-                                            f"parameter range; the shortest on the surface: {d} knots {span[0]:.9g} "
-                                            f"and {span[1]:.9g} ({rel:.2g} of the range), {length:.4g} long")
-        return
+        return Measured(length, uv, xyz, detail=f"{len(found)} span(s) under {profile.knot_parameter:g} of the "
+                                                f"parameter range; the shortest on the surface: {d} knots "
+                                                f"{span[0]:.9g} and {span[1]:.9g} ({rel:.2g} of the range), "
+                                                f"{length:.4g} long")
     length, rel, d, span, uv, xyz = shortest
     # not close in parameter: distinct whatever its length (G-SU-IK needs both)
-    put("knots", length, uv, xyz, verdict="pass",
-        detail=f"no span under {profile.knot_parameter:g} of the parameter range (the shortest: {d} knots "
-               f"{span[0]:.9g} and {span[1]:.9g}, {rel:.2g} of the range, {length:.4g} long): distinct")
+    return Measured(length, uv, xyz, verdict="pass",
+                    detail=f"no span under {profile.knot_parameter:g} of the parameter range (the shortest: {d} "
+                           f"knots {span[0]:.9g} and {span[1]:.9g}, {rel:.2g} of the range, {length:.4g} long): "
+                           "distinct")
 
 
 def _span_length(net, fs: FaceSamples, k: int, span) -> tuple[float, tuple, np.ndarray]:
@@ -582,3 +388,154 @@ def _span_length(net, fs: FaceSamples, k: int, span) -> tuple[float, tuple, np.n
     j = int(np.argmax(lengths))
     uv = (x[2], other[j]) if k == 0 else (other[j], x[2])
     return float(lengths[j]), uv, S[2, j]
+
+
+# ---------------------------------------------------------------- the registry
+class Setting(NamedTuple):
+    """An extra key of a criterion's table in a profile file (:mod:`cadartifact.gate.profiles`): the key, the
+    :class:`Profile` attribute it sets, what is expected, and the test a value must pass."""
+
+    key: str
+    attribute: str
+    expected: str
+    valid: Callable[[float], bool]
+
+
+class CriterionSpec(NamedTuple):
+    """One PDQ criterion: everything the analysis, the profiles and the reports know of it.
+
+    Attributes
+    ----------
+    code : str
+        The PDQ code (``G-SU-WV``) or the checker's name for it.
+    what : str
+        What is measured.
+    unit : str
+        The value's unit (``"model units"`` is replaced by the face's own unit in reports).
+    sense : {"above", "below"}
+        ``"above"``: a value above the threshold is bad; ``"below"``: a value below it is.
+    rule : (str, str, str)
+        The SARIF rule: id, name, description (level ``warning``; :mod:`cadartifact.gate.reports`).
+    default : Limit or None
+        The thresholds of the built-in ``default`` profile (None: off there).
+    measure : callable ``(FaceView) -> Measured | NotEvaluated``
+    needs : {"net", "knots", "trim"}
+        What the face must have to be measured: any net (a subdivision cage too), knots and degrees, or also
+        a non-empty trim box.
+    settings : tuple of Setting
+        Extra keys of its table in a profile file.
+    """
+
+    code: str
+    what: str
+    unit: str
+    sense: str
+    rule: tuple
+    default: Limit | None
+    measure: Callable
+    needs: str = "trim"
+    settings: tuple = ()
+
+
+#: The criteria, in the order reports list them: id -> :class:`CriterionSpec`. Adding a criterion is one entry here.
+CRITERIA: dict = {
+    "waviness": CriterionSpec(
+        "G-SU-WV", "inflections of the normal curvature along one isoparametric line", "inflections", "above",
+        ("CA101", "pdq-wavy-surface", "G-SU-WV: too many inflections of the normal curvature along an "
+                                      "isoparametric line"),
+        Limit(warn=1, fail=3), _waviness,
+        settings=(Setting("flat_radius", "flat_radius", "a positive number", lambda x: x > 0),)),
+    "degree": CriterionSpec(
+        "G-SU-HD", "highest polynomial degree", "degree", "above",
+        ("CA102", "pdq-high-degree", "G-SU-HD: the face's polynomial degree is above the profile's limit"),
+        Limit(warn=7, fail=11), _degree, needs="knots"),
+    "points": CriterionSpec(
+        "control points", "control points in one direction (the larger of u and v)", "points", "above",
+        ("CA103", "pdq-control-points", "Too many control points in one direction"),
+        Limit(warn=100, fail=500), _points_max, needs="net"),
+    "points_total": CriterionSpec(
+        "control points", "control points in total (nu * nv)", "points", "above",
+        ("CA104", "pdq-control-points-total", "Too many control points in total"),
+        Limit(warn=5000, fail=50000), _points_total, needs="net"),
+    "knots": CriterionSpec(
+        "G-SU-IK", "shortest knot span in model units among spans also shorter than the parameter threshold",
+        "model units", "below",
+        ("CA105", "pdq-indistinct-knots", "G-SU-IK: neighbouring knots closer than the profile's limit in "
+                                          "parameter and in model units"),
+        Limit(warn=0.02, fail=0.01), _knots,
+        settings=(Setting("parameter", "knot_parameter", "a share with 0 < s < 1", lambda x: 0 < x < 1),)),
+    "unused": CriterionSpec(
+        "unused patches", "share of the surface's knot-span patches wholly outside the trimmed face", "share",
+        "above",
+        ("CA106", "pdq-unused-patches", "Knot-span patches of the surface lie wholly outside the trimmed face"),
+        Limit(warn=0.0, fail=0.5), _unused),
+    "area": CriterionSpec(
+        "G-FA-TI", "area of the trimmed face", "model units^2", "below",
+        ("CA107", "pdq-tiny-face", "G-FA-TI: the face's area is below the profile's limit"),
+        Limit(warn=0.01, fail=0.0004), _area),
+    "width": CriterionSpec(
+        "narrow face", "width in the narrower direction (longest isoparametric line across it)", "model units",
+        "below",
+        ("CA108", "pdq-narrow-face", "The face is narrower than the profile's limit"),
+        Limit(warn=0.02, fail=0.01), _width),
+    "radius": CriterionSpec(
+        "tiny curvature radius", "smallest principal curvature radius", "model units", "below",
+        ("CA109", "pdq-tiny-curvature-radius", "The face's smallest principal curvature radius is below the "
+                                               "profile's limit"),
+        Limit(warn=None, fail=0.5), _radius),
+}
+
+
+def default_profile() -> Profile:
+    """The built-in profile: each criterion's :attr:`CriterionSpec.default` (docs/quality-criteria.md justifies
+    each figure and cites the checkers' defaults)."""
+    return Profile(name="default", limits=tuple((k, spec.default) for k, spec in CRITERIA.items()))
+
+
+#: The built-in profile, as :func:`default_profile` gives it for the criteria of this module.
+DEFAULT_PROFILE = default_profile()
+
+
+# ---------------------------------------------------------------- the criteria
+def criteria(net, profile: Profile | None = None) -> list[Criterion]:
+    """Every criterion of :data:`CRITERIA` on one face, in that order.
+
+    Parameters
+    ----------
+    net : ControlNet
+    profile : Profile, optional
+        Default: :func:`default_profile`.
+
+    Returns
+    -------
+    list of Criterion
+        One per criterion: evaluated with value, verdict and location, or not evaluated with the reason
+        (a subdivision cage: only the control-point counts apply; the profile turns a criterion off).
+    """
+    profile = default_profile() if profile is None else profile
+    out = {}
+    off = {k for k, lim in profile.limits if lim is None}
+    for k in off:
+        out[k] = Criterion(k, False, reason="off in this profile")
+    why = {}  # what the face lacks, by the spec's needs
+    if net.knots is None:
+        why["knots"] = why["trim"] = ("a subdivision cage has no knots, degree or trim (its limit surface is not "
+                                      "evaluated here)")
+    else:
+        u0, u1, v0, v1 = trim_box(net)
+        if not (u1 > u0 and v1 > v0):
+            why["trim"] = f"the trim box ({u0:g}..{u1:g}) x ({v0:g}..{v1:g}) is empty inside the knot range"
+    face = FaceView(net, profile)
+    for key, spec in CRITERIA.items():
+        if key in off:
+            continue
+        lim = profile.limit(key)
+        got = NotEvaluated(why[spec.needs]) if spec.needs in why else spec.measure(face)
+        if isinstance(got, NotEvaluated):
+            out[key] = Criterion(key, False, limit=lim, reason=got.reason)
+            continue
+        value = float(got.value)
+        out[key] = Criterion(key, True, value=value, verdict=got.verdict or judge(value, lim, spec.sense),
+                             limit=lim, uv=None if got.uv is None else tuple(float(t) for t in got.uv),
+                             xyz=None if got.xyz is None else tuple(float(c) for c in got.xyz), detail=got.detail)
+    return [out[k] for k in CRITERIA]

@@ -11,6 +11,7 @@ import typer
 from .root import _console, app, cli_errors, fail
 from .usage import escape
 from ..errors import CadArtifactError, InputError, check_option
+from ..exchange import formats
 
 
 # ---------------------------------------------------------------- advise & demo (the main job)
@@ -23,7 +24,7 @@ def _write_json(doc: dict) -> None:
 @app.command("advise", short_help="Advise the control-point density per face for a tolerance.")
 @cli_errors(aliases={"tolerance": "tol", "faces": "face"})
 def advise_cmd(
-    files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
+    files: List[Path] = typer.Argument(..., help=f"{formats.labels()} files.", show_default=False),
     tol: float = typer.Option(..., "--tol", "-t", help="Tolerance in model units (mm for STEP)."),
     metric: str = typer.Option("peak", "--metric", help="Compare the peak or the RMS ripple: peak or rms."),
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s",
@@ -121,7 +122,8 @@ def _print_written(written: dict, units: str) -> None:
             con.print(f"wrote {escape(f['path'])}: the model of {escape(f['source'])} with "
                       f"{len(f['faces'])} face(s) replaced{kept}", soft_wrap=True)
         else:
-            why = " (an OBJ cage has no B-rep to keep)" if f["source"].lower().endswith(".obj") else ""
+            record = formats.format_of(f["source"])
+            why = "" if record.brep else f" (an {record.label} cage has no B-rep to keep)"
             con.print(f"wrote {len(f['faces'])} resampled face(s) only to {escape(f['path'])}{why}", soft_wrap=True)
         for r in f["faces"]:
             if r["max_distance"] is None:
@@ -144,15 +146,15 @@ def _progress(err, verb: str, total: int):
 
 def advise_inputs(files) -> list:
     """The files to advise: a folder stands for its STEP/IGES/BREP/OBJ files (recursively, as ``gate``)."""
-    from ..gate.policy import CAD_SUFFIXES, expand_paths
+    from ..gate.policy import expand_paths
 
     out = []
     for f in files:
         if Path(f).is_dir():
             found = expand_paths([f]) if any(Path(f).rglob("*")) else []
-            found = [p for p in found if p.suffix.lower() in CAD_SUFFIXES]
+            found = [p for p in found if p.suffix.lower() in formats.cad_suffixes()]
             if not found:
-                raise InputError(f, "folder holds no STEP/IGES/BREP/OBJ file")
+                raise InputError(f, f"folder holds no {formats.labels()} file")
             out.extend(found)
         else:
             out.append(Path(f))
@@ -185,7 +187,7 @@ def demo_cmd(
     from ..runs.terminal import render
 
     folder = _samples_dir()
-    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in (".step", ".stp", ".obj"))
+    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in formats.suffixes())
     err = _console(stderr=True)
     with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, progress=progress)

@@ -11,13 +11,14 @@ import typer
 from .root import _console, app, cli_errors, fail
 from .usage import escape
 from ..errors import CadArtifactError, OptionError
+from ..exchange import formats
 
 
 # ---------------------------------------------------------------- inspect (exchange: what a file holds)
 @app.command("inspect", short_help="List the control nets in CAD and mesh files.")
 @cli_errors
 def inspect_cmd(
-    files: List[Path] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files.", show_default=False),
+    files: List[Path] = typer.Argument(..., help=f"{formats.labels()} files.", show_default=False),
     json_out: bool = typer.Option(False, "--json", help="Print one JSON document (schema below) instead of tables."),
     convert: bool = typer.Option(False, "--convert",
                                  help="Convert revolution/extrusion/offset faces to B-splines instead of skipping them."),
@@ -48,7 +49,7 @@ def inspect_cmd(
     import json
     import warnings
 
-    from ..exchange.load import SUPPORTED_EXTENSIONS, LoadWarning, read
+    from ..exchange.load import LoadWarning, read
     from ..exchange.summary import result_summary
     from ..runs.records import kind_count, plural
     from ..runs.terminal import print_table
@@ -62,7 +63,7 @@ def inspect_cmd(
         except CadArtifactError as exc:
             errors.append(exc)
             continue
-        summaries.append(result_summary(result, SUPPORTED_EXTENSIONS[Path(path).suffix.lower()]))
+        summaries.append(result_summary(result, formats.format_of(path).name))
     if errors:  # fail closed: no partial output
         for exc in errors[:-1]:
             fail(str(exc), exc.exit_code)
@@ -111,7 +112,7 @@ def inspect_cmd(
 @app.command("view", short_help="3-D heatmap of each face's ripple (PNG, GLB).")
 @cli_errors(aliases={"window_size": "size", "faces": "face"})
 def view_cmd(
-    file: Path = typer.Argument(..., help="STEP/IGES/BREP/OBJ file.", show_default=False),
+    file: Path = typer.Argument(..., help=f"{formats.labels()} file.", show_default=False),
     direction: str = typer.Option("total", "--direction", "-d",
                                   help="Field to colour: total, x1, x2, diagonal, lateral, signal_error or deviation."),
     tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Colour scale 0..tol in model units, red beyond."),
@@ -154,5 +155,5 @@ def view_cmd(
 
 
 def _unit_of(path) -> str:
-    """``"mm"`` for the B-rep formats (OCCT reads them in mm), ``"model"`` for OBJ cages."""
-    return "model" if Path(path).suffix.lower() == ".obj" else "mm"
+    """``"mm"`` for the B-rep formats (OCCT reads them in mm), ``"model"`` for OBJ cages (the format's unit)."""
+    return formats.format_of(path).unit

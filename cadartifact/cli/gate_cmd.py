@@ -11,47 +11,41 @@ import typer
 from .root import _console, app, cli_errors
 from .usage import escape
 from ..errors import OptionError, check_option
+from ..exchange import formats
+from ..gate.keys import keys as setting_keys
+
+
+def _option(name: str):
+    """``gate``'s option of a gate setting: its names and help as its :class:`cadartifact.gate.keys.Key` declares
+    them (no default here: an option not given leaves the policy's value)."""
+    key = setting_keys()[name]
+    return typer.Option(None, *key.option, help=key.help)
 
 
 # ---------------------------------------------------------------- gate (CI quality gate)
 @app.command("gate", short_help="CI quality gate: pass / warn / fail per face, reports.")
 @cli_errors
 def gate_cmd(
-    paths: List[str] = typer.Argument(..., help="STEP/IGES/BREP/OBJ files, folders (recursive) or globs.",
+    paths: List[str] = typer.Argument(..., help=f"{formats.labels()} files, folders (recursive) or globs.",
                                       show_default=False),
-    tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Tolerance in model units (overrides the policy)."),
+    tol: Optional[float] = _option("tolerance"),
     policy: Optional[Path] = typer.Option(None, "--policy",
                                           help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
-    profile: Optional[str] = typer.Option(None, "--profile",
-                                          help="PDQ criteria beside the ripple (waviness, degree, control points, "
-                                               "indistinct knots, unused patches, area, width, curvature radius): "
-                                               "'default', a profile TOML file, or 'none' (policy: profile; "
-                                               "default none)."),
+    profile: Optional[str] = _option("profile"),
     fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
     report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
     jobs: Optional[int] = typer.Option(None, "--jobs", "-j", help="Worker processes (default: CPU count)."),
-    metric: Optional[str] = typer.Option(None, "--metric", help="peak or rms (overrides the policy)."),
-    warn_fraction: Optional[float] = typer.Option(None, "--warn-fraction",
-                                                  help="Warn at this fraction of the tolerance (0 < f <= 1; "
-                                                       "default 0.8)."),
-    scheme: Optional[str] = typer.Option(None, "--scheme", "-s",
-                                         help="Scheme (overrides the policy); file:MASK.json for a designed mask."),
-    intent: Optional[str] = typer.Option(None, "--intent",
-                                         help="Design intent: surface or net (overrides the policy)."),
+    metric: Optional[str] = _option("metric"),
+    warn_fraction: Optional[float] = _option("warn_fraction"),
+    scheme: Optional[str] = _option("scheme"),
+    intent: Optional[str] = _option("intent"),
     verify: bool = typer.Option(False, "--verify/--no-verify",
                                 help="Verify the advised net of failing faces on the real surface (slower)."),
-    advise: Optional[str] = typer.Option(None, "--advise",
-                                         help="Density advice for: failing (faces that warn or fail; default), all "
-                                              "or none. The verdict needs today's budget only (policy: advise)."),
-    undecided: Optional[str] = typer.Option(None, "--undecided",
-                                            help="Verdict of a face whose value +/- the intent's uncertainty U "
-                                                 "straddles the tolerance: warn (default), fail or pass (policy: "
-                                                 "undecided)."),
-    convert: Optional[bool] = typer.Option(None, "--convert/--no-convert",
-                                           help="Convert revolution/extrusion/offset faces to B-splines and gate "
-                                                "them (overrides the policy's convert; default: skip them)."),
+    advise: Optional[str] = _option("advise"),
+    undecided: Optional[str] = _option("undecided"),
+    convert: Optional[bool] = _option("convert"),
     wide: Optional[bool] = typer.Option(None, "--wide/--narrow",
                                         help="Every column in the text report (default: at 110 columns or more)."),
     read_timeout: Optional[float] = typer.Option(None, "--read-timeout",
@@ -79,6 +73,7 @@ def gate_cmd(
 
     Policy: cadartifact.toml or [tool.cadartifact] in pyproject.toml (see cadartifact.gate.policy).
     """
+    given = dict(locals())  # the options as typed, by parameter name
     import importlib.util
     import os
 
@@ -91,8 +86,9 @@ def gate_cmd(
         raise OptionError("--jobs", "a number of processes >= 1", jobs)
     if read_timeout is not None and not (0 < read_timeout < float("inf")):
         raise OptionError("--read-timeout", "a positive number of seconds", read_timeout)
-    cli = check_cli({"tolerance": tol, "metric": metric, "warn_fraction": warn_fraction, "scheme": scheme,
-                     "intent": intent, "convert": convert, "advise": advise, "undecided": undecided})
+    # the settings' options (their Keys), checked as the policy's keys are; the profile is resolved below
+    cli = check_cli({name: given[key.param or name] for name, key in setting_keys().items()
+                     if key.option and key.check is not None})
     if profile is not None:
         from ..gate.policy import PolicyError
         from ..gate.profiles import resolve_profile

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import os
 
-from ..exchange.reader_start import BREP_FORMATS, BREP_SUFFIXES
+from ..exchange import formats
+from ..exchange.reader_start import BREP_SUFFIXES
 
 __all__ = ["BREP_SUFFIXES", "first_read", "maybe_prestart", "will_read_here"]
 
@@ -40,7 +41,7 @@ def will_read_here(argv) -> bool:
     args = list(argv[2:])
     if any(a == "--scheduler" or a.startswith("--scheduler=") for a in args):
         return False
-    cad = [a for a in args if a.lower().endswith(BREP_SUFFIXES)]
+    cad = [a for a in args if a.lower().endswith(tuple(formats.brep_formats()))]
     if not cad:
         return False
     if argv[1] == "gate" and not _one_job(args):
@@ -75,7 +76,8 @@ def first_read(argv):
     if len(argv) < 2 or argv[1] not in ("gate", "advise"):
         return None
     args = list(argv[2:])
-    named = [a for k, a in enumerate(args) if not a.startswith("-") and Path(a).suffix.lower() in BREP_FORMATS
+    brep = formats.brep_formats()
+    named = [a for k, a in enumerate(args) if not a.startswith("-") and Path(a).suffix.lower() in brep
              and (k == 0 or args[k - 1] not in _PATH_OPTIONS)]
     if len(named) != 1 or not os.path.isfile(named[0]):
         return None
@@ -84,7 +86,7 @@ def first_read(argv):
                                                or _policy_upward()):
         return None
     convert = "--convert" in args and "--no-convert" not in args
-    return read_request(named[0], BREP_FORMATS[Path(named[0]).suffix.lower()], convert)
+    return read_request(named[0], brep[Path(named[0]).suffix.lower()], convert)
 
 
 def _policy_upward() -> bool:

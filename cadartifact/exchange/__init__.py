@@ -5,7 +5,8 @@ modules on first use, so that :mod:`.reader_start` (the reader child's start-up,
 only) can be imported before numpy.
 
 - :mod:`.load`: :func:`read`, :func:`load`, :func:`from_shape`, :func:`write_step`, :func:`write_model`;
-- :mod:`.files`: the file check, the formats, :class:`LoadResult`;
+- :mod:`.formats`: the registry of the file formats (suffixes, readers), from which every format table is derived;
+- :mod:`.files`: the file check, the suffix table, :class:`LoadResult`;
 - :mod:`.step`, :mod:`.step_scan`, :mod:`.step_text`, :mod:`.occ`, :mod:`.canonical`: STEP/IGES/BREP through OCCT;
 - :mod:`.obj`, :mod:`.quadmesh`: OBJ cages and their regular charts;
 - :mod:`.model_writer`: a whole model with resampled faces; :mod:`.summary`: what ``inspect`` prints;

@@ -7,20 +7,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import FileFormatError, InputError, UnsupportedFormatError
+from ..errors import FileFormatError, InputError
+from . import formats
 
 if TYPE_CHECKING:
     from .quadmesh import QuadMesh
 
 __all__ = ["SUPPORTED_EXTENSIONS", "LoadResult", "check_file", "format_of"]
 
-#: lower-case extension -> format
-SUPPORTED_EXTENSIONS = {
-    ".step": "step", ".stp": "step",
-    ".iges": "iges", ".igs": "iges",
-    ".brep": "brep", ".brp": "brep",
-    ".obj": "obj",
-}
+#: lower-case extension -> format name, read from the registry (:data:`cadartifact.exchange.formats.FORMATS`)
+SUPPORTED_EXTENSIONS = formats.LiveMapping(formats.suffixes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,15 +58,9 @@ class LoadResult:
 
 
 def format_of(path: Path) -> str:
-    """The format of a file by its extension (any case); raises :class:`UnsupportedFormatError` listing the
-    supported ones."""
-    fmt = SUPPORTED_EXTENSIONS.get(path.suffix.lower())
-    if fmt is None:
-        listed = ", ".join(sorted(SUPPORTED_EXTENSIONS))
-        raise UnsupportedFormatError(path, f"unsupported file extension {path.suffix or '(none)'!r}; "
-                                     f"supported: {listed}")
-    return fmt
-
+    """The format's name of a file by its extension (any case); raises :class:`UnsupportedFormatError` listing the
+    supported ones (:func:`cadartifact.exchange.formats.format_of` gives the whole record)."""
+    return formats.format_of(path).name
 
 
 def check_file(path: str | os.PathLike) -> Path:

@@ -32,7 +32,8 @@ from pathlib import Path
 from ..errors import OptionError
 from ..net import ControlNet
 from .messages import LoadWarning, warn
-from .files import SUPPORTED_EXTENSIONS, LoadResult, format_of
+from . import formats
+from .files import SUPPORTED_EXTENSIONS, LoadResult
 from .quadmesh import Chart, QuadMesh
 
 __all__ = [
@@ -56,7 +57,8 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     Parameters
     ----------
     path : str or path-like
-        ``.step/.stp``, ``.iges/.igs``, ``.brep/.brp`` or ``.obj`` (any case).
+        ``.step/.stp``, ``.iges/.igs``, ``.brep/.brp`` or ``.obj`` (any case): the formats of
+        :data:`cadartifact.exchange.formats.FORMATS`.
     convert : bool
         Convert revolution/extrusion/offset and other non-analytic freeform faces to
         B-splines with OCCT (kind ``"converted"``) instead of skipping them.
@@ -82,11 +84,10 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
         reader crashed or gave no answer in time.
     """
     path = Path(path)
-    fmt = format_of(path)
-    if fmt == "obj":
-        from .obj import read_obj
-
-        return read_obj(path)
+    record = formats.format_of(path)
+    if not record.brep:  # read in this process
+        return record.read(path)
+    fmt = record.name
     from .reader_start import read_request
     from .files import check_file
     from . import isolation
@@ -112,7 +113,7 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
                                 during=lambda: declared.append(check_iges_text(path)))
         result = faces_missing(path, result, declared[0])
     elif isolation.enabled():
-        result = isolation.call(*read_request(path, fmt, convert), path=path, what=fmt.upper(), timeout=timeout)
+        result = isolation.call(*read_request(path, fmt, convert), path=path, what=record.label, timeout=timeout)
     else:
         result = read_occt(path, fmt, convert)
     for message in result.warnings:

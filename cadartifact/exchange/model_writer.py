@@ -76,13 +76,13 @@ def check_step_output(out, parameter: str = "out") -> Path:
 
 def _read_source(path: Path):
     """(shape, face_name, length unit for write.step.unit, product names) of a STEP/IGES/BREP model."""
-    from .files import format_of
-    from . import step
+    from . import formats, step
 
-    fmt = format_of(path)
-    if fmt == "obj":
-        raise OptionError("source", "a STEP, IGES or BREP model (an OBJ cage has no B-rep to keep: "
+    record = formats.format_of(path)
+    if not record.brep:
+        raise OptionError("source", f"a STEP, IGES or BREP model (an {record.label} cage has no B-rep to keep: "
                           "write the faces only)", str(path))
+    fmt = record.name
     if fmt != "step":
         reader = step.read_iges if fmt == "iges" else step.read_brep
         shape, face_name = reader(path)

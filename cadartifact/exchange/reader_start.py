@@ -19,6 +19,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from . import formats
+
 __all__ = ["HEADER", "ENV_ISOLATION", "READ_FUNCTION", "ANALYSIS_MODULES", "BREP_FORMATS", "BREP_SUFFIXES", "isolation_enabled",
            "spawn", "stop", "write_frame", "request", "request_key", "read_request", "start", "take"]
 
@@ -26,16 +28,17 @@ HEADER = struct.Struct("!Q")
 ENV_ISOLATION = "CADARTIFACT_READ_ISOLATION"
 
 #: The reader the child runs on a B-rep file.
-READ_FUNCTION = "cadartifact.exchange.load:read_occt"
+READ_FUNCTION = formats.OCCT_READER
 
 #: What the child imports while idle after a read of ``gate`` or ``advise``: the analysis of its share of
 #: the faces (:mod:`cadartifact.runs.face_sharing`).
 ANALYSIS_MODULES = ("cadartifact.runs.face_sharing", "cadartifact.gate.run", "cadartifact.advice.advise")
 
-#: File suffixes the child reads, and their format (OBJ is read in the analysing process).
-BREP_FORMATS = {".step": "step", ".stp": "step", ".iges": "iges", ".igs": "iges", ".brep": "brep", ".brp": "brep"}
-#: The same suffixes, for ``str.endswith``.
-BREP_SUFFIXES = tuple(BREP_FORMATS)
+#: File suffixes the child reads, and their format (:func:`cadartifact.exchange.formats.brep_formats`; the other
+#: formats, OBJ, are read in the analysing process).
+BREP_FORMATS = formats.LiveMapping(formats.brep_formats)
+#: The same suffixes (``tuple(BREP_SUFFIXES)`` for ``str.endswith``).
+BREP_SUFFIXES = formats.LiveTuple(lambda: tuple(formats.brep_formats()))
 
 _prestarted: tuple | None = None  # (Popen, early request key or None), until take()
 
@@ -80,7 +83,9 @@ def read_request(path, fmt: str, convert: bool) -> tuple[str, tuple]:
 
     A STEP or IGES file's text is checked by the caller while the child reads (``prescanned``)."""
     path = Path(path)
-    return (READ_FUNCTION, (path, fmt, bool(convert), True) if fmt in ("step", "iges") else (path, fmt, bool(convert)))
+    record = formats.FORMATS[fmt]
+    args = (path, fmt, bool(convert), True) if record.text_checked else (path, fmt, bool(convert))
+    return record.reader, args
 
 
 def start(early: tuple | None = None, idle: tuple = ()) -> None:

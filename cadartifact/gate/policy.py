@@ -45,115 +45,46 @@ from __future__ import annotations
 
 import fnmatch
 import glob as globmod
-import math
 import os
 import tomllib
-from dataclasses import asdict, dataclass, field
-from functools import cached_property
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..analysis.settings import METRICS, READINGS, RunSettings
-from ..errors import InputError, OptionError
+from ..errors import InputError
+from ..exchange import formats
+from .keys import ADVISE, MEASURED, UNDECIDED, FileSettings, Key, keys  # noqa: F401 - importable from here as before
 from .policy_error import PolicyError
 
 __all__ = [
     "CAD_SUFFIXES",
     "DEFAULTS",
     "FileSettings",
+    "Key",
     "Policy",
     "PolicyError",
     "base_settings",
     "check_cli",
     "expand_paths",
     "find_policy",
+    "keys",
     "load_policy",
     "parse_policy",
 ]
 
-#: Extensions a directory or glob contributes (any case).
-CAD_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp", ".obj")
+#: Extensions a directory or glob contributes (any case): the gated formats of the registry
+#: (:func:`cadartifact.exchange.formats.cad_suffixes`).
+CAD_SUFFIXES = formats.LiveTuple(formats.cad_suffixes)
 
 POLICY_FILE = "cadartifact.toml"
-MEASURED = ("warn", "fail")
-#: The verdict of a face the decision rule leaves undecided (ISO 14253-1).
-UNDECIDED = ("warn", "fail", "pass")
-#: Which faces get the (costly) density advice: the verdict needs today's budget only.
-ADVISE = ("all", "failing", "none")
+
 #: Keys whose value is one of a fixed set (the error lists the set).
-CHOICES = {"metric": METRICS, "measured": MEASURED, "undecided": UNDECIDED, "advise": ADVISE, "intent": READINGS}
+CHOICES = {name: key.choices for name, key in keys().items() if key.choices}
 
-#: Keys of a policy's top level and of its ``[[override]]`` tables.
-TOP_KEYS = ("tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured", "undecided",
-            "convert", "min_analysed_share", "cache", "advise", "profile", "override")
-OVERRIDE_KEYS = ("glob", "tolerance", "metric", "warn_fraction", "include_signal_error", "intent", "scheme", "measured",
-                 "undecided", "convert", "min_analysed_share", "advise", "profile", "ignore_faces")
+#: Keys of a policy's top level and of its ``[[override]]`` tables (from the settings' :class:`~.keys.Key`).
+TOP_KEYS = tuple(name for name, key in keys().items() if key.where in ("both", "top"))
+OVERRIDE_KEYS = tuple(name for name, key in keys().items() if key.where in ("both", "override"))
 
-DEFAULTS = {"tolerance": None, "metric": "peak", "warn_fraction": 0.8, "include_signal_error": False, "intent": "surface",
-            "scheme": None, "measured": "fail", "undecided": "warn", "convert": False, "min_analysed_share": 0.0, "advise": "failing",
-            "profile": None, "ignore_faces": ()}
-
-
-@dataclass(frozen=True)
-class FileSettings:
-    """The effective gate settings of one file (policy, overrides and command line resolved).
-
-    Attributes
-    ----------
-    tolerance : float
-        Model units.
-    metric : {"peak", "rms"}
-    warn_fraction : float
-        ``0 < f <= 1``.
-    include_signal_error : bool
-    intent : {"surface", "net"}
-        The reading of the design intent (SPEC §4).
-    scheme : str or None
-        None: each face's own degrees (Catmull-Clark for cages).
-    measured : {"warn", "fail"}
-    undecided : {"warn", "fail", "pass"}
-        The verdict of a face the decision rule leaves undecided (``value - U <= t < value + U``).
-    convert : bool
-        Convert revolution/extrusion/offset faces to B-splines (and gate them) instead of skipping them.
-    min_analysed_share : float
-        ``0 <= s <= 1``: an OBJ cage whose analysed charts cover less than this share of its surface
-        area fails (0: never).
-    advise : {"failing", "all", "none"}
-        Which faces get the density advice (the verdict needs today's budget only): those that warn
-        or fail, every face, or none; a face without advice has ``advice: null`` and a reason in
-        ``advice_skipped``.
-    ignore_faces : tuple of int
-    profile : Profile or None
-        The PDQ criteria's thresholds (:mod:`cadartifact.gate.profiles`); None: no criteria, the verdict is the
-        ripple's alone.
-    """
-
-    tolerance: float
-    metric: str = "peak"
-    warn_fraction: float = 0.8
-    include_signal_error: bool = False
-    scheme: str | None = None
-    measured: str = "fail"
-    undecided: str = "warn"
-    intent: str = "surface"
-    convert: bool = False
-    min_analysed_share: float = 0.0
-    advise: str = "failing"
-    ignore_faces: tuple = ()
-    profile: object = None
-
-    @cached_property
-    def run(self) -> RunSettings:
-        """The analysis's share of these settings, as the budget and the advice read them (validated once)."""
-        return RunSettings(tolerance=self.tolerance, metric=self.metric, scheme=self.scheme, intent=self.intent,
-                           include_signal_error=self.include_signal_error)
-
-    def to_dict(self) -> dict:
-        from .profiles import profile_dict
-
-        d = asdict(self)
-        d["ignore_faces"] = list(self.ignore_faces)
-        d["profile"] = profile_dict(self.profile)
-        return d
+DEFAULTS = {name: key.default for name, key in keys(settings_only=True).items()}
 
 
 @dataclass(frozen=True)
@@ -223,53 +154,9 @@ def _glob_matches(pattern: str, rel: str) -> bool:
     return "/" not in pattern and fnmatch.fnmatchcase(rel.rsplit("/", 1)[-1], pattern)
 
 
-def _is_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
 def _check_value(source: str, key: str, value):
-    """Validate one policy value; return it normalised."""
-    if key == "tolerance":
-        if not _is_number(value) or not math.isfinite(value) or value <= 0:
-            raise PolicyError(source, key, f"expected a positive number of model units, received {value!r}")
-        return float(value)
-    if key == "warn_fraction":
-        if not _is_number(value) or not (0 < value <= 1):
-            raise PolicyError(source, key, f"expected a number with 0 < f <= 1, received {value!r}")
-        return float(value)
-    if key in CHOICES:
-        if value not in CHOICES[key]:
-            listed = ", ".join(map(repr, CHOICES[key]))
-            raise PolicyError(source, key, f"expected one of {listed}, received {value!r}")
-        return value
-    if key == "min_analysed_share":
-        if not _is_number(value) or not (0 <= value <= 1):
-            raise PolicyError(source, key, f"expected a share with 0 <= s <= 1, received {value!r}")
-        return float(value)
-    if key in ("include_signal_error", "convert"):
-        if not isinstance(value, bool):
-            raise PolicyError(source, key, f"expected true or false, received {value!r}")
-        return value
-    if key == "scheme":
-        if not isinstance(value, str) or not value:
-            raise PolicyError(source, key, f"expected a scheme name, received {value!r}")
-        from ..theory.catalogue import scheme as get_scheme
-
-        try:
-            get_scheme(value)
-        except OptionError as exc:
-            raise PolicyError(source, key, f"expected {exc.expected}, received {value!r}") from None
-        return value
-    if key == "ignore_faces":
-        if not isinstance(value, list) or not all(isinstance(i, int) and not isinstance(i, bool) and i >= 0
-                                                  for i in value):
-            raise PolicyError(source, key, f"expected a list of face indices (integers >= 0), received {value!r}")
-        return tuple(sorted(set(value)))
-    if key == "glob":
-        if not isinstance(value, str) or not value:
-            raise PolicyError(source, key, f"expected a non-empty glob pattern, received {value!r}")
-        return value
-    raise AssertionError(key)  # pragma: no cover - keys are checked before
+    """Validate one policy value (its :class:`~.keys.Key`'s check); return it normalised."""
+    return keys()[key].check(source, key, value)
 
 
 def _unknown(source: str, key: str, valid) -> PolicyError:
@@ -413,7 +300,7 @@ def find_policy(start=None) -> Policy:
 
 # ---------------------------------------------------------------- inputs
 def _is_cad(path: Path) -> bool:
-    return path.suffix.lower() in CAD_SUFFIXES
+    return path.suffix.lower() in formats.cad_suffixes()
 
 
 def _walk(folder: Path) -> list[Path]:
@@ -475,7 +362,7 @@ def expand_paths(args) -> list[Path]:
             found = []
         if not found:
             what = "no such file or folder" if not any(c in text for c in "*?[") and not p.exists() else \
-                "matches no STEP/IGES/BREP/OBJ file"
+                f"matches no {formats.labels()} file"
             raise PolicyError(f"PATH {text!r}", None, what)
         for f in found:
             add(f)
@@ -492,15 +379,15 @@ def base_settings(policy: Policy, cli: dict) -> dict:
 
 
 def check_cli(values: dict) -> dict:
-    """Validate gate options given on the command line (same rules as the policy keys)."""
+    """Validate gate options given on the command line (same rules as the policy keys; errors name the option)."""
     out = {}
-    names = {"tolerance": "--tol", "metric": "--metric", "warn_fraction": "--warn-fraction", "scheme": "--scheme",
-             "intent": "--intent", "advise": "--advise", "undecided": "--undecided"}
+    declared = keys()
     for key, value in values.items():
         if value is None:
             continue
         try:
             out[key] = _check_value("option", key, value)
         except PolicyError as exc:
-            raise PolicyError(names.get(key, key), None, exc.problem) from None
+            option = declared[key].option
+            raise PolicyError(option[0].split("/")[0] if option else key, None, exc.problem) from None
     return out

@@ -36,16 +36,18 @@ import os
 import tomllib
 from pathlib import Path
 
-from ..analysis.quality import CRITERIA, DEFAULT_PROFILE, Limit, Profile
+from ..analysis.quality import CRITERIA, Limit, Profile, default_profile
 from ..errors import InputError
+from ..registry import LiveMapping
 from .policy_error import PolicyError
 
 __all__ = ["BUILT_IN", "load_profile", "profile_dict", "resolve_profile"]
 
-#: Built-in profiles by name (``none``: no criteria).
-BUILT_IN = {"default": DEFAULT_PROFILE}
-#: Extra keys of some criteria's tables.
-EXTRA = {"waviness": ("flat_radius",), "knots": ("parameter",)}
+#: Built-in profiles by name (``none``: no criteria), from the criteria's registry
+#: (:data:`cadartifact.analysis.quality.CRITERIA`).
+BUILT_IN = LiveMapping(lambda: {"default": default_profile()})
+#: Extra keys of some criteria's tables (:attr:`cadartifact.analysis.quality.CriterionSpec.settings`).
+EXTRA = LiveMapping(lambda: {k: tuple(s.key for s in spec.settings) for k, spec in CRITERIA.items() if spec.settings})
 
 
 def profile_dict(profile: Profile | None) -> dict | None:
@@ -113,8 +115,9 @@ def load_profile(path) -> Profile:
         raise PolicyError(source, None, f"not valid TOML ({exc})") from None
     except OSError as exc:
         raise InputError(path, f"profile file cannot be read ({exc.strerror or exc})") from None
-    limits = dict(DEFAULT_PROFILE.limits)
-    extra = {"flat_radius": DEFAULT_PROFILE.flat_radius, "knot_parameter": DEFAULT_PROFILE.knot_parameter}
+    base_profile = default_profile()
+    limits = dict(base_profile.limits)
+    extra = {s.attribute: getattr(base_profile, s.attribute) for spec in CRITERIA.values() for s in spec.settings}
     for key, table in data.items():
         if key not in CRITERIA:
             raise PolicyError(source, key, f"is unknown (valid: {', '.join(CRITERIA)})")
@@ -125,18 +128,19 @@ def load_profile(path) -> Profile:
             raise PolicyError(source, key, f"expected a table of thresholds or false, received {table!r}")
         base = limits[key] or Limit()
         values = {"warn": base.warn, "fail": base.fail}
+        settings = {s.key: s for s in CRITERIA[key].settings}
         for k, v in table.items():
             name = f"{key}.{k}"
             if k in ("warn", "fail"):
                 values[k] = None if v == "off" else _number(source, name, v, "a number >= 0 or \"off\"")
-            elif k in EXTRA.get(key, ()):
-                want = "a positive number" if k == "flat_radius" else "a share with 0 < s < 1"
-                x = _number(source, name, v, want)
-                if not (x > 0 if k == "flat_radius" else 0 < x < 1):
-                    raise PolicyError(source, name, f"expected {want}, received {v!r}")
-                extra["flat_radius" if k == "flat_radius" else "knot_parameter"] = x
+            elif k in settings:
+                setting = settings[k]
+                x = _number(source, name, v, setting.expected)
+                if not setting.valid(x):
+                    raise PolicyError(source, name, f"expected {setting.expected}, received {v!r}")
+                extra[setting.attribute] = x
             else:
-                valid = ", ".join(("warn", "fail") + EXTRA.get(key, ()))
+                valid = ", ".join(("warn", "fail") + tuple(settings))
                 raise PolicyError(source, name, f"is unknown (valid: {valid})")
         w, f = values["warn"], values["fail"]
         if w is not None and f is not None:
@@ -145,7 +149,7 @@ def load_profile(path) -> Profile:
                 raise PolicyError(source, f"{key}.warn", f"expected warn {'<=' if above else '>='} fail ({f:g}: the "
                                                          f"bad side is {CRITERIA[key][3]} the threshold), received {w:g}")
         limits[key] = Limit(warn=w, fail=f)
-    return dataclasses.replace(DEFAULT_PROFILE, name=path.stem, source=display,
+    return dataclasses.replace(base_profile, name=path.stem, source=display,
                                limits=tuple((k, limits[k]) for k in CRITERIA), **extra)
 
 

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 from urllib.parse import quote
 
 from ..errors import InputError
+from ..registry import LiveMapping, LiveTuple
 from ..runs.face_instances import NOTE as REPEAT_NOTE
 from ..runs.records import plural, unit_name
 
@@ -50,8 +51,9 @@ FORMATS = ("text", "json", "junit", "sarif")
 
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 
-#: SARIF rules: id, name, default level, short description.
-RULES = (
+#: SARIF rules: id, name, default level, short description; those of the PDQ criteria come from their registry
+#: (:data:`cadartifact.analysis.quality.CRITERIA`, ``rule``), between CA005 and CA110.
+_OWN_RULES = (
     ("CA001", "ripple-exceeds-tolerance", "error",
      "A face's control-net ripple (artifact) exceeds the tolerance"),
     ("CA002", "ripple-near-tolerance", "warning",
@@ -64,24 +66,28 @@ RULES = (
      "A file has no B-spline face or quad chart to analyse"),
     ("CA005", "analysed-share-too-small", "error",
      "An OBJ cage's analysed charts cover less of its area than the policy's min_analysed_share"),
-    ("CA101", "pdq-wavy-surface", "warning", "G-SU-WV: too many inflections of the normal curvature along an "
-                                             "isoparametric line"),
-    ("CA102", "pdq-high-degree", "warning", "G-SU-HD: the face's polynomial degree is above the profile's limit"),
-    ("CA103", "pdq-control-points", "warning", "Too many control points in one direction"),
-    ("CA104", "pdq-control-points-total", "warning", "Too many control points in total"),
-    ("CA105", "pdq-indistinct-knots", "warning", "G-SU-IK: neighbouring knots closer than the profile's limit in "
-                                                 "parameter and in model units"),
-    ("CA106", "pdq-unused-patches", "warning", "Knot-span patches of the surface lie wholly outside the trimmed face"),
-    ("CA107", "pdq-tiny-face", "warning", "G-FA-TI: the face's area is below the profile's limit"),
-    ("CA108", "pdq-narrow-face", "warning", "The face is narrower than the profile's limit"),
-    ("CA109", "pdq-tiny-curvature-radius", "warning", "The face's smallest principal curvature radius is below the "
-                                                      "profile's limit"),
-    ("CA110", "pdq-not-evaluated", "note", "A PDQ criterion could not be evaluated on a face (the reason is given)"),
 )
+_NOT_EVALUATED = ("CA110", "pdq-not-evaluated", "note",
+                  "A PDQ criterion could not be evaluated on a face (the reason is given)")
+
+
+def _rules() -> tuple:
+    from ..analysis.quality import CRITERIA
+
+    criteria = tuple((spec.rule[0], spec.rule[1], "warning", spec.rule[2]) for spec in CRITERIA.values())
+    return _OWN_RULES + criteria + (_NOT_EVALUATED,)
+
+
+def _criterion_rules() -> dict:
+    from ..analysis.quality import CRITERIA
+
+    return {key: spec.rule[0] for key, spec in CRITERIA.items()}
+
+
+RULES = LiveTuple(_rules)
 
 #: SARIF rule of each PDQ criterion (:data:`cadartifact.analysis.quality.CRITERIA`, in order).
-CRITERION_RULES = {"waviness": "CA101", "degree": "CA102", "points": "CA103", "points_total": "CA104",
-                   "knots": "CA105", "unused": "CA106", "area": "CA107", "width": "CA108", "radius": "CA109"}
+CRITERION_RULES = LiveMapping(_criterion_rules)
 
 _COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red"}
 _DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total")

@@ -226,7 +226,7 @@ def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
 
     # each worker reads with a reader child of its own: start it with the worker, so that its OCP
     # import overlaps the worker's own start-up (OBJ-only runs need none)
-    brep = any(str(t[0]).lower().endswith(BREP_SUFFIXES) for t in tasks)
+    brep = any(str(t[0]).lower().endswith(tuple(BREP_SUFFIXES)) for t in tasks)
     init = _start_reader if brep else None
 
     results: list = [None] * len(tasks)

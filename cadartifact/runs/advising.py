@@ -7,6 +7,7 @@ from pathlib import Path
 
 from ..analysis.settings import RunSettings, check_tolerance
 from ..errors import FileFormatError, OptionError
+from ..exchange import formats
 from .records import SCHEMA, analysed_share, json_number
 
 __all__ = ["advise_files", "resampled_nets", "advised_outputs", "write_advised"]
@@ -198,8 +199,9 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
     for src, target, items in advised_outputs(kept, out):
         nets = resampled_nets(items)
         by_face = {net.origin.face: new for (_, net, _), new in zip(items, nets)}
-        mode = "faces-only" if faces_only or src.suffix.lower() == ".obj" else "model"
-        if mode == "faces-only" and src.suffix.lower() == ".obj":
+        brep = formats.format_of(src).brep  # a model to keep, else (a cage) its faces only
+        mode = "faces-only" if faces_only or not brep else "model"
+        if mode == "faces-only" and not brep:
             write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
                       "edge_tolerance": None, "valid": None} for n in nets]

@@ -34,17 +34,37 @@ import numpy as np
 from . import maskfiles as mf
 from . import symbols as sy
 from ..errors import OptionError, SchemeError
+from ..registry import LiveTuple
 from ..numerics.arrays import frozen_array
 
-__all__ = ["Scheme", "BasisSamples", "scheme", "schemes", "box", "bspline", "SCHEME_NAMES"]
+__all__ = ["Scheme", "BasisSamples", "scheme", "schemes", "box", "bspline", "NAMED", "SCHEME_NAMES"]
 
-#: The named catalogue (SPEC §2).
-SCHEME_NAMES = ("bilinear", "bicubic", "4-3", "4-8", "kobbelt")
+#: The named catalogue (SPEC §2): name (lower case, no spaces) -> the constructor of its :class:`Scheme` (called
+#: once, :func:`_named`). Adding a named scheme is one entry here: :func:`scheme`, :func:`schemes`,
+#: :data:`SCHEME_NAMES`, the error messages, ``cadartifact schemes`` and the advice's scheme comparison
+#: (:mod:`cadartifact.advice.scheme_comparison`) read it.
+NAMED: dict = {
+    "bilinear": lambda: Scheme("bilinear", sy.box_mask(2, 2, 0, 0), arrows=(2, 2, 0, 0), degrees=(1, 1)),
+    "bicubic": lambda: Scheme("bicubic", sy.box_mask(4, 4, 0, 0), arrows=(4, 4, 0, 0), degrees=(3, 3)),
+    "4-3": lambda: Scheme("4-3", sy.box_mask(2, 2, 1, 1), arrows=(2, 2, 1, 1)),
+    "4-8": lambda: Scheme("4-8", sy.box_mask(2, 2, 2, 2), arrows=(2, 2, 2, 2)),
+    "kobbelt": lambda: Scheme("kobbelt", np.outer(_KOBBELT, _KOBBELT) / 256.0),
+}
+_KOBBELT = (-1.0, 0.0, 9.0, 16.0, 9.0, 0.0, -1.0)  # the four-point rule's row
+
+#: The names of :data:`NAMED`, in its order (read from it at each use).
+SCHEME_NAMES = LiveTuple(lambda: tuple(NAMED))
 
 _ALIASES = {"catmull-clark": "bicubic", "catmull_clark": "bicubic", "catmullclark": "bicubic"}
 
-_VALID_NAMES = ("'bilinear', 'bicubic' (alias 'catmull-clark'), '4-3', '4-8', 'kobbelt', "
-                "'bspline(p,q)', 'bspline(p)', 'box(n1,n2,n3,n4)', 'file:MASK.json' or 'file:MASK.npy'")
+
+def _valid_names() -> str:
+    """The names an error message lists: the named catalogue (with each one's first alias) and the forms."""
+    alias = {}
+    for other, target in _ALIASES.items():
+        alias.setdefault(target, other)
+    named = "".join(f"'{n}'" + (f" (alias '{alias[n]}')" if n in alias else "") + ", " for n in NAMED)
+    return named + "'bspline(p,q)', 'bspline(p)', 'box(n1,n2,n3,n4)', 'file:MASK.json' or 'file:MASK.npy'"
 
 #: Largest mask side accepted from users (the continuous stage works with the autocorrelation
 #: mask, about twice as large, through dense eigen-decompositions).
@@ -505,8 +525,8 @@ def box(n1: int, n2: int, n3: int, n4: int) -> Scheme:
 
 
 def schemes() -> list[str]:
-    """The named catalogue: ``['bilinear', 'bicubic', '4-3', '4-8', 'kobbelt']``."""
-    return list(SCHEME_NAMES)
+    """The named catalogue (:data:`NAMED`): ``['bilinear', 'bicubic', '4-3', '4-8', 'kobbelt']``."""
+    return list(NAMED)
 
 
 _PATTERN = re.compile(r"^(bspline|b-spline|box)\(([\d,]+)\)$")
@@ -528,12 +548,12 @@ def scheme(name) -> Scheme:
     if isinstance(name, Scheme):
         return name
     if not isinstance(name, str):
-        raise SchemeError("scheme", f"a scheme name ({_VALID_NAMES}) or a Scheme", name)
+        raise SchemeError("scheme", f"a scheme name ({_valid_names()}) or a Scheme", name)
     if mf.is_file_name(name):
         return _file_scheme(name.strip(), *mf.mask_path(name))
     key = re.sub(r"\s+", "", name).lower()
     key = _ALIASES.get(key, key)
-    if key in SCHEME_NAMES:
+    if key in NAMED:
         return _named(key)
     m = _PATTERN.match(key)
     if m:
@@ -545,7 +565,7 @@ def scheme(name) -> Scheme:
             return bspline(*nums)
         if m.group(1) == "box" and len(nums) == 4:
             return box(*nums)
-    raise SchemeError("scheme", f"one of {_VALID_NAMES}", name)
+    raise SchemeError("scheme", f"one of {_valid_names()}", name)
 
 
 @lru_cache(maxsize=32)
@@ -560,18 +580,9 @@ def _file_scheme(name: str, path: str, _size: int, _mtime: int) -> Scheme:
 
 @lru_cache(maxsize=128)
 def _named(key: str) -> Scheme:
-    """Build (once) the scheme of a canonical name."""
-    if key == "bilinear":
-        return Scheme("bilinear", sy.box_mask(2, 2, 0, 0), arrows=(2, 2, 0, 0), degrees=(1, 1))
-    if key == "bicubic":
-        return Scheme("bicubic", sy.box_mask(4, 4, 0, 0), arrows=(4, 4, 0, 0), degrees=(3, 3))
-    if key == "4-3":
-        return Scheme("4-3", sy.box_mask(2, 2, 1, 1), arrows=(2, 2, 1, 1))
-    if key == "4-8":
-        return Scheme("4-8", sy.box_mask(2, 2, 2, 2), arrows=(2, 2, 2, 2))
-    if key == "kobbelt":
-        u = np.array([-1.0, 0.0, 9.0, 16.0, 9.0, 0.0, -1.0])
-        return Scheme("kobbelt", np.outer(u, u) / 256.0)
+    """Build (once) the scheme of a canonical name: a :data:`NAMED` one, ``bspline(p,q)`` or ``box(n1,n2,n3,n4)``."""
+    if key in NAMED:
+        return NAMED[key]()
     m = re.match(r"^bspline\((\d+),(\d+)\)$", key)
     if m:
         p, q = int(m.group(1)), int(m.group(2))
