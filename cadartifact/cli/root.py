@@ -67,6 +67,7 @@ def _version(value: bool):
 
 @app.callback()
 def _root(
+    ctx: typer.Context,
     version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
                                  help="Print the version and exit."),
 ):
@@ -75,6 +76,16 @@ def _root(
     Run 'cadartifact COMMAND -h' for a command's options; 'cadartifact demo' runs the advisor on the bundled
     samples.
     """
+    from ..execution import child
+    from .environment import execution_settings
+
+    # the environment is read here, at the edge: every command's reader child runs under it (gate and advise
+    # pass their own settings down too); restored when the command ends (a command run from Python)
+    try:
+        saved = child.configure(execution_settings())
+    except CadArtifactError as exc:
+        raise fail(str(exc)) from None
+    ctx.call_on_close(lambda: child.configure(saved))
 
 
 def _console(stderr: bool = False):
