@@ -49,28 +49,28 @@ def _maybe_die(path: str, specs: str) -> None:
         os._exit(17)
 
 
-def gate_task(path: str, payload: bytes | None, settings, verify: bool, part=None, worker_exit: str = "") -> dict:
+def gate_task(gate_file, path: str, payload: bytes | None, settings, verify: bool, part=None,
+              worker_exit: str = "", reuse: bool = True) -> dict:
     """Gate one file (or with ``part = (r, k)`` one face batch of it: :func:`cadartifact.gate.run.merge_parts`)
-    on a worker; ``payload`` is its bytes with ``--ship`` (else read ``path``); ``worker_exit``: the test hook
+    on a worker with ``gate_file`` (:func:`cadartifact.gate.run.gate_file`, passed by the run: this module does
+    not import it); ``payload`` is its bytes with ``--ship`` (else read ``path``); ``worker_exit``: the test hook
     :attr:`ClusterOptions.worker_exit <cadartifact.execution.settings.ClusterOptions>`."""
-    from .run import gate_file
-
     _maybe_die(path, worker_exit)
     if payload is None:
-        return gate_file(path, settings, verify, part=part)
+        return gate_file(path, settings, verify, part=part, reuse=reuse)
     import tempfile
 
     with tempfile.TemporaryDirectory(prefix="cadartifact-ship-") as tmp:
         local = os.path.join(tmp, os.path.basename(path) or "input")
         with open(local, "wb") as fh:
             fh.write(payload)
-        entry = gate_file(local, settings, verify, part=part)
+        entry = gate_file(local, settings, verify, part=part, reuse=reuse)
     return _relocate_shipped(entry, local, path)
 
 
-def gate_batch(items: list, version: str | None = None, execution=None) -> list:
+def gate_batch(gate_file, items: list, version: str | None = None, execution=None) -> list:
     """Gate ``(path, payload, settings, verify, part, worker_exit)`` items one after the other on a worker (one
-    Dask task), its reader child run under ``execution`` (the run's
+    Dask task) with ``gate_file``, its reader child run under ``execution`` (the run's
     :class:`~cadartifact.execution.settings.ExecutionSettings`; None: the worker's own).
 
     Small files go several to a task: a Dask task costs milliseconds of scheduling, as much as
@@ -85,7 +85,8 @@ def gate_batch(items: list, version: str | None = None, execution=None) -> list:
     from ..execution.child import configured
 
     with configured(execution):
-        return [gate_task(*item) for item in items]
+        return [gate_task(gate_file, *item, reuse=True if execution is None else execution.reuse_faces)
+                for item in items]
 
 
 def _relocate_shipped(entry: dict, local: str, path: str) -> dict:
@@ -120,21 +121,17 @@ def _payload(path: str) -> bytes | None:
         return None
 
 
-def _killed_entry(path: str, settings, deaths: int) -> dict:
-    from .run import _error_entry
-
-    return _error_entry(path, settings, f"{path}: worker died {deaths} times on this file (a crash in the "
+def _killed_entry(gate, path: str, settings, deaths: int) -> dict:
+    return gate._error_entry(path, settings, f"{path}: worker died {deaths} times on this file (a crash in the "
                                         "analysis, or the worker ran out of memory)")
 
 
-def _failed_entry(task, exc: Exception) -> dict:
-    from .run import _error_entry
-
+def _failed_entry(gate, task, exc: Exception) -> dict:
     path, settings, _ = task
-    return _error_entry(path, settings, f"{path}: analysis failed on the cluster ({type(exc).__name__}: {exc})")
+    return gate._error_entry(path, settings, f"{path}: analysis failed on the cluster ({type(exc).__name__}: {exc})")
 
 
-def run_on_cluster(tasks: list, options: ClusterOptions, done, execution=None) -> list:
+def run_on_cluster(tasks: list, options: ClusterOptions, done, execution=None, gate=None) -> list:
     """Gate ``(path, settings, verify)`` tasks on Dask; entries in input order.
 
     Parameters
@@ -145,6 +142,9 @@ def run_on_cluster(tasks: list, options: ClusterOptions, done, execution=None) -
         ``done(entry)`` after each file, in completion order.
     execution : ExecutionSettings, optional
         The run's (the workers' reader children run under it: its read timeout, isolation).
+    gate : module
+        :mod:`cadartifact.gate.run`, which calls this (:func:`~cadartifact.gate.run.run_gate`): its ``gate_file``,
+        ``merge_parts``, ``_error_entry``; passed, not imported, since the run imports this module.
 
     Raises
     ------
@@ -156,7 +156,7 @@ def run_on_cluster(tasks: list, options: ClusterOptions, done, execution=None) -
     if not tasks:
         return []
     with session(options) as client:
-        return _run(client, tasks, options, done, execution)
+        return _run(client, tasks, options, done, execution, gate)
 
 
 #: A task holds files until their bytes add up to this much (a file as big or bigger goes alone) ...
@@ -204,7 +204,7 @@ def _parts(tasks: list, threads: int, forced: int | None = None) -> int:
     return max(1, min(MAX_PARTS, threads // max(1, len(tasks))))
 
 
-def _run(client, tasks: list, options: ClusterOptions, done, execution=None) -> list:
+def _run(client, tasks: list, options: ClusterOptions, done, execution, gate) -> list:
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
@@ -225,10 +225,8 @@ def _run(client, tasks: list, options: ClusterOptions, done, execution=None) -> 
             else:
                 payload = _payload(path) if options.ship else None
             if options.ship and payload is None:  # unreadable here: reported as the local gate reports it
-                from .run import gate_file
-
                 if part is None or part[0] == 0:
-                    results[i] = gate_file(path, settings, verify)
+                    results[i] = gate.gate_file(path, settings, verify)
                     done(results[i])
                 continue
             items.append((path, payload, settings, verify, part, options.worker_exit))
@@ -236,7 +234,7 @@ def _run(client, tasks: list, options: ClusterOptions, done, execution=None) -> 
         if not items:
             return None, sent
         where = f"{sent[0]}" if part is None else f"{sent[0]}-part{part[0]}"
-        fut = client.submit(gate_batch, items, __version__, execution, key=f"cadartifact-gate-{tag}-{where}-{token}",
+        fut = client.submit(gate_batch, gate.gate_file, items, __version__, execution, key=f"cadartifact-gate-{tag}-{where}-{token}",
                             retries=options.retries, pure=False)
         return fut, sent
 
@@ -279,9 +277,7 @@ def _run(client, tasks: list, options: ClusterOptions, done, execution=None) -> 
         got = parts.setdefault(i, {})
         got[part[0]] = entry
         if len(got) == part[1]:
-            from .run import merge_parts
-
-            results[i] = merge_parts([got[r] for r in range(part[1])], tasks[i][1])
+            results[i] = gate.merge_parts([got[r] for r in range(part[1])], tasks[i][1])
             done(results[i])
 
     top_up()
@@ -296,7 +292,7 @@ def _run(client, tasks: list, options: ClusterOptions, done, execution=None) -> 
             killed += [i for i in batch if i not in killed and results[i] is None]
             entries = None
         except Exception as exc:  # fail closed: an unexpected failure must not let the files pass
-            entries = [_failed_entry(tasks[i], exc) for i in batch]
+            entries = [_failed_entry(gate, tasks[i], exc) for i in batch]
             if part is not None:  # one failed batch fails the file: no merge, no re-run
                 for i, entry in zip(batch, entries):
                     parts.pop(i, None)
@@ -318,8 +314,8 @@ def _run(client, tasks: list, options: ClusterOptions, done, execution=None) -> 
         try:
             results[i] = fut.result()[0]
         except KilledWorker as exc:
-            results[i] = _killed_entry(tasks[i][0], tasks[i][1], exc.allowed_failures + 1)
+            results[i] = _killed_entry(gate, tasks[i][0], tasks[i][1], exc.allowed_failures + 1)
         except Exception as exc:
-            results[i] = _failed_entry(tasks[i], exc)
+            results[i] = _failed_entry(gate, tasks[i], exc)
         done(results[i])
     return results

@@ -311,9 +311,11 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int | None = None, ve
 
 def _execute(tasks: list, execution: ExecutionSettings, done) -> list:
     if execution.cluster is not None:  # the seam to cadartifact.gate.cluster (imports distributed)
+        import sys
+
         from .cluster import run_on_cluster
 
-        return run_on_cluster(tasks, execution.cluster, done, execution)
+        return run_on_cluster(tasks, execution.cluster, done, execution, sys.modules[__name__])
     from ..execution.executors import SerialExecutor, workers_can_start
 
     jobs = max(1, min(execution.workers, len(tasks)))
