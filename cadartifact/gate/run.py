@@ -29,8 +29,8 @@ from ..execution.settings import ExecutionSettings
 from ..runs.verdicts import VERDICTS, face_verdict, worst_verdict
 from .policy import FileSettings, Policy
 
-__all__ = ["CHILD_IMPORTS", "GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict",
-           "file_verdict", "gate_file", "merge_parts", "run_gate"]
+__all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
+           "merge_parts", "run_gate"]
 
 GATE_SCHEMA = "cadartifact.gate/3"  # 3: PDQ criteria (issue 25): "profile", per face "criteria", "ripple_verdict"
 
