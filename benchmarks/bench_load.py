@@ -94,7 +94,7 @@ def main(argv=None) -> int:
     print(f"{'worst':34s} {'':6s} {'':5s} {'':9s} {'':9s} {max(ratios):7.3f}   (target: within 1.10x on every file)")
 
     print(f"\nReader isolation (best of {args.repeat}, interleaved): read() through the reader child process vs "
-          "the same read in this process (CADARTIFACT_READ_ISOLATION=0); 'scan' = every STEP text check from the "
+          "the same read in this process (isolation off); 'scan' = every STEP text check from the "
           "file's bytes (load._prescan), 'refs' = the reference integrity scan alone (step_refs, given the cleaned "
           "text and record heads the checks share), each over the in-process read (the scans run in this process "
           "while the child reads)")
@@ -108,6 +108,9 @@ def main(argv=None) -> int:
     from cadartifact.exchange.step_refs import check_references
     from cadartifact.exchange.step_scan import clean_data, data_section, record_heads
 
+    from cadartifact.execution.child import configured
+    from cadartifact.execution.settings import ExecutionSettings
+
     iso_ratios, ref_shares, scan_shares = [], [], []
     for path in files:
         inproc, inproc_cpu, child, scan, refs = [], [], [], [], []
@@ -116,14 +119,11 @@ def main(argv=None) -> int:
         heads = record_heads(clean)
         for _ in range(args.repeat):
             child.append(best_of(lambda: read(path), 1))
-            os.environ["CADARTIFACT_READ_ISOLATION"] = "0"
-            try:
+            with configured(ExecutionSettings(isolation=False)):  # in this process
                 start, cpu = time.perf_counter(), time.process_time()
                 read(path)
                 inproc.append(time.perf_counter() - start)
                 inproc_cpu.append(time.process_time() - cpu)
-            finally:
-                del os.environ["CADARTIFACT_READ_ISOLATION"]
             scan.append(cpu_of(lambda: _prescan(path)))
             refs.append(cpu_of(lambda: check_references(path, text, heads, clean)))
         ratio = min(child) / min(inproc)

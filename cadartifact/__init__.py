@@ -27,7 +27,7 @@ from .errors import (  # the error hierarchy, so that callers can write ``except
 __version__ = "0.1.0"
 
 # public name -> (module, attribute) loaded on first use; attribute None: the module. The core is
-# lazy too: the reader child (exchange.isolation) imports this package and needs none of the analysis.
+# lazy too: the reader child (execution.child) imports this package and needs none of the analysis.
 _LAZY = {
     "ControlNet": ("net", "ControlNet"),
     "NetOrigin": ("net", "NetOrigin"),

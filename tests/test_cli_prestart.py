@@ -32,18 +32,25 @@ def test_prestarted_child_serves_the_first_read_and_isolation_off_starts_none(mo
     pytest.importorskip("OCP")
     from pathlib import Path
 
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
     from cadartifact.exchange.load import read
 
+    from cadartifact.exchange.reader_start import PRELOAD
+
     isolation.shutdown()
-    isolation.prestart()
+    isolation.prestart(PRELOAD)
     child = isolation._child
     assert child is not None and not child.ready
     sample = Path(__file__).resolve().parents[1] / "cadartifact" / "samples" / "clean_panel.step"
     assert read(sample).nets and isolation._child is child and child.ready  # the same process, now ready
     isolation.shutdown()
-    monkeypatch.setenv(isolation.ENV_ISOLATION, "0")
-    isolation.prestart()
+    # isolation off: the CLI reads it at its edge, and the run's settings say so to the child
+    from cadartifact.cli.prestart import isolation_on
+
+    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
+    assert not isolation_on()
+    monkeypatch.setattr(isolation, "_settings", isolation.settings().replace(isolation=False))
+    isolation.prestart(PRELOAD)
     assert isolation._child is None
 
 
@@ -95,7 +102,7 @@ def test_early_read_serves_the_same_request_only(monkeypatch):
     without it); a different first read stops that child and is answered by a new one."""
     pytest.importorskip("OCP")
     from cadartifact.exchange import reader_start
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
     from cadartifact.exchange.load import read
 
     sample = _sample()
@@ -127,11 +134,12 @@ def test_early_read_serves_the_same_request_only(monkeypatch):
 
 def test_an_unused_early_child_is_stopped_at_exit():
     from cadartifact.exchange import reader_start
+    from cadartifact.execution import start
 
     reader_start.start(reader_start.read_request(_sample(), "step", False))
-    proc = reader_start._prestarted[0]
-    reader_start._stop_unused()
-    assert proc.poll() is not None and reader_start._prestarted is None
+    proc = start._prestarted[0]
+    start._stop_unused()
+    assert proc.poll() is not None and start._prestarted is None
 
 
 def test_brep_formats_agree_with_the_exchange():
@@ -146,12 +154,14 @@ def test_brep_formats_agree_with_the_exchange():
 def test_an_early_child_that_died_is_replaced():
     pytest.importorskip("OCP")
     from cadartifact.exchange import reader_start
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
     from cadartifact.exchange.load import read
 
     isolation.shutdown()
     reader_start.start(reader_start.read_request(_sample(), "step", False))
-    proc = reader_start._prestarted[0]
+    from cadartifact.execution import start
+
+    proc = start._prestarted[0]
     proc.kill()
     proc.wait()
     assert read(_sample()).nets  # a new child answers; the dead one is reaped

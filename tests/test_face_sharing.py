@@ -54,7 +54,7 @@ def spy(monkeypatch):
     """The shares sent to the child: function name (``child_gate``, ``child_advise``) -> face counts."""
     from collections import defaultdict
 
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     calls = defaultdict(list)
     real = isolation.call
@@ -84,7 +84,7 @@ def test_shared_faces_give_the_serial_document(many, spy, monkeypatch, tol):
 
 
 def test_a_child_that_fails_its_share_costs_only_time(many, monkeypatch):
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     serial = _gate(many, "--tol", "0.01", env={"CADARTIFACT_SHARE_FACES": "0"}, monkeypatch=monkeypatch)
     real = isolation.call
@@ -105,7 +105,7 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
     import cadartifact.runs.face as pipeline
     import cadartifact.runs.face_sharing as split
     from cadartifact.errors import CadArtifactError
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
     from cadartifact.gate.policy import FileSettings
 
     real_entry = pipeline.start_face
@@ -128,8 +128,10 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
             for k, n in enumerate(names)]
     settings = FileSettings(tolerance=0.01)
     serial = [split.face_outcome(n, settings, False) for n in nets]
-    monkeypatch.setattr(split, "enabled", lambda: True)
-    shared = split.analyse_faces(nets, settings, False)
+    from cadartifact.execution.sharing import Sharing
+
+    monkeypatch.setattr(Sharing, "active", lambda self: True)
+    shared = split.analyse_faces(nets, settings, False, sharing=Sharing())
     assert [type(o) for o in shared] == [type(o) for o in serial]
     assert [str(o) if isinstance(o, Exception) else json.dumps(o, sort_keys=True) for o in shared] == \
         [str(o) if isinstance(o, Exception) else json.dumps(o, sort_keys=True) for o in serial]
@@ -138,7 +140,7 @@ def test_errors_come_back_in_face_order_whichever_side_had_them(monkeypatch):
 
 
 def test_a_call_from_within_during_is_refused_not_a_hang():
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     seen = []
 
@@ -175,7 +177,7 @@ def test_another_thread_waits_for_the_child_instead_of_failing():
     import threading
     import time
 
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     got = {}
 
@@ -191,7 +193,7 @@ def test_another_thread_waits_for_the_child_instead_of_failing():
 
 
 def test_an_error_in_during_is_raised_as_itself_and_the_next_call_works():
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     def fails():
         raise TimeoutError("this process's own work timed out")  # must not read as the child's timeout
@@ -213,7 +215,7 @@ def test_rounds_send_the_child_what_is_left_when_it_answers_first(many, spy, mon
     """A child that answers before this process is done with its faces is sent half of what is left (rounds,
     longest first): here it is made to look done after each of this process's faces. Every face is computed
     once, the document is the serial one."""
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     serial = _gate(many, "--tol", "0.01", env={"CADARTIFACT_SHARE_FACES": "0"}, monkeypatch=monkeypatch)
     checks = []
@@ -234,7 +236,7 @@ def test_rounds_send_the_child_what_is_left_when_it_answers_first(many, spy, mon
 def test_answered_is_false_outside_during_and_true_once_the_child_has_replied():
     import time
 
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child as isolation
 
     assert isolation.answered() is False
     isolation.call("os:getpid", (), path="x.step")  # a started child (before its hello, answered() is False)

@@ -137,11 +137,12 @@ def test_the_cache_key_follows_the_mode(models):  # noqa: F811
 def test_the_dask_task_gives_the_same_records(models, pair):  # noqa: F811
     """gate_cluster.gate_task (what a Dask worker runs), by path and by shipped bytes, in this process."""
     from cadartifact.gate.cluster import gate_task
+    from cadartifact.gate.run import gate_file
 
     path = models["root"] / "pair.step"
     settings = FileSettings(tolerance=pair["failing"]["policy"]["tolerance"], advise="failing")
-    assert gate_task(str(path), None, settings, False) == pair["failing"]
-    assert gate_task(str(path), path.read_bytes(), settings, False) == pair["failing"]
+    assert gate_task(gate_file, str(path), None, settings, False) == pair["failing"]
+    assert gate_task(gate_file, str(path), path.read_bytes(), settings, False) == pair["failing"]
 
 
 def test_peak_at_reuses_todays_budget_and_equals_a_fresh_peak_location(models, pair):  # noqa: F811

@@ -27,9 +27,9 @@ def counted(monkeypatch):
     seen = []
     real = gate.gate_file
 
-    def counting(path, settings, verify=False):
+    def counting(path, settings, verify=False, *args, **kwargs):  # kwargs: the run's sharing and reuse
         seen.append(path)
-        return real(path, settings, verify)
+        return real(path, settings, verify, *args, **kwargs)
 
     monkeypatch.setattr(gate, "gate_file", counting)
     return seen

@@ -376,11 +376,12 @@ def test_a_big_file_alone_on_a_cluster_goes_as_face_batches(tmp_path, monkeypatc
 
 
 def test_face_batches_env_must_be_a_whole_number(monkeypatch):
+    from cadartifact.cli.environment import cluster_options
     from cadartifact.errors import OptionError
     from cadartifact.gate.cluster import _parts
 
     monkeypatch.setenv("CADARTIFACT_FACE_BATCHES", "two")
     with pytest.raises(OptionError, match="CADARTIFACT_FACE_BATCHES.*whole number"):
-        _parts([("a.step",)], 4)
+        _parts([("a.step",)], 4, cluster_options("local").face_batches)
     monkeypatch.setenv("CADARTIFACT_FACE_BATCHES", "3")
-    assert _parts([("a.step",)], 4) == 3
+    assert _parts([("a.step",)], 4, cluster_options("local").face_batches) == 3

@@ -246,7 +246,7 @@ def test_programs_from_stdin_are_served_in_process(monkeypatch):
     import sys
     import types
 
-    from cadartifact.gate.run import _workers_can_start
+    from cadartifact.execution.executors import workers_can_start as _workers_can_start
 
     assert _workers_can_start()
     fake = types.ModuleType("__main__")

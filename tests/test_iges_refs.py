@@ -72,7 +72,9 @@ def test_a_broken_surface_pointer_is_an_error_naming_entries_and_lines(hood, tmp
     with pytest.raises(FileFormatError, match=rf"^{path}: ") as err:
         read(path)
     assert str(err.value) == f"{path}: {needle}"
-    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")  # the same check on the in-process road
+    from cadartifact.execution import child
+
+    monkeypatch.setattr(child, "_settings", child.settings().replace(isolation=False))  # the in-process road
     with pytest.raises(FileFormatError):
         read(path)
 
@@ -89,7 +91,9 @@ def test_without_the_check_occt_reads_a_file_of_no_face(hood, tmp_path, monkeypa
     monkeypatch.setattr(refs, "check_iges_text", lambda path: (0, "faces"))  # no check, no count
     path = tmp_path / "m.igs"
     path.write_text(_with_surface(hood, "4"), encoding="latin-1")
-    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
+    from cadartifact.execution import child
+
+    monkeypatch.setattr(child, "_settings", child.settings().replace(isolation=False))  # read in this process
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = read(path)

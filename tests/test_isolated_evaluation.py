@@ -20,8 +20,8 @@ pytest.importorskip("OCP")
 from cadartifact.cli.app import app  # noqa: E402
 import importlib  # noqa: E402
 
-from cadartifact.exchange import isolation  # noqa: E402
-from cadartifact.exchange.isolation import ChildFailed  # noqa: E402
+from cadartifact.execution import child as isolation  # noqa: E402
+from cadartifact.execution.child import ChildFailed  # noqa: E402
 
 TESTS = Path(__file__).resolve().parent
 SAMPLES = TESTS.parent / "samples"
@@ -40,7 +40,9 @@ def fault(monkeypatch):
     def use(name: str, timeout: float | None = None):
         monkeypatch.setattr(load, "EVALUATE", f"eval_faults:{name}")
         if timeout is not None:
-            monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", str(timeout))
+            monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", str(timeout))  # the CLI's (read at its edge)
+            # the library calls': the reader child's settings, as a run configures them
+            monkeypatch.setattr(isolation, "_settings", isolation.settings().replace(read_timeout=float(timeout)))
 
     yield use
     isolation.shutdown()
@@ -107,11 +109,11 @@ def test_evaluation_runs_in_the_child_even_when_this_process_has_ocp(fault):
 
 
 def test_the_child_knows_it_is_the_child_under_the_module_name_requests_import():
-    """The child runs ``python -m cadartifact.exchange.isolation`` (the module is ``__main__`` there); the
-    requests import ``cadartifact.exchange.isolation`` again, and that copy must say it serves, or an
+    """The child runs ``python -m cadartifact.execution.child`` (the module is ``__main__`` there); the
+    requests import ``cadartifact.execution.child`` again, and that copy must say it serves, or an
     evaluation inside the child (the verification of its share of faces) starts a child of the child: a
     second OCP import per file, 0.8-1.2 s of a 40-face file's advise (found by the issue 24 benchmarks)."""
     if not isolation.enabled():
         pytest.skip("isolation is off in this environment")
     assert not isolation.serving()  # this process is not the child
-    assert isolation.call("cadartifact.exchange.isolation:serving", (), path="<test>", what="test") is True
+    assert isolation.call("cadartifact.execution.child:serving", (), path="<test>", what="test") is True

@@ -20,6 +20,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "cadartifact"
 #: ``__init__`` and ``__main__`` are its front door (the lazy public API), above every wing.
 WINGS = (
     ("errors", "dependencies", "registry"),  # the error hierarchy, require(), live views: standard library only
+    ("execution",),  # settings, executors, the child process, face sharing's rounds, the Dask connection
     ("numerics",),  # tensor products, exact B-spline bases, the operator cache, read-only arrays
     ("theory",),  # the paper: symbols, the scheme catalogue, spectral responses
     ("net",),  # the data model: ControlNet
@@ -165,6 +166,38 @@ def test_the_base_imports_the_standard_library_only(module):
             [node.module] if isinstance(node, ast.ImportFrom) and not node.level and node.module else []
         outside.update(n.split(".")[0] for n in names if n.split(".")[0] not in sys.stdlib_module_names)
     assert not outside, f"{module} imports {sorted(outside)}"
+
+
+def _named_modules(path: Path) -> set[str]:
+    """The package's modules named in ``path``'s string constants (``"cadartifact.x.y"``, ``"cadartifact.x:f"``),
+    docstrings left out (a reference for the reader is no dependency)."""
+    import re
+
+    tree = ast.parse(path.read_text())
+    docs = {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body
+            and isinstance(node.body[0], ast.Expr) and isinstance(node.body[0].value, ast.Constant)}
+    found = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
+            found.update(re.findall(r"\bcadartifact(?:\.\w+)+", node.value))
+    return found
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if wing(m) in RANK))
+def test_no_module_names_a_higher_wing_in_a_string(module):
+    """A module imported by name (a child's ``"module:function"``, its idle imports) is a dependency the import
+    check cannot see: the higher wing passes such names down instead."""
+    here = RANK[wing(module)]
+    up = sorted(n for n in _named_modules(MODULES[module]) if wing(n) in RANK and RANK[wing(n)] > here)
+    assert not up, f"{module} (wing {wing(module)!r}) names a higher wing's module in a string: {up}"
+
+
+def test_the_string_check_sees_a_name(tmp_path):
+    """The check above, on a made-up module: it finds a name in a string, not in a docstring."""
+    f = tmp_path / "m.py"
+    f.write_text('"""See cadartifact.gate.run."""\nX = ("cadartifact.runs.face_sharing", "cadartifact.gate.run:f")\n')
+    assert _named_modules(f) == {"cadartifact.runs.face_sharing", "cadartifact.gate.run"}
 
 
 def test_no_module_over_600_lines():

@@ -140,7 +140,9 @@ def test_impossible_numbers_are_an_error_before_occt(tmp_path, monkeypatch, kind
     # in this process, with OCCT's reader replaced: the error must come before it is called
     import cadartifact.exchange.step as step
 
-    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
+    from cadartifact.execution import child
+
+    monkeypatch.setattr(child, "_settings", child.settings().replace(isolation=False))  # read in this process
     monkeypatch.setattr(step, "read_step_audited", lambda p: pytest.fail("OCCT was called"))
     with pytest.raises(FileFormatError) as err:
         read(path)
@@ -206,18 +208,18 @@ def test_parse_parameters_simple_and_complex():
 
 # ---------------------------------------------------------------- 3. OCCT cannot take the run down
 def test_a_crashing_reader_is_an_error_and_the_next_file_is_read():
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child
 
     with pytest.raises(FileFormatError, match=r"x\.step: the STEP reader crashed on this file \(SIGABRT\)"):
-        isolation.call("os:abort", (), path="x.step")
+        child.call("os:abort", (), path="x.step")
     assert read(HOOD).nets  # a new child serves the next file
 
 
 def test_a_hanging_reader_is_stopped_after_the_timeout():
-    from cadartifact.exchange import isolation
+    from cadartifact.execution import child
 
     with pytest.raises(FileFormatError, match=r"y\.step: the STEP reader gave no answer in 0\.5 s"):
-        isolation.call("time:sleep", (30,), path="y.step", timeout=0.5)
+        child.call("time:sleep", (30,), path="y.step", timeout=0.5)
     assert read(HOOD).nets
 
 
@@ -230,8 +232,12 @@ def test_gate_read_timeout_option_and_environment(tmp_path, monkeypatch):
     r, doc = gate(path)
     assert r.exit_code == 2 and "gave no answer in 0.001 s" in doc["files"][0]["error"]
     monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", "soon")
-    with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):
-        read(HOOD)
+    from cadartifact.cli.environment import execution_settings
+
+    with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):  # read once, at the CLI's edge
+        execution_settings()
+    r = CliRunner().invoke(app, ["gate", str(HOOD), "--tol", "1"])
+    assert r.exit_code == 2 and "CADARTIFACT_READ_TIMEOUT" in r.stderr
     monkeypatch.delenv("CADARTIFACT_READ_TIMEOUT")
     r = CliRunner().invoke(app, ["gate", str(HOOD), "--tol", "1", "--read-timeout", "-1"])
     assert r.exit_code == 2 and "--read-timeout" in r.stderr
@@ -256,7 +262,9 @@ def test_the_child_reads_exactly_what_an_in_process_read_gives(monkeypatch):
     if REALDATA.exists():
         files += [REALDATA / "step" / "MAINBODY_BACK.stp", REALDATA / "step" / "boxed_sphere.step"]
     isolated = [read(p) for p in files]
-    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
+    from cadartifact.execution import child
+
+    monkeypatch.setattr(child, "_settings", child.settings().replace(isolation=False))  # read in this process
     for p, a in zip(files, isolated):
         _same(a, read(p))
 

@@ -68,7 +68,10 @@ def test_the_cli_fails_in_one_line_before_occt_hangs(tmp_path, number, monkeypat
     path = tmp_path / "hood.step"
     path.write_text(_hood(number), encoding="latin-1")
     # a read that reached OCCT would hang until this timeout, and the message would say so
-    monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", "60")
+    from cadartifact.execution import child
+
+    monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", "60")  # the CLI's (read at its edge)
+    monkeypatch.setattr(child, "_settings", child.settings().replace(read_timeout=60.0))  # the library call's
     with pytest.raises(FileFormatError, match=r"#23 \(line \d+\): number"):
         read(path)
     r = CliRunner().invoke(app, ["advise", str(path), "--tol", "1", "--json"])

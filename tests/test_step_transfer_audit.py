@@ -46,7 +46,9 @@ def test_a_malformed_control_point_of_an_edge_curve_is_refused_before_occt(tmp_p
 
 
 def _read(path: Path, isolated: bool, monkeypatch):
-    monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "1" if isolated else "0")
+    from cadartifact.execution import child
+
+    monkeypatch.setattr(child, "_settings", child.settings().replace(isolation=isolated))  # as a run sets it
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return read(path)

@@ -63,6 +63,7 @@ def advise_cmd(
     from ..analysis.settings import METRICS
     from ..runs.advising import advise_files
     from ..runs.terminal import render
+    from .environment import execution_settings
 
     check_option("--metric", metric, METRICS)
     check_option("--intent", intent, ("surface", "net"))
@@ -87,7 +88,7 @@ def advise_cmd(
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
                            faces=set(face) if face else None, compare="auto" if compare is None else compare,
                            verify=verify, progress=progress,
-                           keep=keep, convert=convert, intent=intent)
+                           keep=keep, convert=convert, intent=intent, execution=execution_settings())
     if write_resampled is not None and keep:
         from .. import __version__
         from ..runs.advising import write_advised
@@ -185,12 +186,13 @@ def demo_cmd(
     """Run the advisor on the bundled samples (samples/*.step, samples/*.obj) and explain what it found."""
     from ..runs.advising import advise_files
     from ..runs.terminal import render
+    from .environment import execution_settings
 
     folder = _samples_dir()
     files = sorted(p for p in folder.iterdir() if p.suffix.lower() in formats.suffixes())
     err = _console(stderr=True)
     with _progress(err, "advised", len(files)) as progress:
-        doc = advise_files(files, tol, progress=progress)
+        doc = advise_files(files, tol, progress=progress, execution=execution_settings())
     if json_out:
         _write_json(doc)
         return

@@ -50,7 +50,8 @@ def gate_cmd(
                                         help="Every column in the text report (default: at 110 columns or more)."),
     read_timeout: Optional[float] = typer.Option(None, "--read-timeout",
                                                  help="Seconds OCCT's reader may take on one file (default 120 or "
-                                                      "$CADARTIFACT_READ_TIMEOUT); a file past it is an error."),
+                                                      "$CADARTIFACT_READ_TIMEOUT: docs/environment.md); a file "
+                                                      "past it is an error."),
     cache: Optional[Path] = typer.Option(None, "--cache",
                                          help="Keep results in this folder, keyed by file content, policy and "
                                               "version: unchanged files are not analysed again (policy: cache)."),
@@ -109,15 +110,19 @@ def gate_cmd(
         raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
                                       "installation", str(report))
 
+    from .environment import cluster_options, execution_settings
+
     workers = jobs or os.cpu_count() or 1
     cluster = result_cache = None
     if scheduler is not None:
-        from ..gate.cluster import ClusterOptions, require_distributed
+        from ..execution.dask import require_distributed
 
-        cluster = ClusterOptions(scheduler.strip(), workers=workers, ship=ship, timeout=scheduler_timeout)
+        cluster = cluster_options(scheduler.strip(), workers=workers, ship=ship, timeout=scheduler_timeout)
         require_distributed()  # a missing extra is a usage error before any work
     elif ship:
         raise OptionError("--ship", "--scheduler too (files are shipped to Dask workers)", "--ship alone")
+    # the run's execution: the environment's settings (read here only), then the options
+    execution = execution_settings(read_timeout=read_timeout, workers=int(workers), cluster=cluster)
     cache = cache if cache is not None else pol.cache
     if cache is not None:
         from ..gate.cache import GateCache
@@ -127,8 +132,8 @@ def gate_cmd(
     from ..gate.progress import GateProgress
 
     with GateProgress(_console(stderr=True), len(files)) as progress:
-        entries = run_gate(files, settings, jobs=workers, verify=verify, progress=progress, cache=result_cache,
-                           cluster=cluster, read_timeout=read_timeout)
+        entries = run_gate(files, settings, verify=verify, progress=progress, cache=result_cache,
+                           execution=execution)
     doc = build_document(entries, base_settings(pol, cli), pol)
 
     if fmt == "text" and output is None:

@@ -1,6 +1,6 @@
 """Start OCCT's reader child at the very start of a CLI run that will read a B-rep file in this process.
 
-The reader child (:mod:`cadartifact.exchange.isolation`) spends about a second importing OCP. Started
+The reader child (:mod:`cadartifact.execution.child`) spends about a second importing OCP. Started
 before the command line's own imports (typer, rich, the analysis modules), that second overlaps
 them, which matters for ``gate`` on one file, whose whole cost should be close to OCCT's read. When
 the command names one file, the child starts reading it at once (:func:`first_read`), while this
@@ -19,6 +19,19 @@ from ..exchange.reader_start import BREP_SUFFIXES
 __all__ = ["BREP_SUFFIXES", "first_read", "maybe_prestart", "will_read_here"]
 
 _COMMANDS = ("advise", "gate", "inspect", "view")
+#: What the reader child imports while idle after its read, before ``gate`` or ``advise`` share a file's faces
+#: with it: the analysis (:mod:`cadartifact.runs.face_sharing`, :mod:`cadartifact.gate.run`).
+CHILD_IMPORTS = ("cadartifact.runs.face_sharing", "cadartifact.gate.run", "cadartifact.advice.advise")
+
+
+def isolation_on(environ=None) -> bool:
+    """Whether the environment leaves OCCT's reads in the reader child (``CADARTIFACT_READ_ISOLATION`` not off),
+    read as :mod:`.environment` reads it; never raises (a bad value elsewhere is the command's usage error)."""
+    from .environment import ENVIRONMENT
+
+    var = next(v for v in ENVIRONMENT if v.field == "isolation")
+    raw = (os.environ if environ is None else environ).get(var.name, var.default)
+    return not raw.strip() or var.parse(var.name, raw)
 
 
 def _one_job(args) -> bool:
@@ -111,7 +124,7 @@ def _policy_upward() -> bool:
 def maybe_prestart(argv) -> None:
     """Start the reader child if :func:`will_read_here` (the console script's first step), already
     reading the file :func:`first_read` names. Only the standard library is imported before it starts."""
-    if will_read_here(argv):
-        from ..exchange.reader_start import ANALYSIS_MODULES, start
+    if will_read_here(argv) and isolation_on():
+        from ..exchange.reader_start import start
 
-        start(first_read(argv), idle=ANALYSIS_MODULES)
+        start(first_read(argv), idle=CHILD_IMPORTS)

@@ -101,7 +101,8 @@ def fail(message: str, code: int = 2) -> "typer.Exit":
 
 
 def cli_errors(func=None, *, aliases: Optional[dict] = None):
-    """Turn :class:`CadArtifactError` into a one-line message and its exit code.
+    """Run a command under the environment's execution settings (:mod:`.environment`), and turn
+    :class:`CadArtifactError` into a one-line message and its exit code.
 
     An :class:`OptionError` about a library parameter is reported under the command's option:
     ``scheme`` becomes ``--scheme`` when the command has that option; ``aliases`` maps library
@@ -120,8 +121,14 @@ def cli_errors(func=None, *, aliases: Optional[dict] = None):
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
+        from ..execution.child import configured
+        from .environment import execution_settings
+
         try:
-            return func(*args, **kwargs)
+            # the environment is read here, at the edge: the command's reader child runs under it (gate and
+            # advise pass their own settings down too), restored when the command ends (a command run from Python)
+            with configured(execution_settings()):
+                return func(*args, **kwargs)
         except CadArtifactError as exc:
             if isinstance(exc, OptionError) and exc.parameter in renames:  # name the option, not the library's name
                 exc = OptionError(renames[exc.parameter], exc.expected, exc.received)

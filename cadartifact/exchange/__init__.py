@@ -10,7 +10,7 @@ only) can be imported before numpy.
 - :mod:`.step`, :mod:`.step_scan`, :mod:`.step_text`, :mod:`.occ`, :mod:`.canonical`: STEP/IGES/BREP through OCCT;
 - :mod:`.obj`, :mod:`.quadmesh`: OBJ cages and their regular charts;
 - :mod:`.model_writer`: a whole model with resampled faces; :mod:`.summary`: what ``inspect`` prints;
-- :mod:`.isolation`, :mod:`.reader_start`: OCCT's readers in a child process.
+- :mod:`.reader_start`: what OCCT's reader child (:mod:`cadartifact.execution.child`) preloads and reads.
 
 >>> from cadartifact.exchange import read
 >>> result = read("samples/wavy_panel_diagonal.step")            # doctest: +SKIP

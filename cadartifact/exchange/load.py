@@ -21,7 +21,7 @@ Corrupt files
 STEP text is pre-scanned for numbers no real model holds (:mod:`.step_scan`) before OCCT sees
 it; faces the STEP/IGES transfer dropped are counted as ``skipped["dropped"]`` with one warning
 each naming the entity and OCCT's check message; and OCCT's readers run in a child process
-(:mod:`.isolation`), so a reader that crashes or hangs raises ``FileFormatError`` for that file.
+(:mod:`cadartifact.execution.child`), so a reader that crashes or hangs raises ``FileFormatError`` for that file.
 """
 
 from __future__ import annotations
@@ -51,7 +51,8 @@ __all__ = [
     "evaluate_grid",
 ]
 
-def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | None = None) -> LoadResult:
+def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | None = None,
+         idle: tuple = ()) -> LoadResult:
     """Read every control net in a file.
 
     Parameters
@@ -63,8 +64,10 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
         Convert revolution/extrusion/offset and other non-analytic freeform faces to
         B-splines with OCCT (kind ``"converted"``) instead of skipping them.
     timeout : float, optional
-        Seconds OCCT's reader may take on a STEP/IGES/BREP file (default: 120, or
-        ``$CADARTIFACT_READ_TIMEOUT``); see :mod:`cadartifact.exchange.isolation`.
+        Seconds OCCT's reader may take on a STEP/IGES/BREP file (default: the reader child's configured
+        ``read_timeout``, 120 unless the run says otherwise: :func:`cadartifact.execution.child.configured`).
+    idle : tuple of str, optional
+        Modules the reader child imports while idle after the read (the work the caller will send it next).
 
     Returns
     -------
@@ -88,13 +91,13 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
     if not record.brep:  # read in this process
         return record.read(path)
     fmt = record.name
-    from .reader_start import read_request
+    from ..execution import child
+    from .reader_start import PRELOAD, read_request
     from .files import check_file
-    from . import isolation
 
     check_file(path)
-    isolation.read_timeout(timeout)  # a bad timeout is a usage error before any work
-    if isolation.enabled() and fmt == "step":
+    child.read_timeout(timeout)  # a bad timeout is a usage error before any work
+    if child.enabled() and fmt == "step":
         # the text checks run here while the child reads (two cores, one file); their record heads map the
         # model's entity numbers to the file's ids
         heads: list = []
@@ -102,18 +105,19 @@ def read(path: str | os.PathLike, *, convert: bool = False, timeout: float | Non
         def scan():
             heads.extend(_prescan(path))
 
-        result = isolation.call(*read_request(path, fmt, convert), path=path, what="STEP", timeout=timeout,
-                                during=scan)
+        result = child.call(*read_request(path, fmt, convert), path=path, what="STEP", timeout=timeout,
+                            during=scan, idle=idle, preload=PRELOAD)
         _file_ids(result, heads)
-    elif isolation.enabled() and fmt == "iges":
+    elif child.enabled() and fmt == "iges":
         from .iges_refs import check_iges_text, faces_missing
 
         declared: list = []
-        result = isolation.call(*read_request(path, fmt, convert), path=path, what="IGES", timeout=timeout,
-                                during=lambda: declared.append(check_iges_text(path)))
+        result = child.call(*read_request(path, fmt, convert), path=path, what="IGES", timeout=timeout,
+                            during=lambda: declared.append(check_iges_text(path)), idle=idle, preload=PRELOAD)
         result = faces_missing(path, result, declared[0])
-    elif isolation.enabled():
-        result = isolation.call(*read_request(path, fmt, convert), path=path, what=record.label, timeout=timeout)
+    elif child.enabled():
+        result = child.call(*read_request(path, fmt, convert), path=path, what=record.label, timeout=timeout,
+                            idle=idle, preload=PRELOAD)
     else:
         result = read_occt(path, fmt, convert)
     for message in result.warnings:
@@ -309,21 +313,22 @@ def evaluate_grid(net: ControlNet, u, v):
     """OCCT's evaluation of the net's surface on the outer grid ``u x v``: ``(len(u), len(v), 3)``.
 
     See :func:`cadartifact.exchange.occ.evaluate_grid`. OCCT evaluates in the reader child
-    (:mod:`.isolation`, same function, same numbers), like its reads: a crash or a hang there (a
-    surface OCCT cannot evaluate) raises :class:`~cadartifact.exchange.isolation.ChildFailed` naming the
+    (:mod:`cadartifact.execution.child`, same function, same numbers), like its reads: a crash or a hang there (a
+    surface OCCT cannot evaluate) raises :class:`~cadartifact.execution.child.ChildFailed` naming the
     file and the face, which costs that face an error entry and not the run (the gate's peak locations,
     the advice's verification). The child is the warm one of the read (a pipe round trip), or a new one.
-    In the child itself, or with ``CADARTIFACT_READ_ISOLATION=0``, OCCT evaluates in this process.
+    In the child itself, or with isolation off (the run's settings), OCCT evaluates in this process.
     """
-    from . import isolation
+    from ..execution import child
+    from .reader_start import PRELOAD
 
-    if isolation.enabled() and not isolation.serving():
+    if child.enabled() and not child.serving():
         import numpy as np
 
         args = (net, np.asarray(u, dtype=float), np.asarray(v, dtype=float))
         face = net.origin.face
         actor = "OCCT's evaluation of " + (f"face {face}" if face is not None else "the surface")
-        return isolation.call(EVALUATE, args, path=net.origin.file or "<net>", what="OCCT", actor=actor)
+        return child.call(EVALUATE, args, path=net.origin.file or "<net>", what="OCCT", actor=actor, preload=PRELOAD)
     from .occ import evaluate_grid as _evaluate
 
     return _evaluate(net, u, v)

@@ -69,7 +69,7 @@ ANALYSIS_REVISION = 5  # 2: homogeneous rational faces, junctions, canonical fac
 #                        4: the intent's uncertainty and the decision rule (issue 22); 5: PDQ criteria (issue 25)
 
 
-def cache_key(digest: str, settings, verify: bool) -> str:
+def cache_key(digest: str, settings, verify: bool, reuse: bool = True) -> str:
     """The cache key of one file: SHA-256 over its digest, policy, ``verify``, version, schema,
     :data:`ANALYSIS_REVISION` and whether repeated faces reuse their first face's analysis.
 
@@ -80,15 +80,16 @@ def cache_key(digest: str, settings, verify: bool) -> str:
     settings : FileSettings
         The file's effective settings.
     verify : bool
+    reuse : bool
+        Repeated faces reuse their first face's analysis (the run's ``reuse_faces``).
     """
     from .. import __version__
-    from ..runs.face_instances import enabled
     from .run import GATE_SCHEMA
 
-    # repeats reuse their first face's record (a note, last bits) unless CADARTIFACT_REUSE_FACES=0
+    # repeats reuse their first face's record (a note, last bits) unless the run's reuse_faces is off
     text = _canonical({"content": digest, "policy": settings.to_dict(), "verify": bool(verify),
                        "version": __version__, "schema": GATE_SCHEMA, "analysis": ANALYSIS_REVISION,
-                       "reuse": enabled()})
+                       "reuse": bool(reuse)})
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -208,7 +209,7 @@ class GateCache:
                     pass
             return False
 
-    def run(self, tasks: list, execute, done) -> list:
+    def run(self, tasks: list, execute, done, reuse: bool = True) -> list:
         """Gate ``tasks`` (``(path, settings, verify)``), analysing only the misses.
 
         Parameters
@@ -218,6 +219,8 @@ class GateCache:
             ``execute(tasks, done) -> entries`` runs the misses (in this process, a pool or a cluster).
         done : callable
             ``done(entry, cached=...)`` after each file.
+        reuse : bool
+            The run reuses repeated faces' analysis (the run's ``reuse_faces``): part of the key.
 
         Returns
         -------
@@ -229,7 +232,7 @@ class GateCache:
         keys: list = [None] * len(tasks)
         todo = []
         for i, (path, settings, verify) in enumerate(tasks):
-            keys[i] = _key_or_none(path, settings, verify)  # None: unreadable, the analysis reports it
+            keys[i] = _key_or_none(path, settings, verify, reuse)  # None: unreadable, the analysis reports it
             entry = self.load(keys[i], path) if keys[i] else None
             if entry is None:
                 todo.append(i)
@@ -250,14 +253,14 @@ class GateCache:
                 pass  # not JSON-representable: kept as is, and store() refuses it
             path, settings, verify = tasks[i]
             # a file rewritten while it was analysed must not file the new result under the old bytes
-            if keys[i] and keys[i] == _key_or_none(path, settings, verify):
+            if keys[i] and keys[i] == _key_or_none(path, settings, verify, reuse):
                 self.store(keys[i], entry)
             results[i] = entry
         return results
 
 
-def _key_or_none(path, settings, verify):
+def _key_or_none(path, settings, verify, reuse=True):
     try:
-        return cache_key(file_digest(path), settings, verify)
+        return cache_key(file_digest(path), settings, verify, reuse)
     except OSError:
         return None

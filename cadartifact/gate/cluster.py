@@ -17,83 +17,27 @@ a worker that died. A task whose workers kept dying (Dask's ``KilledWorker``, af
 sharing a dying worker with the culprit is not blamed; a file that still kills its workers becomes
 an ``error`` entry ("worker died N times on this file") and the run fails closed.
 
-``distributed`` is imported only here, and only when a scheduler is asked for: the optional extra
-``pip install "cadartifact[dask]"``.
+The connection is the execution wing's Dask backend (:mod:`cadartifact.execution.dask`, which imports
+``distributed`` only when a scheduler is asked for: the optional extra ``pip install "cadartifact[dask]"``); the
+options are :class:`~cadartifact.execution.settings.ClusterOptions`, part of the run's
+:class:`~cadartifact.execution.settings.ExecutionSettings`.
 """
 
 from __future__ import annotations
 
 import os
 import uuid
-from dataclasses import dataclass
 
-from ..errors import CadArtifactError, MissingDependencyError, OptionError
+from ..execution.dask import EXTRA, require_distributed, session
+from ..execution.settings import ClusterOptions
 
 __all__ = ["ClusterOptions", "EXTRA", "require_distributed", "run_on_cluster"]
 
-EXTRA = 'pip install "cadartifact[dask]"'
-
-#: Test hook: ``NAME`` (a file's base name) makes the worker gating it exit at once, every time;
-#: ``NAME:MARKER`` only while the file MARKER does not exist (it is created first: one death).
-#: Several specs are separated by commas.
-KILL_ENV = "CADARTIFACT_TEST_WORKER_EXIT"
-
-#: Environment of the local cluster's workers (see :func:`_connect`; remote workers: set it where they start).
-WORKER_ENVIRON = {"MALLOC_TRIM_THRESHOLD_": "134217728", "MALLOC_MMAP_THRESHOLD_": "134217728"}
-
-#: Worker deaths a task is allowed on the local cluster before Dask gives up on it.
-LOCAL_ALLOWED_FAILURES = 2
-
-
-@dataclass(frozen=True)
-class ClusterOptions:
-    """Where and how to run the gate on Dask.
-
-    Attributes
-    ----------
-    address : str
-        ``"local"`` or a scheduler address (``tcp://host:8786``, ``host:8786``).
-    workers : int
-        Worker processes of the local cluster (ignored for a remote scheduler).
-    ship : bool
-        Send the files' bytes instead of their paths.
-    timeout : float
-        Seconds to wait for the scheduler.
-    retries : int
-        Dask task retries on an exception.
-    """
-
-    address: str
-    workers: int = 1
-    ship: bool = False
-    timeout: float = 10.0
-    retries: int = 2
-
-    def __post_init__(self):
-        if not isinstance(self.address, str) or not self.address.strip():
-            raise OptionError("--scheduler", "'local' or a scheduler address such as tcp://host:8786", self.address)
-        if not (self.timeout > 0):
-            raise OptionError("--scheduler-timeout", "a number of seconds > 0", self.timeout)
-        if int(self.workers) < 1:
-            raise OptionError("--jobs", "a number of processes >= 1", self.workers)
-
-    def run(self, tasks: list, done) -> list:
-        return run_on_cluster(tasks, self, done)
-
-
-def require_distributed():
-    """Import ``distributed`` or raise :class:`MissingDependencyError` naming the extra."""
-    try:
-        import distributed
-    except ImportError as exc:
-        raise MissingDependencyError(f"--scheduler needs dask.distributed, which could not be imported ({exc}); "
-                                     f"install it with: {EXTRA}") from None
-    return distributed
-
 
 # ---------------------------------------------------------------- worker side
-def _maybe_die(path: str) -> None:
-    for spec in filter(None, os.environ.get(KILL_ENV, "").split(",")):
+def _maybe_die(path: str, specs: str) -> None:
+    """The test hook :attr:`ClusterOptions.worker_exit <cadartifact.execution.settings.ClusterOptions>`."""
+    for spec in filter(None, specs.split(",")):
         name, _, marker = spec.partition(":")
         if os.path.basename(path) != name:
             continue
@@ -105,26 +49,29 @@ def _maybe_die(path: str) -> None:
         os._exit(17)
 
 
-def gate_task(path: str, payload: bytes | None, settings, verify: bool, part=None) -> dict:
+def gate_task(gate_file, path: str, payload: bytes | None, settings, verify: bool, part=None,
+              worker_exit: str = "", reuse: bool = True) -> dict:
     """Gate one file (or with ``part = (r, k)`` one face batch of it: :func:`cadartifact.gate.run.merge_parts`)
-    on a worker; ``payload`` is its bytes with ``--ship`` (else read ``path``)."""
-    from .run import gate_file
-
-    _maybe_die(path)
+    on a worker with ``gate_file`` (:func:`cadartifact.gate.run.gate_file`, passed by the run: this module does
+    not import it); ``payload`` is its bytes with ``--ship`` (else read ``path``); ``worker_exit``: the test hook
+    :attr:`ClusterOptions.worker_exit <cadartifact.execution.settings.ClusterOptions>`."""
+    _maybe_die(path, worker_exit)
     if payload is None:
-        return gate_file(path, settings, verify, part=part)
+        return gate_file(path, settings, verify, part=part, reuse=reuse)
     import tempfile
 
     with tempfile.TemporaryDirectory(prefix="cadartifact-ship-") as tmp:
         local = os.path.join(tmp, os.path.basename(path) or "input")
         with open(local, "wb") as fh:
             fh.write(payload)
-        entry = gate_file(local, settings, verify, part=part)
+        entry = gate_file(local, settings, verify, part=part, reuse=reuse)
     return _relocate_shipped(entry, local, path)
 
 
-def gate_batch(items: list, version: str | None = None) -> list:
-    """Gate ``(path, payload, settings, verify)`` items one after the other on a worker (one Dask task).
+def gate_batch(gate_file, items: list, version: str | None = None, execution=None) -> list:
+    """Gate ``(path, payload, settings, verify, part, worker_exit)`` items one after the other on a worker (one
+    Dask task) with ``gate_file``, its reader child run under ``execution`` (the run's
+    :class:`~cadartifact.execution.settings.ExecutionSettings`; None: the worker's own).
 
     Small files go several to a task: a Dask task costs milliseconds of scheduling, as much as
     gating a small STEP file. ``version``: the client's cadartifact version; a worker running another
@@ -135,7 +82,11 @@ def gate_batch(items: list, version: str | None = None) -> list:
     if version is not None and version != __version__:
         raise RuntimeError(f"the worker runs cadartifact {__version__}, the client {version}: install the same "
                            "version on both")
-    return [gate_task(*item) for item in items]
+    from ..execution.child import configured
+
+    with configured(execution):
+        return [gate_task(gate_file, *item, reuse=True if execution is None else execution.reuse_faces)
+                for item in items]
 
 
 def _relocate_shipped(entry: dict, local: str, path: str) -> dict:
@@ -155,53 +106,6 @@ def _relocate_shipped(entry: dict, local: str, path: str) -> dict:
 
 
 # ---------------------------------------------------------------- client side
-def _connect(options: ClusterOptions):
-    """A ``(client, cluster or None)`` pair; one-line errors for an unreachable scheduler."""
-    import logging
-
-    distributed = require_distributed()
-    import dask
-
-    # the cluster's own chatter (a worker restarted after a death...) would bury the gate's report
-    for name in ("distributed", "distributed.nanny", "distributed.scheduler", "distributed.worker"):
-        logging.getLogger(name).setLevel(logging.CRITICAL)
-    if options.address == "local":
-        from .run import _workers_can_start
-
-        if not _workers_can_start():  # spawned workers re-import __main__ by path: '<stdin>' cannot be
-            raise CadArtifactError("--scheduler local: worker processes cannot be started from a program read "
-                                   "from standard input; run it from a file, or give a scheduler address")
-        # non-daemonic workers may start processes of their own (the gate may read a file in a child);
-        # the workers' statistical profiler would take its share of the cores from the analysis; and
-        # Dask's MALLOC_TRIM_THRESHOLD_=65536 both trims the heap after every free and (mallopt(3): any
-        # explicit threshold) turns off glibc's dynamic mmap threshold, so every numpy temporary over
-        # 128 KiB is mapped and unmapped again: measured on 150 vault files, 5.2 s of system time and
-        # 1.5x the wall time of the same worker with both thresholds at 128 MiB (0.5 s system time)
-        environ = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **WORKER_ENVIRON}
-        with dask.config.set({"distributed.scheduler.allowed-failures": LOCAL_ALLOWED_FAILURES,
-                              "distributed.worker.daemon": False, "distributed.worker.profile.enabled": False,
-                              "distributed.nanny.pre-spawn-environ": environ}):
-            cluster = distributed.LocalCluster(n_workers=int(options.workers), threads_per_worker=1,
-                                               processes=True, host="127.0.0.1", dashboard_address=None,
-                                               silence_logs=logging.CRITICAL)
-        try:
-            client = distributed.Client(cluster, timeout=f"{options.timeout}s")
-        except BaseException:
-            cluster.close()
-            raise
-        return client, cluster
-    try:
-        client = distributed.Client(options.address, timeout=f"{options.timeout}s")
-    except (OSError, TimeoutError) as exc:
-        raise CadArtifactError(f"--scheduler: cannot reach the Dask scheduler at {options.address!r} within "
-                               f"{options.timeout:g} s ({' '.join(str(exc).split()) or type(exc).__name__})") \
-            from None
-    except ValueError as exc:  # a malformed address
-        raise OptionError("--scheduler", "'local' or a scheduler address such as tcp://host:8786",
-                          options.address) from exc
-    return client, None
-
-
 def _size(path: str) -> int:
     try:
         return os.path.getsize(path)
@@ -217,21 +121,17 @@ def _payload(path: str) -> bytes | None:
         return None
 
 
-def _killed_entry(path: str, settings, deaths: int) -> dict:
-    from .run import _error_entry
-
-    return _error_entry(path, settings, f"{path}: worker died {deaths} times on this file (a crash in the "
+def _killed_entry(gate, path: str, settings, deaths: int) -> dict:
+    return gate._error_entry(path, settings, f"{path}: worker died {deaths} times on this file (a crash in the "
                                         "analysis, or the worker ran out of memory)")
 
 
-def _failed_entry(task, exc: Exception) -> dict:
-    from .run import _error_entry
-
+def _failed_entry(gate, task, exc: Exception) -> dict:
     path, settings, _ = task
-    return _error_entry(path, settings, f"{path}: analysis failed on the cluster ({type(exc).__name__}: {exc})")
+    return gate._error_entry(path, settings, f"{path}: analysis failed on the cluster ({type(exc).__name__}: {exc})")
 
 
-def run_on_cluster(tasks: list, options: ClusterOptions, done) -> list:
+def run_on_cluster(tasks: list, options: ClusterOptions, done, execution=None, gate=None) -> list:
     """Gate ``(path, settings, verify)`` tasks on Dask; entries in input order.
 
     Parameters
@@ -240,6 +140,11 @@ def run_on_cluster(tasks: list, options: ClusterOptions, done) -> list:
     options : ClusterOptions
     done : callable
         ``done(entry)`` after each file, in completion order.
+    execution : ExecutionSettings, optional
+        The run's (the workers' reader children run under it: its read timeout, isolation).
+    gate : module
+        :mod:`cadartifact.gate.run`, which calls this (:func:`~cadartifact.gate.run.run_gate`): its ``gate_file``,
+        ``merge_parts``, ``_error_entry``; passed, not imported, since the run imports this module.
 
     Raises
     ------
@@ -250,13 +155,8 @@ def run_on_cluster(tasks: list, options: ClusterOptions, done) -> list:
     """
     if not tasks:
         return []
-    client, cluster = _connect(options)
-    try:
-        return _run(client, tasks, options, done)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    with session(options) as client:
+        return _run(client, tasks, options, done, execution, gate)
 
 
 #: A task holds files until their bytes add up to this much (a file as big or bigger goes alone) ...
@@ -294,20 +194,17 @@ SPLIT_BYTES = BATCH_BYTES
 MAX_PARTS = 8
 
 
-def _parts(tasks: list, threads: int) -> int:
+def _parts(tasks: list, threads: int, forced: int | None = None) -> int:
     """Face batches per big file: as many as leave no thread idle when there are fewer files than
     threads (each batch reads the file again, so a busy cluster gains nothing from them), else 1.
-    ``CADARTIFACT_FACE_BATCHES`` sets the count (tests, benchmarks)."""
-    forced = os.environ.get("CADARTIFACT_FACE_BATCHES", "").strip()
-    if forced:
-        try:
-            return max(1, min(MAX_PARTS, int(forced)))
-        except ValueError:
-            raise OptionError("CADARTIFACT_FACE_BATCHES", "a whole number of face batches", forced) from None
+    ``forced`` (:attr:`ClusterOptions.face_batches <cadartifact.execution.settings.ClusterOptions>`) sets the
+    count (tests, benchmarks)."""
+    if forced is not None:
+        return max(1, min(MAX_PARTS, int(forced)))
     return max(1, min(MAX_PARTS, threads // max(1, len(tasks))))
 
 
-def _run(client, tasks: list, options: ClusterOptions, done) -> list:
+def _run(client, tasks: list, options: ClusterOptions, done, execution, gate) -> list:
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
@@ -328,18 +225,16 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
             else:
                 payload = _payload(path) if options.ship else None
             if options.ship and payload is None:  # unreadable here: reported as the local gate reports it
-                from .run import gate_file
-
                 if part is None or part[0] == 0:
-                    results[i] = gate_file(path, settings, verify)
+                    results[i] = gate.gate_file(path, settings, verify)
                     done(results[i])
                 continue
-            items.append((path, payload, settings, verify, part))
+            items.append((path, payload, settings, verify, part, options.worker_exit))
             sent.append(i)
         if not items:
             return None, sent
         where = f"{sent[0]}" if part is None else f"{sent[0]}-part{part[0]}"
-        fut = client.submit(gate_batch, items, __version__, key=f"cadartifact-gate-{tag}-{where}-{token}",
+        fut = client.submit(gate_batch, gate.gate_file, items, __version__, execution, key=f"cadartifact-gate-{tag}-{where}-{token}",
                             retries=options.retries, pure=False)
         return fut, sent
 
@@ -350,7 +245,7 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
     futures, killed = {}, []
     pending = as_completed()
     # a big file alone on a cluster with idle threads goes as face batches (read again by each), merged here
-    k = _parts(tasks, threads)
+    k = _parts(tasks, threads, options.face_batches)
     queue_items = []
     for batch in _batches(tasks, threads):
         if k > 1 and len(batch) == 1 and _size(tasks[batch[0]][0]) >= SPLIT_BYTES:
@@ -382,9 +277,7 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
         got = parts.setdefault(i, {})
         got[part[0]] = entry
         if len(got) == part[1]:
-            from .run import merge_parts
-
-            results[i] = merge_parts([got[r] for r in range(part[1])], tasks[i][1])
+            results[i] = gate.merge_parts([got[r] for r in range(part[1])], tasks[i][1])
             done(results[i])
 
     top_up()
@@ -399,7 +292,7 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
             killed += [i for i in batch if i not in killed and results[i] is None]
             entries = None
         except Exception as exc:  # fail closed: an unexpected failure must not let the files pass
-            entries = [_failed_entry(tasks[i], exc) for i in batch]
+            entries = [_failed_entry(gate, tasks[i], exc) for i in batch]
             if part is not None:  # one failed batch fails the file: no merge, no re-run
                 for i, entry in zip(batch, entries):
                     parts.pop(i, None)
@@ -421,8 +314,8 @@ def _run(client, tasks: list, options: ClusterOptions, done) -> list:
         try:
             results[i] = fut.result()[0]
         except KilledWorker as exc:
-            results[i] = _killed_entry(tasks[i][0], tasks[i][1], exc.allowed_failures + 1)
+            results[i] = _killed_entry(gate, tasks[i][0], tasks[i][1], exc.allowed_failures + 1)
         except Exception as exc:
-            results[i] = _failed_entry(tasks[i], exc)
+            results[i] = _failed_entry(gate, tasks[i], exc)
         done(results[i])
     return results

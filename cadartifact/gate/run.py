@@ -25,6 +25,7 @@ from __future__ import annotations
 import os
 
 from ..errors import CadArtifactError, one_line
+from ..execution.settings import ExecutionSettings
 from ..runs.verdicts import VERDICTS, face_verdict, worst_verdict
 from .policy import FileSettings, Policy
 
@@ -32,6 +33,14 @@ __all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_v
            "merge_parts", "run_gate"]
 
 GATE_SCHEMA = "cadartifact.gate/3"  # 3: PDQ criteria (issue 25): "profile", per face "criteria", "ripple_verdict"
+
+
+def _child_imports() -> tuple:
+    """What the reader child imports while idle after a read of the gate: the analysis of its share of the faces."""
+    from ..runs.face_sharing import CHILD_IMPORTS
+
+    return CHILD_IMPORTS[:1] + (__name__,) + CHILD_IMPORTS[1:]
+
 
 def file_verdict(entry: dict) -> str:
     """The worst face verdict; ``error`` for an entry with an error; ``pass`` without faces."""
@@ -53,7 +62,7 @@ INVALID_SKIPS = ("degenerate", "conversion failed", "dropped")
 
 
 def gate_file(path: str, settings: FileSettings, verify: bool = False, read_timeout: float | None = None,
-              part: tuple[int, int] | None = None) -> dict:
+              part: tuple[int, int] | None = None, *, sharing=None, reuse: bool = True) -> dict:
     """Read, advise and judge one file; never raises (errors become an ``error`` entry).
 
     Parameters
@@ -67,6 +76,10 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
     part : (int, int), optional
         ``(r, k)``: only the analysable faces at positions ``r, r + k, ...`` (a face batch of a big file
         on a cluster); the entry then carries ``_part`` and is completed by :func:`merge_parts`.
+    sharing : cadartifact.execution.sharing.Sharing, optional
+        Leave to share the file's faces with the idle reader child (the run's only process).
+    reuse : bool
+        Repeated faces reuse their first face's analysis (the run's ``reuse_faces``).
 
     Returns
     -------
@@ -92,7 +105,7 @@ def gate_file(path: str, settings: FileSettings, verify: bool = False, read_time
         # numpy overflow warnings (e.g. 1e300 coordinates) would only add noise: the non-finite
         # result is turned into an error below
         with quiet_analysis():
-            return _gate_file(path, settings, verify, read_timeout, part)
+            return _gate_file(path, settings, verify, read_timeout, part, sharing, reuse)
     except CadArtifactError as exc:
         return _file_error(path, settings, str(exc))
     except Exception as exc:  # fail closed: an unexpected failure must not let the file pass
@@ -107,7 +120,7 @@ def _file_error(path: str, settings: FileSettings, message: str) -> dict:
 
 
 def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: float | None = None,
-               part: tuple[int, int] | None = None) -> dict:
+               part: tuple[int, int] | None = None, sharing=None, reuse: bool = True) -> dict:
     from ..exchange.load import read
     from ..exchange.step_text import entity_line
     from ..runs.face_sharing import analyse_faces
@@ -121,7 +134,8 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
         except OSError as exc:
             raise InputError(path, f"cannot read this folder ({exc.strerror or exc}): its files are not gated") from None
         raise InputError(path, "a folder, not a file")
-    res = read(path, convert=settings.convert, timeout=read_timeout)
+    # after its read the reader child imports the analysis while idle, before the first share reaches it
+    res = read(path, convert=settings.convert, timeout=read_timeout, idle=sharing.imports if sharing else ())
     invalid = sum(res.skipped.get(k, 0) for k in INVALID_SKIPS)
     if invalid:
         detail = "; ".join(w.removeprefix(f"{path}: ") for w in res.warnings if "no analysable face" not in w)
@@ -135,8 +149,8 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     # records with peak_at for faces that warn or fail, in face order; the first error fails the file. A batch
     # finds repeated faces over the whole file (its repeats' first faces may lie in another batch), so that its
     # records are those of the whole file's run
-    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify,
-                                                     only=None if part is None else positions)):
+    for pos, outcome in zip(positions, analyse_faces(todo, settings, verify, only=None if part is None else positions,
+                                                     sharing=sharing, reuse=reuse)):
         if isinstance(outcome, BaseException):
             if part is None:
                 raise outcome
@@ -199,86 +213,47 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
     return entry
 
 
-def _gate_file_args(args):
-    return gate_file(*args)
+def _gate_task(task: tuple, reuse: bool = True) -> dict:
+    """:func:`gate_file` of a ``(path, settings, verify)`` task (what a pool worker runs)."""
+    return gate_file(*task, reuse=reuse)
 
 
 # ---------------------------------------------------------------- the run
-def _pool_context():
-    import multiprocessing as mp
-
-    # OCCT is not fork-safe once loaded, and the parent may hold rich's refresh thread
-    methods = mp.get_all_start_methods()
-    return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
-
-
-def _run_isolated(tasks: list, jobs: int, done, worker=None) -> list:
-    """Run ``worker`` (default :func:`gate_file`) over ``(path, settings, verify)`` tasks in a process pool.
+def _run_isolated(tasks: list, jobs: int, done, worker=None, execution: ExecutionSettings | None = None) -> list:
+    """Run ``worker`` (default :func:`gate_file`) over ``(path, settings, verify)`` tasks in a process pool
+    (:class:`~cadartifact.execution.executors.ProcessPool`), each worker's reader child run under ``execution``.
 
     A task whose worker process dies (a crash in native code) becomes an error entry; the others are
     rerun one per process so that only the culprit is blamed.
     """
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    from concurrent.futures.process import BrokenProcessPool
+    from functools import partial
 
-    worker = worker or _gate_file_args
-    from ..exchange.reader_start import BREP_SUFFIXES
+    from ..execution.executors import ProcessPool
+    from ..exchange.reader_start import BREP_SUFFIXES, PRELOAD
 
+    execution = execution or ExecutionSettings()
+    worker = worker or partial(_gate_task, reuse=execution.reuse_faces)
     # each worker reads with a reader child of its own: start it with the worker, so that its OCP
     # import overlaps the worker's own start-up (OBJ-only runs need none)
-    brep = any(str(t[0]).lower().endswith(tuple(BREP_SUFFIXES)) for t in tasks)
-    init = _start_reader if brep else None
+    brep = execution.isolation and any(str(t[0]).lower().endswith(tuple(BREP_SUFFIXES)) for t in tasks)
 
-    results: list = [None] * len(tasks)
-    pending = list(range(len(tasks)))
-    isolate = False
-    while pending:
-        # after a crash, rerun what is left one file per pool, so the culprit is known
-        batches = [[i] for i in pending] if isolate else [pending]
-        pending = []
-        for batch in batches:
-            with ProcessPoolExecutor(max_workers=1 if isolate else jobs, mp_context=_pool_context(),
-                                     initializer=init) as ex:
-                # biggest files first (a cheap proxy for their cost) balances the workers' loads
-                order = sorted(batch, key=lambda i: -_size(tasks[i][0]))
-                futures = {ex.submit(worker, tasks[i]): i for i in order}
-                for fut in as_completed(futures):
-                    i = futures[fut]
-                    try:
-                        results[i] = fut.result()
-                        done(results[i])
-                    except BrokenProcessPool:
-                        if isolate:
-                            path, settings = tasks[i][0], tasks[i][1]
-                            results[i] = _error_entry(path, settings, f"{path}: the analysis process crashed "
-                                                                      "(corrupt geometry?)")
-                            done(results[i])
-                        else:
-                            pending.append(i)
-        pending.sort()
-        isolate = True
-    return results
+    def crashed(task):
+        path, settings = task[0], task[1]
+        return _error_entry(path, settings, f"{path}: the analysis process crashed (corrupt geometry?)")
+
+    # biggest files first (a cheap proxy for their cost) balances the workers' loads
+    pool = ProcessPool(jobs, initializer=_start_worker, initargs=(execution, PRELOAD if brep else ()),
+                       crashed=crashed, cost=lambda t: _size(t[0]))
+    return pool.map(worker, tasks, done)
 
 
-def _start_reader() -> None:
-    from ..exchange import isolation
+def _start_worker(execution: ExecutionSettings, preload: tuple) -> None:
+    """A pool worker's start: its reader child runs under the run's settings, and starts now with ``preload``."""
+    from ..execution import child
 
-    isolation.prestart()
-
-
-def _workers_can_start() -> bool:
-    """Whether spawned workers can re-create ``__main__`` (they re-import it by path).
-
-    A program read from stdin (``__file__ == "<stdin>"``) cannot be: every worker would die at start,
-    so such callers are served in-process.
-    """
-    import sys
-
-    main = sys.modules.get("__main__")
-    if getattr(getattr(main, "__spec__", None), "name", None):
-        return True
-    path = getattr(main, "__file__", None)
-    return path is None or os.path.isfile(path)
+    child.configure(execution)
+    if preload:
+        child.prestart(preload)
 
 
 def _size(path: str) -> int:
@@ -288,8 +263,9 @@ def _size(path: str) -> int:
         return 0
 
 
-def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool = False, progress=None,
-             cache=None, cluster=None, read_timeout: float | None = None) -> list:
+def run_gate(paths, settings: list[FileSettings], *, jobs: int | None = None, verify: bool = False, progress=None,
+             cache=None, cluster=None, read_timeout: float | None = None,
+             execution: ExecutionSettings | None = None) -> list:
     """Gate files (in parallel with ``jobs > 1``); results in input order, identical for any ``jobs``.
 
     Parameters
@@ -297,54 +273,60 @@ def run_gate(paths, settings: list[FileSettings], *, jobs: int = 1, verify: bool
     paths : list of path-like
     settings : list of FileSettings
         One per path.
-    jobs : int
-        Worker processes; 1 runs in this process.
+    jobs : int, optional
+        Worker processes; 1 runs in this process (default: ``execution.workers``).
     progress : callable, optional
         ``progress(entry)`` after each file; with a ``cache``, ``progress(entry, cached=bool)``.
     cache : cadartifact.gate.cache.GateCache, optional
         Take unchanged files' entries from it, store the new ones.
-    cluster : cadartifact.gate.cluster.ClusterOptions, optional
-        Run the analysis on a Dask cluster instead of this machine's processes.
+    cluster : cadartifact.execution.settings.ClusterOptions, optional
+        Run the analysis on a Dask cluster instead of this machine's processes (default: ``execution.cluster``).
     read_timeout : float, optional
-        Seconds OCCT's reader may take on one file (a file past it is an ``error`` entry).
+        Seconds OCCT's reader may take on one file (a file past it is an ``error`` entry; default:
+        ``execution.read_timeout``).
+    execution : cadartifact.execution.settings.ExecutionSettings, optional
+        How the run executes (the CLI builds it from its options and the environment); ``jobs``, ``cluster``
+        and ``read_timeout``, when given, replace its own.
 
     Returns
     -------
     list of dict
         File entries (:func:`gate_file`).
     """
+    from ..execution.child import configured
+
     done = progress or (lambda entry, **kw: None)
     tasks = [(os.fspath(p), s, verify) for p, s in zip(paths, settings)]
-    # the reader's child process (and spawned workers) take the timeout from the environment, for this run only
-    saved = os.environ.get("CADARTIFACT_READ_TIMEOUT")
-    if read_timeout is not None:
-        os.environ["CADARTIFACT_READ_TIMEOUT"] = repr(float(read_timeout))
-    try:
+    execution = execution or ExecutionSettings()
+    changes = {k: v for k, v in (("workers", jobs), ("cluster", cluster), ("read_timeout", read_timeout))
+               if v is not None}
+    execution = execution.replace(**changes) if changes else execution
+    # this process's reader child (and each worker's) runs under the run's settings, for this run only
+    with configured(execution):
         if cache is not None:  # the seam to cadartifact.gate.cache: it runs only the misses
-            return cache.run(tasks, lambda todo, finished: _execute(todo, jobs, finished, cluster), done)
-        return _execute(tasks, jobs, done, cluster)
-    finally:
-        if read_timeout is not None:
-            if saved is None:
-                os.environ.pop("CADARTIFACT_READ_TIMEOUT", None)
-            else:
-                os.environ["CADARTIFACT_READ_TIMEOUT"] = saved
+            return cache.run(tasks, lambda todo, finished: _execute(todo, execution, finished), done,
+                             reuse=execution.reuse_faces)
+        return _execute(tasks, execution, done)
 
 
-def _execute(tasks: list, jobs: int, done, cluster=None) -> list:
-    if cluster is not None:  # the seam to cadartifact.gate.cluster (imports distributed)
-        return cluster.run(tasks, done)
-    jobs = max(1, min(int(jobs), len(tasks)))
-    if jobs == 1 or not _workers_can_start():
-        from ..runs.face_sharing import sharing
+def _execute(tasks: list, execution: ExecutionSettings, done) -> list:
+    if execution.cluster is not None:  # the seam to cadartifact.gate.cluster (imports distributed)
+        import sys
 
-        out = []
-        with sharing():  # the only worker: the reader child's core may take part of a file's faces
-            for t in tasks:
-                out.append(gate_file(*t))
-                done(out[-1])
-        return out
-    return _run_isolated(tasks, jobs, done)
+        from .cluster import run_on_cluster
+
+        return run_on_cluster(tasks, execution.cluster, done, execution, sys.modules[__name__])
+    from ..execution.executors import SerialExecutor, workers_can_start
+
+    jobs = max(1, min(execution.workers, len(tasks)))
+    if jobs == 1 or not workers_can_start():
+        from ..execution.sharing import Sharing
+
+        # the only worker: the reader child's core may take part of a file's faces
+        sharing = Sharing(_child_imports()) if execution.share_faces else None
+        return SerialExecutor().map(lambda t: gate_file(*t, sharing=sharing, reuse=execution.reuse_faces), tasks,
+                                    done)
+    return _run_isolated(tasks, jobs, done, execution=execution)
 
 
 def build_document(entries: list, base: dict, policy: Policy) -> dict:

@@ -15,7 +15,7 @@ __all__ = ["advise_files", "resampled_nets", "advised_outputs", "write_advised"]
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
                  faces=None, compare="auto", verify: bool = True, progress=None, keep=None,
-                 convert: bool = False, intent: str = "surface") -> dict:
+                 convert: bool = False, intent: str = "surface", execution=None) -> dict:
     """Load every file, advise every analysable face, and build the document.
 
     Parameters
@@ -33,6 +33,9 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         If given, ``(path, net, advice)`` tuples are appended (for writing resampled faces).
     convert : bool
         Convert revolution/extrusion/offset faces to B-splines (as :func:`cadartifact.read`).
+    execution : cadartifact.execution.settings.ExecutionSettings, optional
+        How the run executes (the reader child's timeout and isolation, sharing faces with it, reusing
+        repeated faces); default :class:`~cadartifact.execution.settings.ExecutionSettings()`.
 
     Returns
     -------
@@ -53,12 +56,18 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
     paths = [Path(p) for p in paths]
     if not paths:
         raise OptionError("FILE", "at least one file", "none")
-    from .face_sharing import sharing
+    from ..execution.child import configured
+    from ..execution.settings import ExecutionSettings
+    from ..execution.sharing import Sharing
+    from .face_sharing import CHILD_IMPORTS
 
-    # one sharing block for the reads and the faces: after its read the reader child imports the analysis while
+    execution = execution or ExecutionSettings()
+    # one sharing for the reads and the faces: after its read the reader child imports the analysis while
     # idle, then takes its share of each file's faces (not when the Advice objects are kept: they stay here)
-    with sharing(keep is None):
-        loaded = [read(p, convert=convert) for p in paths]  # read all first: a bad file fails before any output
+    sharing = Sharing(CHILD_IMPORTS) if keep is None and execution.share_faces else None
+    with configured(execution):
+        # read all first: a bad file fails before any output
+        loaded = [read(p, convert=convert, idle=sharing.imports if sharing else ()) for p in paths]
         for p, res in zip(paths, loaded):
             if res.skipped.get("degenerate"):
                 # NaN/infinite, absurdly large or coincident control points: fail closed, never "within"
@@ -99,7 +108,8 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             # objects are kept, which stay in the process that made them); the first error stops the run.
             # One BLAS thread, as in the gate and the reader child: the numbers do not depend on who computed them
             with one_blas_thread():
-                outcomes = advise_faces(todo, settings, advice, path, done=face_done, keep=keep is not None)
+                outcomes = advise_faces(todo, settings, advice, path, done=face_done, keep=keep is not None,
+                                        sharing=sharing, reuse=execution.reuse_faces)
             for net, outcome in zip(todo, outcomes):
                 if isinstance(outcome, BaseException):
                     raise outcome

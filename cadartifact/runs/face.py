@@ -253,9 +253,9 @@ def _finite(rec: dict, run, options: FaceOptions) -> dict:
 def _peak_at(net, scheme: str, key: str, current):
     """:func:`cadartifact.runs.records.peak_location`, or None where it cannot say (a location helps; it never fails
     a run). Other exceptions pass: each door words them as its document does; so does OCCT's evaluation crashing
-    or hanging in the reader child (:class:`~cadartifact.exchange.isolation.ChildFailed`): the face's error, a face
+    or hanging in the reader child (:class:`~cadartifact.execution.child.ChildFailed`): the face's error, a face
     never passes on a location that could not be made."""
-    from ..exchange.isolation import ChildFailed
+    from ..execution.child import ChildFailed
     from .records import peak_location
 
     try:

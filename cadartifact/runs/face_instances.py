@@ -21,7 +21,6 @@ note. Mirror images are analysed on their own (a reflection reverses the paramet
 from __future__ import annotations
 
 import copy
-import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,11 +59,6 @@ class Motion:
     def apply(self, xyz) -> np.ndarray:
         """Points ``(..., 3)`` of the face moved onto the instance: ``R p + t``."""
         return np.asarray(xyz, float) @ self.rotation.T + self.translation
-
-
-def enabled() -> bool:
-    """Whether instances reuse their face's analysis (``CADARTIFACT_REUSE_FACES=0`` turns it off)."""
-    return os.environ.get("CADARTIFACT_REUSE_FACES", "1").strip().lower() not in ("0", "no", "off", "false")
 
 
 def rigid_motion(p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:

@@ -1,48 +1,48 @@
-"""OCCT's readers in a long-lived child process, so that a crash or a hang costs one file, not the run.
+"""A long-lived child process that runs requests, so that a crash or a hang costs one request, not the run.
 
 OCCT's STEP transfer can segfault on a corrupt file (a flipped byte, a deleted line) or loop for
-minutes. :func:`call` runs a reader function in a child process that imports OCP once and serves
-requests over a pipe (length-prefixed pickles); this process never imports OCP to read.
+minutes. :func:`call` runs ``module:function(*args)`` in a child process that imports what its callers
+name once (``preload``, e.g. OCCT's bindings) and serves requests over a pipe (length-prefixed pickles).
 
 - A child that dies (a signal, an abort) is reported as ``FileFormatError("PATH: the STEP reader
-  crashed on this file (SIGSEGV)")`` and a new child is started for the next file.
+  crashed on this file (SIGSEGV)")`` and a new child is started for the next request.
 - A child that gives no answer within the timeout is killed: ``"... gave no answer in N s"``.
-  The timeout is :data:`DEFAULT_TIMEOUT` seconds, or the environment variable
-  ``CADARTIFACT_READ_TIMEOUT``, or the ``timeout`` argument (``gate --read-timeout``).
-- ``CADARTIFACT_READ_ISOLATION=0`` reads in this process (debugging; a crash then ends the run).
+  The timeout is the ``timeout`` argument, else the configured settings' ``read_timeout``
+  (:func:`configured`; the CLI sets it from ``--read-timeout`` or the environment).
+- With ``isolation=False`` in the configured settings, callers run their work in this process (:func:`enabled`).
 
 The child's own stdout and stderr go to ``/dev/null`` (OCCT prints parse errors there directly).
-Its results are the same objects an in-process read returns (``LoadResult``, pickled).
+Its results are the same objects the function returns in this process (pickled).
 """
 
 from __future__ import annotations
 
 import atexit
+import contextlib
 import importlib
 import os
 import pickle
 import select
 import signal
-import subprocess
 import sys
 import threading
 import time
 
-from . import reader_start
-from ..errors import CadArtifactError, FileFormatError, InputError, OptionError
+from . import start as _start
+from ..errors import CadArtifactError, FileFormatError, InputError
+from .settings import ExecutionSettings, check_timeout
 
-__all__ = ["DEFAULT_TIMEOUT", "ENV_TIMEOUT", "ENV_ISOLATION", "ChildFailed", "call", "enabled", "prestart",
-           "read_timeout", "serving", "warm", "set_idle_imports", "shutdown"]
+__all__ = ["START_TIMEOUT", "ChildFailed", "answered", "call", "configure", "configured", "enabled",
+           "error_fields", "prestart", "read_timeout", "rebuilt_error", "serving", "settings", "shutdown", "warm"]
 
-#: Seconds a reader may take on one file before it is stopped.
-DEFAULT_TIMEOUT = 120.0
-#: Seconds the child may take to start (import OCP) before its first request.
+#: Seconds the child may take to start (its ``preload`` imports) before its first request.
 START_TIMEOUT = 120.0
-ENV_TIMEOUT = "CADARTIFACT_READ_TIMEOUT"
-ENV_ISOLATION = reader_start.ENV_ISOLATION
+#: Named in the hint of a read that timed out (the CLI reads it: :mod:`cadartifact.cli.environment`).
+TIMEOUT_HINT = "CADARTIFACT_READ_TIMEOUT or --read-timeout"
 
-_HEADER = reader_start.HEADER
+_HEADER = _start.HEADER
 _serving = False  # True in the child process itself (it serves requests: it runs OCCT in its own process)
+_settings = ExecutionSettings()  # this process's child: on or off, its timeout (configure, configured)
 
 
 class ChildFailed(FileFormatError):
@@ -55,36 +55,59 @@ def serving() -> bool:
     return _serving
 
 
+def settings() -> ExecutionSettings:
+    """The settings the child is run under in this process (:func:`configure`)."""
+    return _settings
+
+
+def configure(new: ExecutionSettings) -> ExecutionSettings:
+    """Run the child under ``new`` from now on (whether there is one, its timeout); returns the previous settings.
+
+    Raises
+    ------
+    OptionError
+        ``new`` is not an :class:`~cadartifact.execution.settings.ExecutionSettings`.
+    """
+    global _settings
+    if not isinstance(new, ExecutionSettings):
+        from ..errors import OptionError
+
+        raise OptionError("settings", "ExecutionSettings", type(new).__name__)
+    saved, _settings = _settings, new
+    return saved
+
+
+@contextlib.contextmanager
+def configured(new: ExecutionSettings | None):
+    """Within the block, the child runs under ``new`` (None: as configured already)."""
+    if new is None:
+        yield _settings
+        return
+    saved = configure(new)
+    try:
+        yield new
+    finally:
+        configure(saved)
+
+
 def enabled() -> bool:
-    """Whether readers run in the child process (``CADARTIFACT_READ_ISOLATION`` is not ``0``)."""
-    return reader_start.isolation_enabled()
+    """Whether work goes to the child process (the configured settings' ``isolation``)."""
+    return _settings.isolation
 
 
 def read_timeout(timeout: float | None = None) -> float:
-    """The timeout in seconds: ``timeout`` if given, else ``$CADARTIFACT_READ_TIMEOUT``, else the default.
+    """The timeout in seconds: ``timeout`` if given, else the configured settings' ``read_timeout``.
 
     Raises
     ------
     OptionError
         A timeout that is not a positive finite number.
     """
-    source = "timeout"
-    if timeout is None:
-        raw = os.environ.get(ENV_TIMEOUT)
-        if raw is None or not raw.strip():
-            return DEFAULT_TIMEOUT
-        source = ENV_TIMEOUT
-        try:
-            timeout = float(raw)
-        except ValueError:
-            raise OptionError(source, "a positive number of seconds", raw) from None
-    if not (isinstance(timeout, (int, float)) and 0 < timeout < float("inf")):
-        raise OptionError(source, "a positive number of seconds", timeout)
-    return float(timeout)
+    return _settings.read_timeout if timeout is None else check_timeout(timeout)
 
 
 # ---------------------------------------------------------------- framing
-_write_frame = reader_start.write_frame
+_write_frame = _start.write_frame
 
 
 def _read_exact(fd: int, n: int, deadline: float | None) -> bytes | None:
@@ -117,41 +140,32 @@ def _read_frame(fd: int, deadline: float | None) -> bytes | None:
 class _Child:
     """One child process serving requests.
 
-    ``early``: the key (:func:`cadartifact.exchange.reader_start.request_key`) of a request the child was sent when
-    the CLI started it, whose answer is still to be read.
+    ``early``: the key (:func:`.start.request_key`) of a request the child was sent when the caller started it
+    (:func:`.start.start`), whose answer is still to be read.
     """
 
-    def __init__(self, proc: subprocess.Popen | None = None, early: bytes | None = None):
-        self.proc = proc if proc is not None else reader_start.spawn()
+    def __init__(self, proc=None, early: bytes | None = None, preload: tuple = ()):
+        self.proc = proc if proc is not None else _start.spawn(preload)
         self.early = early
         self.ready = False
 
     @classmethod
-    def new(cls) -> "_Child":
-        """The child the CLI started (:func:`cadartifact.exchange.reader_start.start`), else a new one."""
-        got = reader_start.take()
-        return cls(*got) if got is not None else cls()
+    def new(cls, preload: tuple = ()) -> "_Child":
+        """The child started early (:func:`.start.start`), else a new one importing ``preload``."""
+        got = _start.take()
+        return cls(*got) if got is not None else cls(preload=preload)
 
     def kill(self) -> None:
-        reader_start.stop(self.proc)
+        _start.stop(self.proc)
 
 
 _lock = threading.Lock()
 _child: _Child | None = None
-_idle_imports: tuple = ()
 _busy: int | None = None  # the thread running `during` of a call (it holds _lock)
 
 
 class _DuringFailed(Exception):
     """What ``during`` raised, carried past the handlers of the child's failures."""
-
-
-def set_idle_imports(modules=()) -> tuple:
-    """Modules the child imports when it is idle after an answer (the work this process may send it
-    next, e.g. :mod:`cadartifact.runs.face_sharing`); returns the previous setting."""
-    global _idle_imports
-    saved, _idle_imports = _idle_imports, tuple(modules)
-    return saved
 
 
 def shutdown() -> None:
@@ -186,8 +200,8 @@ def answered() -> bool:
     return bool(select.select([child.proc.stdout.fileno()], [], [], 0)[0])
 
 
-def prestart() -> None:
-    """Start the child now, without waiting for it: its import of OCP (about a second) then overlaps
+def prestart(preload: tuple = ()) -> None:
+    """Start the child now, without waiting for it: its ``preload`` imports (OCP: about a second) then overlap
     this process's own imports and setup instead of following them. The first :func:`call` waits for
     it as usual; a child never called is stopped at exit. Does nothing with isolation off."""
     global _child
@@ -199,7 +213,7 @@ def prestart() -> None:
                 _child.kill()
             else:
                 atexit.register(shutdown)
-            _child = _Child.new()
+            _child = _Child.new(preload)
 
 
 def _died_message(child: _Child) -> str:
@@ -214,8 +228,8 @@ def _died_message(child: _Child) -> str:
 
 
 def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float | None = None, during=None,
-         actor: str | None = None):
-    """Run ``module:function(*args)`` in the reader child process and return its result.
+         actor: str | None = None, idle: tuple = (), preload: tuple = ()):
+    """Run ``module:function(*args)`` in the child process and return its result.
 
     Parameters
     ----------
@@ -235,6 +249,10 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
     actor : str, optional
         Who failed, in the errors (default ``"the WHAT reader"``, with a hint about the timeout); e.g.
         ``"OCCT's evaluation of face 3"``.
+    idle : tuple of str, optional
+        Modules the child imports when it is idle after its answer (the work this process may send it next).
+    preload : tuple of str, optional
+        Modules a new child imports before it takes its first request (a child already running keeps its own).
 
     Raises
     ------
@@ -247,10 +265,10 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
     """
     global _child, _busy
     if _busy == threading.get_ident():  # from `during`: the child works on this thread's request (the Lock would hang)
-        raise RuntimeError("the reader child is busy with this process's own request (isolation.call inside during)")
+        raise RuntimeError("the reader child is busy with this process's own request (child.call inside during)")
     limit = None if timeout == float("inf") else read_timeout(timeout)  # inf: no limit (analysis, not a read)
     # relative paths are relative to this process's working directory, which may change between calls
-    request = reader_start.request(function, args, _idle_imports)
+    request = _start.request(function, args, idle)
     with _lock:
         for attempt in (0, 1):
             if _child is None or _child.proc.poll() is not None:
@@ -258,13 +276,13 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                     _child.kill()
                 if _child is None:
                     atexit.register(shutdown)  # once per child: a closed pipe ends it anyway, this reaps it
-                _child = _Child.new()
+                _child = _Child.new(preload)
             child = _child
             # the CLI's guess of its first read (already sent): its answer serves only that very request
-            sent = child.early is not None and child.early == reader_start.request_key(function, args)
+            sent = child.early is not None and child.early == _start.request_key(function, args)
             if child.early is not None and not sent:
                 child.kill()
-                _child = child = _Child()
+                _child = child = _Child(preload=preload)
             child.early = None
             try:
                 # the pipe holds the request until the child, once OCP is imported, reads it
@@ -296,8 +314,7 @@ def call(function: str, args: tuple, *, path, what: str = "STEP", timeout: float
                 if actor is not None:
                     raise ChildFailed(path, f"{actor} gave no answer in {waited:g} s and was stopped") from None
                 raise ChildFailed(path, f"the {what} reader gave no answer in {waited:g} s and was stopped "
-                                  f"(corrupt file? for a very large file raise {ENV_TIMEOUT} or "
-                                  "--read-timeout)") from None
+                                  f"(corrupt file? for a very large file raise {TIMEOUT_HINT})") from None
             except (BrokenPipeError, ConnectionResetError):
                 reply = None
                 if not child.ready and attempt == 0:  # the child did not start: try once more
@@ -364,13 +381,14 @@ def _unpack(reply: bytes, path, what: str, actor: str | None = None):
 
 
 # ---------------------------------------------------------------- child side
-def _serve() -> None:
-    """The child's loop: one request frame in, one reply frame out, until the pipe closes."""
+def _serve(preload: tuple = ()) -> None:
+    """The child's loop: import ``preload``, then one request frame in, one reply frame out, until the pipe
+    closes."""
     global _serving
     _serving = True
     # run as ``python -m``, this module is ``__main__``: the requests import it again under its own name, and
     # that copy must know it is the child too (else an evaluation here would start a child of the child)
-    importlib.import_module("cadartifact.exchange.isolation")._serving = True
+    importlib.import_module(_start.CHILD_MODULE)._serving = True
     fd_in, fd_out = os.dup(0), os.dup(1)
     devnull = os.open(os.devnull, os.O_RDWR)
     for fd in (0, 1, 2):  # OCCT writes to the console directly; nothing may reach the protocol pipe
@@ -378,10 +396,11 @@ def _serve() -> None:
     import warnings
 
     warnings.simplefilter("ignore")  # the warnings travel in the results
-    try:
-        import cadartifact.exchange.step  # noqa: F401  (OCP, once)
-    except Exception:  # noqa: BLE001 - OCP missing: each request reports it
-        pass
+    for name in preload:  # e.g. OCP, once
+        try:
+            importlib.import_module(name)
+        except Exception:  # noqa: BLE001 - a module missing here (OCP): each request that needs it reports it
+            pass
     _write_frame(fd_out, b"ready")
     idle: tuple = ()
     while True:
@@ -415,4 +434,4 @@ def _serve() -> None:
 
 
 if __name__ == "__main__":
-    _serve()
+    _serve(tuple(sys.argv[1:]))
