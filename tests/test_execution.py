@@ -137,6 +137,9 @@ def test_run_gate_passes_the_read_timeout_down_not_through_the_environment(jobs)
     from cadartifact.gate.policy import FileSettings
     from cadartifact.gate.run import run_gate
 
+    from cadartifact.execution import child
+
+    child.shutdown()  # a child left running by an earlier test in this process may hold an early answer
     files = [SAMPLES / "car_hood_coarse.step", SAMPLES / "hull_freeform.step"]
     before = {k: v for k, v in os.environ.items() if k.startswith("CADARTIFACT_")}
     entries = run_gate(files, [FileSettings(tolerance=1.0)] * 2, execution=ExecutionSettings(read_timeout=0.001,
