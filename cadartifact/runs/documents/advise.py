@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Literal, NotRequired
 
-from .face import AdviseFace, Metric, Reading
+from .face import AdviseFace, Metric, Reading, SummaryCounts
 from .keys import TypedDict
 
 __all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "WrittenFile", "Written", "AdviseDocument"]
@@ -35,18 +35,8 @@ class AdviseFile(TypedDict, closed=True):
     faces: list[AdviseFace]
 
 
-class AdviseSummary(TypedDict, closed=True):
+class AdviseSummary(SummaryCounts, closed=True):
     """Counts of faces over every file."""
-
-    files: int
-    faces: int
-    within: int
-    """Faces that conform."""
-    exceeding: int
-    """Faces that do not conform."""
-    undecided: int
-    unreachable: int
-    """Faces for which no density within the search's limits conforms."""
 
 
 class WrittenFace(TypedDict, closed=True):

@@ -14,7 +14,7 @@ from typing import Annotated, Literal, NotRequired
 
 from .keys import Pair, Triple, TypedDict
 
-__all__ = ["Metric", "Reading", "Decision", "PeakRms", "Budget", "Shares", "AdvisedBudget", "AdvisedShares",
+__all__ = ["SummaryCounts", "Metric", "Reading", "Decision", "PeakRms", "Budget", "Shares", "AdvisedBudget", "AdvisedShares",
            "UncertaintyRecord", "OutsideTrim", "PeakAt", "FaceRecord", "AdviseFace", "AdviceRecord", "TodayScore",
            "Reason", "Reasons", "Verification", "CoarserCheck", "ComparisonRow", "JoinPiece", "Join", "Joins",
            "NoDensity", "BestFound"]
@@ -326,3 +326,18 @@ class AdviseFace(FaceRecord, closed=True):
     """A face of the advise document: its record and its advice."""
 
     advice: AdviceRecord
+
+
+class SummaryCounts(TypedDict):
+    """Counts of faces over every file of a run (the advise and gate documents' summaries)."""
+
+    files: int
+    faces: int
+    within: int
+    """Faces that conform."""
+    exceeding: int
+    """Faces that do not conform."""
+    undecided: int
+    """Faces the decision rule left undecided."""
+    unreachable: int
+    """Faces for which no density within the search's limits conforms."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, NotRequired
 
-from .face import AdviceRecord, FaceRecord, Metric, Reading
+from .face import AdviceRecord, FaceRecord, Metric, Reading, SummaryCounts
 from .keys import Pair, Triple, TypedDict
 
 __all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "CriterionAt", "CriterionRecord",
@@ -154,16 +154,9 @@ class VerdictCounts(TypedDict, closed=True):
     faces: FaceCounts
 
 
-class GateSummary(TypedDict, closed=True):
+class GateSummary(SummaryCounts, closed=True):
     """Counts over every file."""
 
-    files: int
-    faces: int
-    within: int
-    exceeding: int
-    undecided: int
-    """Faces the decision rule left undecided."""
-    unreachable: int
     criteria: NotRequired[dict[str, CriterionCounts]]
     """Per PDQ criterion (only with a profile)."""
     errors: int
