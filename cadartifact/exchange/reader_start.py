@@ -48,8 +48,10 @@ def isolation_enabled() -> bool:
 def spawn() -> subprocess.Popen:
     """A new reader child (it imports OCP, says ``ready`` and serves framed requests on its pipes)."""
     env = dict(os.environ)
-    # the child must import this very package, wherever it was imported from
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    # the child must import this very package, wherever it was imported from: the folder holding the
+    # package, found from the package itself so that moving this module between wings cannot change it
+    package = sys.modules[__name__.partition(".")[0]]
+    root = os.path.dirname(os.path.dirname(os.path.abspath(package.__file__)))
     env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     # -P: not the working directory first on sys.path, where another checkout's cadartifact would win
     return subprocess.Popen([sys.executable, "-P", "-m", "cadartifact.exchange.isolation"],
