@@ -406,7 +406,7 @@ def criteria(net, profile: Profile = DEFAULT_PROFILE) -> list[Criterion]:
     nu, nv = net.shape
     put("points", max(nu, nv), detail=f"{nu} x {nv} control points (u x v)")
     put("points_total", nu * nv, detail=f"{nu} x {nv} control points")
-    if net.knots is None:
+    if not net.is_bspline:
         why = "a subdivision cage has no knots, degree or trim (its limit surface is not evaluated here)"
         for key in CRITERIA:
             if key not in out:
