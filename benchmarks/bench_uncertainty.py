@@ -36,7 +36,7 @@ def _files(count: int) -> list:
 def _nets(path):
     from cadartifact.exchange.load import read
 
-    return [n for n in read(path).nets if n.knots is not None]
+    return [n for n in read(path).nets if n.is_bspline]
 
 
 class _Timer:

@@ -23,8 +23,10 @@ __all__ = [
     "ControlNet",
     "NetOrigin",
     "NET_KINDS",
+    "NET_FORMS",
     "EXACT_KINDS",
     "clamped_uniform_knots",
+    "periodic_uniform_knots",
     "greville",
     "knots_are_uniform",
     "junctions",
@@ -36,6 +38,10 @@ __all__ = [
 
 #: What a net was made from.
 NET_KINDS = ("bspline", "bezier", "converted", "quad-chart", "array")
+
+#: What a net is: a B-spline face (degrees and knot vectors) or a subdivision cage (a quad chart: neither).
+#: See :attr:`ControlNet.form`.
+NET_FORMS = ("bspline", "cage")
 
 #: Largest coordinate magnitude analysed: squares and products of larger values overflow float64
 #: (no real model is this large; 1e12 mm is a light-hour).
@@ -85,6 +91,18 @@ class NetOrigin:
 
 #: What a direction of a face can exactly be (no artifact along it): see :attr:`ControlNet.exact`.
 EXACT_KINDS = (None, "line", "circle", "surface")
+
+
+def periodic_uniform_knots(n: int, degree: int) -> np.ndarray:
+    """OCCT's flat periodic knot sequence of a uniform periodic direction of ``n`` poles on [0, 1].
+
+    Returns
+    -------
+    knots : (n + 2 degree + 1,) float
+        ``(j - degree) / n`` for ``j = 0 .. n + 2 degree``: one period's ``n + 1`` knots continued by ``degree``
+        knots each side (:func:`cadartifact.exchange.occ.periodic_flat_knots` of simple equally spaced knots).
+    """
+    return (np.arange(n + 2 * degree + 1, dtype=float) - degree) / n
 
 
 def clamped_uniform_knots(n: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
@@ -217,6 +235,11 @@ def lifted(net: "ControlNet") -> np.ndarray:
     return np.concatenate([P * w, w], axis=-1)
 
 
+def _settled_form(degrees) -> str:
+    """The form of a net built without one: a net given degrees is a B-spline face, else a cage."""
+    return "cage" if degrees is None else "bspline"
+
+
 @dataclass(frozen=True, eq=False)
 class ControlNet:
     """A quad control net with the spline data needed to analyse it.
@@ -230,7 +253,9 @@ class ControlNet:
     degrees : (int, int) or None
         ``(p, q)`` for a B-spline face; None for a subdivision cage (quad chart).
     knots : ((mu,) float, (mv,) float) or None
-        Full (flat, multiplicities expanded) knot vectors, as OCCT's ``UKnotSequence``.
+        Full (flat, multiplicities expanded) knot vectors, as OCCT's ``UKnotSequence``; None for a cage.
+        A B-spline net given degrees without knots gets uniform ones on [0, 1] (clamped, or periodic
+        along a periodic direction).
     periodic : (bool, bool)
         Periodic flags in u and v.
     uv_bounds : (u0, u1, v0, v1) or None
@@ -251,6 +276,10 @@ class ControlNet:
         Parameter intervals ``(axis, lo, hi)`` within ``uv_bounds`` that the trimmed face does not use: a trim
         across a periodic direction's opening, once the direction is opened at a junction, keeps two ranges
         (:func:`cadartifact.analysis.pieces.split_net`). Empty otherwise.
+    form : str
+        What the net is, one of :data:`NET_FORMS`: ``"bspline"`` (a face with degrees and knots) or ``"cage"``
+        (a subdivision cage, neither). Settled from ``degrees`` when not given; code asks
+        :attr:`is_bspline`, never whether ``knots`` or ``degrees`` is None.
 
     Notes
     -----
@@ -270,9 +299,13 @@ class ControlNet:
     canonical: str | None = None
     exact: tuple = (None, None)
     trim_gaps: tuple = ()
+    form: str | None = None
 
     def __post_init__(self):
         where = self.origin.label()
+        form = _settled_form(self.degrees) if self.form is None else self.form
+        check_option("form", form, NET_FORMS)
+        object.__setattr__(self, "form", form)
         pts = np.asarray(self.points)
         if pts.ndim != 3 or pts.shape[2] != 3:
             raise InvalidNetError(f"{where}: points must have shape (nu, nv, 3), received {pts.shape}")
@@ -302,34 +335,19 @@ class ControlNet:
                 raise InvalidNetError(f"{where}: weights must be finite and positive")
             object.__setattr__(self, "weights", w)
 
-        if self.degrees is not None:
-            p, q = (int(d) for d in self.degrees)
-            if p < 1 or q < 1:
-                raise InvalidNetError(f"{where}: degrees must be >= 1, received {self.degrees}")
-            object.__setattr__(self, "degrees", (p, q))
-
         per = tuple(bool(x) for x in self.periodic)
         if len(per) != 2:
             raise InvalidNetError(f"{where}: periodic must be two flags, received {self.periodic}")
         object.__setattr__(self, "periodic", per)
 
-        if self.knots is not None:
-            if self.degrees is None:
-                raise InvalidNetError(f"{where}: knots given without degrees")
-            ku, kv = (frozen_array(k) for k in self.knots)
-            for name, k, n, d, pr in (("u", ku, pts.shape[0], self.degrees[0], per[0]),
-                                      ("v", kv, pts.shape[1], self.degrees[1], per[1])):
-                if k.ndim != 1 or not np.all(np.isfinite(k)):
-                    raise InvalidNetError(f"{where}: {name} knots must be a finite 1-D array")
-                if np.any(np.diff(k) < 0):
-                    raise InvalidNetError(f"{where}: {name} knots must be non-decreasing")
-                # OCCT's flat sequence: n+p+1 knots when open, n+2p+1 when periodic
-                expected = n + 2 * d + 1 if pr else n + d + 1
-                if len(k) != expected:
-                    raise InvalidNetError(
-                        f"{where}: {name} knot vector has {len(k)} knots, expected {expected} for "
-                        f"{n} poles of degree {d}{' (periodic)' if pr else ''}")
-            object.__setattr__(self, "knots", (ku, kv))
+        if form == "cage":
+            if self.degrees is not None:
+                raise InvalidNetError(f"{where}: degrees: expected None for a cage (form='cage'), "
+                                      f"received {self.degrees}")
+            if self.knots is not None:
+                raise InvalidNetError(f"{where}: knots given without degrees (a cage, form='cage', has neither)")
+        else:
+            self._settle_spline(where, pts.shape[:2], per)
 
         exact = tuple(self.exact) if self.exact is not None else (None, None)
         if len(exact) != 2 or any(e not in EXACT_KINDS for e in exact):
@@ -342,11 +360,42 @@ class ControlNet:
                 raise InvalidNetError(f"{where}: uv_bounds must be four finite numbers, received {self.uv_bounds}")
             object.__setattr__(self, "uv_bounds", b)
 
+    def _settle_spline(self, where: str, shape: tuple[int, int], per: tuple[bool, bool]) -> None:
+        """Validate a B-spline net's degrees and knots; uniform knots when none were given."""
+        if self.degrees is None:
+            raise InvalidNetError(f"{where}: degrees: expected two degrees >= 1 for a B-spline net "
+                                  f"(form='bspline'), received None")
+        p, q = (int(d) for d in self.degrees)
+        if p < 1 or q < 1:
+            raise InvalidNetError(f"{where}: degrees must be >= 1, received {self.degrees}")
+        object.__setattr__(self, "degrees", (p, q))
+        if self.knots is None:  # no knot vectors supplied: uniform ones, as from_points makes
+            if any(d > n - 1 for d, n in zip((p, q), shape)):
+                raise InvalidNetError(f"{where}: degrees: expected at most {(shape[0] - 1, shape[1] - 1)} for "
+                                      f"{shape[0]}x{shape[1]} control points without knots, received {(p, q)}")
+            object.__setattr__(self, "knots", tuple(
+                periodic_uniform_knots(n, d) if pr else clamped_uniform_knots(n, d)
+                for n, d, pr in zip(shape, (p, q), per)))
+        ku, kv = (frozen_array(k) for k in self.knots)
+        for name, k, n, d, pr in (("u", ku, shape[0], p, per[0]), ("v", kv, shape[1], q, per[1])):
+            if k.ndim != 1 or not np.all(np.isfinite(k)):
+                raise InvalidNetError(f"{where}: {name} knots must be a finite 1-D array")
+            if np.any(np.diff(k) < 0):
+                raise InvalidNetError(f"{where}: {name} knots must be non-decreasing")
+            # OCCT's flat sequence: n+p+1 knots when open, n+2p+1 when periodic
+            expected = n + 2 * d + 1 if pr else n + d + 1
+            if len(k) != expected:
+                raise InvalidNetError(
+                    f"{where}: {name} knot vector has {len(k)} knots, expected {expected} for "
+                    f"{n} poles of degree {d}{' (periodic)' if pr else ''}")
+        object.__setattr__(self, "knots", (ku, kv))
+
     # ------------------------------------------------------------------ constructors
     @classmethod
     def from_points(cls, points, degrees: tuple[int, int] | None = (3, 3), *, weights=None,
                     periodic=(False, False), unit: str = "mm", origin: NetOrigin | None = None) -> "ControlNet":
-        """A B-spline net with clamped uniform knots on [0, 1] (or a cage when ``degrees`` is None).
+        """A B-spline net with uniform knots on [0, 1], clamped (periodic along a periodic direction); a cage when
+        ``degrees`` is None.
 
         Parameters
         ----------
@@ -361,17 +410,25 @@ class ControlNet:
             pts = np.stack([i, j, pts], axis=-1).astype(float)
         if pts.ndim != 3:
             raise InvalidNetError(f"points must have shape (nu, nv, 3) or (nu, nv), received {pts.shape}")
-        knots = None
-        if degrees is not None:
+        if degrees is not None:  # the argument: a cage is asked for by passing None
             degrees = tuple(min(int(d), n - 1) for d, n in zip(degrees, pts.shape[:2]))
-            if not any(periodic):
-                knots = tuple(clamped_uniform_knots(n, d) for n, d in zip(pts.shape[:2], degrees))
-        return cls(points=pts, weights=weights, degrees=degrees, knots=knots, periodic=periodic,
+        # uniform knots (clamped, or periodic along a periodic direction) are settled by the constructor
+        return cls(points=pts, weights=weights, degrees=degrees, periodic=periodic,
                    unit=unit, origin=origin or NetOrigin(kind="array"))
 
     def replace(self, **changes) -> "ControlNet":
-        """A copy with some fields replaced (validated again)."""
+        """A copy with some fields replaced (validated again); new ``degrees`` settle the form again unless
+        ``form`` is given too (``replace(degrees=None, knots=None)`` is the cage of a face's points)."""
+        if "degrees" in changes and "form" not in changes:
+            changes["form"] = None
         return dataclasses.replace(self, **changes)
+
+    def __setstate__(self, state: dict) -> None:
+        """Unpickle; a net pickled before nets carried their form is built again (its form settled)."""
+        if "form" not in state:
+            names = [f.name for f in dataclasses.fields(self) if f.name in state]
+            state = dict(vars(ControlNet(**{name: state[name] for name in names})))
+        self.__dict__.update(state)
 
     # ------------------------------------------------------------------ derived
     @property
@@ -383,6 +440,12 @@ class ControlNet:
     def size(self) -> int:
         """Number of control points."""
         return self.shape[0] * self.shape[1]
+
+    @property
+    def is_bspline(self) -> bool:
+        """Whether the net is a B-spline face (``form == "bspline"``: it has degrees and knot vectors), not a
+        subdivision cage."""
+        return self.form == "bspline"
 
     @property
     def rational(self) -> bool:
@@ -400,7 +463,7 @@ class ControlNet:
     @property
     def knots_uniform(self) -> tuple[bool, bool]:
         """Per direction, whether the knots are uniform (True for cages, which have none)."""
-        if self.knots is None:
+        if not self.is_bspline:
             return (True, True)
         return tuple(knots_are_uniform(k, d, pr) for k, d, pr in zip(self.knots, self.degrees, self.periodic))
 
@@ -413,11 +476,11 @@ class ControlNet:
     def greville(self) -> tuple[np.ndarray, np.ndarray]:
         """Greville abscissae ``(xi_u (nu,), xi_v (nv,))``; integer indices for a cage."""
         nu, nv = self.shape
-        if self.knots is None:
+        if not self.is_bspline:
             return np.arange(nu, dtype=float), np.arange(nv, dtype=float)
         return (greville(self.knots[0], self.degrees[0], nu), greville(self.knots[1], self.degrees[1], nv))
 
     def __repr__(self) -> str:
         nu, nv = self.shape
-        deg = f"degree {self.degrees}" if self.degrees else "cage"
+        deg = f"degree {self.degrees}" if self.is_bspline else "cage"
         return f"<ControlNet {nu}x{nv} {deg} {self.origin.kind} from {self.origin.label()}>"

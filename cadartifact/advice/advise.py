@@ -401,7 +401,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
                 notes.insert(0, unverified_note(verification, tolerance - margin))
     comparison, comparison_note = {}, None
     if compare == "auto":
-        if net.knots is not None and named is None:
+        if net.is_bspline and named is None:
             # a B-rep face is the B-spline its file says: which other scheme would do better is a question for a
             # cage's author, and its answer cost most of a face's advice (issue 24)
             compare = False

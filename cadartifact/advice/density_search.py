@@ -171,7 +171,7 @@ def _limits(work: ControlNet, degrees, plans=(None, None)) -> tuple[tuple[int, i
     low = tuple(d + 1 if plan is None else plan.min_points(d) for d, plan in zip(degrees, plans))
     high = [max(l + 1, min(MAX_POINTS, GROWTH * n)) for l, n in zip(low, work.shape)]
     for k in (0, 1):
-        if work.degrees is not None and work.degrees[k] == 1 and _straight(work.points, k):
+        if work.is_bspline and work.degrees[k] == 1 and _straight(work.points, k):
             high[k] = max(low[k], work.shape[k])
     return low, tuple(high)
 

@@ -31,7 +31,7 @@ def _crease_near(scorer, shape) -> tuple[str, float, int] | None:
     """``(direction, knot, multiplicity)`` of a low-continuity knot of today's face within a span of where the
     candidate ``shape``'s error peaks, or None."""
     work = scorer.work
-    if work.knots is None:
+    if not work.is_bspline:
         return None
     Q, S, I, normal, keep, (cu, cv) = scorer.fit(*shape)
     f = np.abs(project(S - I, normal, scorer.component))

@@ -83,7 +83,7 @@ def join_plan(net: ControlNet, axis: int) -> JoinPlan | None:
     is a direction of mostly one-span pieces (fewer than 1.5 spans per piece on average: a chain written
     piecewise, like a piecewise-Bezier direction, advised one uniform net as before) or of more than
     :data:`MAX_JOINS` joins."""
-    if net.knots is None or net.periodic[axis]:
+    if not net.is_bspline or net.periodic[axis]:
         return None
     t, p, n = np.asarray(net.knots[axis], float), int(net.degrees[axis]), net.shape[axis]
     if p < 1 or bezier_direction(t, p, n, False):

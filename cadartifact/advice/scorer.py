@@ -33,7 +33,7 @@ class _Scorer:
         self.fields, self.intent, self.reading = fields, intent, settings.intent
         self.K, self.metric, self.component = 2 ** settings.levels, settings.metric, settings.component
         self.frames = intent.frames
-        self.degrees = work.degrees if work.degrees is not None else tuple(
+        self.degrees = work.degrees if work.is_bspline else tuple(
             min(d, n - 1) for d, n in zip(scheme.degrees or (3, 3), work.shape))
         self._targets: dict = {}
         self._scores: dict = {}
@@ -43,7 +43,7 @@ class _Scorer:
         self._planes: dict = {}  # grid -> the target's error_planes (fit_error)
         self._halves = OperatorCache(16, shared=False)  # (side, count, grid, fit) -> a half of the fit
         # the face's joins, kept by every candidate (a cage, or a face read under another scheme, has none)
-        self.plans = tuple(join_plan(work, k) if work.knots is not None else None
+        self.plans = tuple(join_plan(work, k) if work.is_bspline else None
                            for k in (0, 1))
 
     def with_plans(self, plans) -> "_Scorer":
@@ -145,7 +145,7 @@ class _Scorer:
         each candidate border sample's distance to today's border curve (a polyline through its samples on
         the check grid), so a different parametrisation of the same curve costs nothing. The candidate's
         border curves are its surface's first and last rows and columns (``Bu[[0, -1]] Q Bv^T``, ...)."""
-        if self.work.knots is None or _trimmed(self.work, self.frames):
+        if not self.work.is_bspline or _trimmed(self.work, self.frames):
             return 0.0
         from ..numerics.splines import evaluate
 
@@ -208,7 +208,7 @@ def _trimmed(net: ControlNet, frames) -> bool:
 
 def _real_on(work, scheme, intent, x, y, fields) -> np.ndarray:
     """Today's real surface on a grid of analysis coordinates."""
-    if work.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(work.degrees):
+    if work.is_bspline and scheme.degrees is not None and tuple(scheme.degrees) == tuple(work.degrees):
         from ..numerics.splines import evaluate
 
         fu, fv = intent.frames

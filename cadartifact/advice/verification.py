@@ -59,7 +59,7 @@ def verify_advice(scorer, shape, binding, tolerance: float, advised, target: flo
     """
     target = tolerance if target is None else target
     metric = scorer.metric
-    if advised.knots is None or (advised is scorer.net and scorer.work is not scorer.net):
+    if not advised.is_bspline or (advised is scorer.net and scorer.work is not scorer.net):
         # today's net kept as the advice where the scheme reads it as a cage (a cage, or a face under another
         # scheme): its own surface under the scheme was scored already
         today = scorer.today()
@@ -77,7 +77,7 @@ def verify_advice(scorer, shape, binding, tolerance: float, advised, target: flo
         Q, S, I, normal, keep, (au, av) = scorer.fit(*coarser)
         c = measure_on_occt(scorer, candidate_net(scorer.net, Q, au, av), au.x, av.x)
         out["coarser"] = {"shape": list(coarser), "value": c[metric], "meets": bool(c[metric] <= target)}
-    if scorer.reading == "net" and scorer.work.knots is not None and scorer.work is scorer.net:
+    if scorer.reading == "net" and scorer.work.is_bspline and scorer.work is scorer.net:
         out["samples"] = _sample_distance(scorer.net, advised)
     return out
 

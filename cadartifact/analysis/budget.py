@@ -173,7 +173,7 @@ def border_margin(net: ControlNet, scheme) -> int:
     surface decays by about ``2 - sqrt(3)`` per span (cubic): ``p + 1`` spans keep it below a few
     percent. Cages: the mask radius.
     """
-    if net.degrees is not None:
+    if net.is_bspline:
         return max(net.degrees) + 1
     return max(scheme.mask.shape) // 2
 
@@ -248,8 +248,8 @@ def analysis_net(net: ControlNet, scheme, tolerance: float | None = None) -> Con
 def used_region(net: ControlNet, scheme, tolerance: float | None = None):
     """``(analysis net, UsedRegion or None)``: :func:`analysis_net` and what of the surface's parameter range
     the trimmed face uses (:class:`cadartifact.analysis.trim_region.UsedRegion`)."""
-    own = net.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(net.degrees)
-    if net.knots is None:
+    own = net.is_bspline and scheme.degrees is not None and tuple(scheme.degrees) == tuple(net.degrees)
+    if not net.is_bspline:
         return net, None
     if own:
         return used_net(net, tolerance)
@@ -315,7 +315,7 @@ def budget_for(net: ControlNet, settings: RunSettings, *, keep_fields: bool = Fa
     sch = resolve_scheme(net, settings.scheme)
     work, used = used_region(net, sch, settings.tolerance)
     b = None
-    if work.knots is not None:
+    if work.is_bspline:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work:
             b = _piecewise_budget(net, work, pieces, sch, settings, keep_fields)
@@ -332,7 +332,7 @@ def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=
     """:func:`budget` of a net that needs no splitting."""
     method, levels, component, intent = settings.method, settings.levels, settings.component, settings.intent
     it = design_intent(work, sch, levels)
-    face = work.knots is not None
+    face = work.is_bspline
     primary = _road(work, method)
     if primary == "measured":
         reason = ("the real surface (exact NURBS evaluation of the face)" if face else
@@ -385,7 +385,7 @@ def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=
 def _road(work: ControlNet, method: str = "auto") -> str:
     """The primary road of a method: ``auto`` (and ``both``) measure a face's real surface and predict a cage's."""
     if method in ("auto", "both"):
-        return "measured" if work.knots is not None else "predicted"
+        return "measured" if work.is_bspline else "predicted"
     return method
 
 
@@ -397,7 +397,7 @@ def total_ripple(net: ControlNet, settings: RunSettings) -> float:
     """
     sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch, settings.tolerance)
-    if work.knots is not None:
+    if work.is_bspline:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
             whole = settings.replace(tolerance=None, scheme=sch, intent="surface", method="auto", region="auto")

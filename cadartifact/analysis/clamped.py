@@ -71,7 +71,7 @@ def clamped_direction(net, axis: int, scheme) -> bool:
         degree is at most :data:`MAX_CLAMPED_DEGREE`, and ``scheme.degrees[axis]`` is the face's degree (the
         scheme's limit is this B-spline's uniform basis).
     """
-    if net.knots is None or net.periodic[axis] or getattr(scheme, "degrees", None) is None:
+    if not net.is_bspline or net.periodic[axis] or getattr(scheme, "degrees", None) is None:
         return False
     p, n = int(net.degrees[axis]), int(net.shape[axis])
     if int(scheme.degrees[axis]) != p or n < p + 1 or p > MAX_CLAMPED_DEGREE:
@@ -281,7 +281,7 @@ def reads_clamped_borders(intent: Intent, scheme) -> bool:
         (:func:`clamped_direction`).
     """
     net = intent.net
-    if not intent.homogeneous or net.knots is None or not getattr(scheme, "tensor", False):
+    if not intent.homogeneous or not net.is_bspline or not getattr(scheme, "tensor", False):
         return False
     return not all(net.periodic) and all(net.periodic[k] or clamped_direction(net, k, scheme) for k in (0, 1))
 

@@ -118,7 +118,7 @@ def fine_positions(frame: AxisFrame, count: int) -> np.ndarray:
 
 def _axis(net: ControlNet, axis: int, levels: int) -> AxisFrame:
     n, per = net.shape[axis], net.periodic[axis]
-    if net.knots is None:  # a cage: control point i at x = i
+    if not net.is_bspline:  # a cage: control point i at x = i
         spans = n if per else n - 1
         return AxisFrame(n, per, max(spans, 1), 0.0, np.arange(n, dtype=float), levels)
     p, t = net.degrees[axis], np.asarray(net.knots[axis], float)
@@ -153,7 +153,7 @@ def axis_frames(net: ControlNet, levels: int = 3) -> tuple[AxisFrame, AxisFrame]
     for k in (0, 1):
         if net.exact[k] is not None:
             frames[k] = dataclasses.replace(frames[k], exact=True)
-        elif net.knots is not None and bezier_direction(net.knots[k], net.degrees[k], net.shape[k], net.periodic[k]):
+        elif net.is_bspline and bezier_direction(net.knots[k], net.degrees[k], net.shape[k], net.periodic[k]):
             frames[k] = dataclasses.replace(frames[k], polynomial=True)
         elif not frames[k].periodic and frames[k].spans > 1 and one_polynomial(net, k):
             frames[k] = dataclasses.replace(frames[k], polynomial=True)
@@ -171,7 +171,7 @@ def one_polynomial(net: ControlNet, axis: int) -> bool:
     other direction's Greville abscissae is fitted by one Legendre polynomial of degree ``p``; the
     direction is one polynomial when the residual is below :data:`POLYNOMIAL_RTOL` of the net's size.
     """
-    if net.knots is None or net.periodic[axis]:
+    if not net.is_bspline or net.periodic[axis]:
         return False
     from numpy.polynomial import legendre as L
 

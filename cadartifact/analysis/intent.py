@@ -317,7 +317,7 @@ class Intent:
 
 def _multiple_knots(net: ControlNet, axis: int) -> bool:
     """Whether a direction of a face has an interior knot of multiplicity > 1."""
-    if net.knots is None:
+    if not net.is_bspline:
         return False
     return any(m > 1 for _, m in knot_multiplicities(net.knots[axis], net.degrees[axis], net.shape[axis],
                                                       net.periodic[axis]))

@@ -30,7 +30,7 @@ def measurement_road(net, scheme) -> tuple[str, str]:
     (road, reason) : (str, str)
         ``road`` in {"face", "uniform-bspline", "subdivision"}.
     """
-    own = net.knots is not None and scheme.degrees is not None and tuple(scheme.degrees) == tuple(net.degrees)
+    own = net.is_bspline and scheme.degrees is not None and tuple(scheme.degrees) == tuple(net.degrees)
     if own:
         return "face", "exact NURBS evaluation of the face (its own knots and weights)"
     if scheme.degrees is not None:

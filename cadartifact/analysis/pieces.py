@@ -131,7 +131,7 @@ def split_net(net: ControlNet) -> list[Piece]:
         In grid order (u major); ``[Piece(net, ...)]`` when no knot reaches multiplicity ``p`` or the
         split would exceed :data:`MAX_PIECES`.
     """
-    if net.knots is None:
+    if not net.is_bspline:
         return [Piece(net, (0.0, 0.0), (0.0, 0.0), (0, 0))]
     axes = [_axis_pieces(net, k) for k in (0, 1)]
     unsplit = all(len(a) == 1 and a[0][4] == per for a, per in zip(axes, net.periodic))
@@ -373,7 +373,7 @@ class PiecewiseIntent:
 
 def face_kind(net: ControlNet) -> str | None:
     """How a face is written when it is not one uniform polynomial net: "piecewise-Bezier", "rational"..."""
-    if net.knots is None:
+    if not net.is_bspline:
         return None
     words = []
     dirs = list(zip(net.knots, net.degrees, net.shape, net.periodic))

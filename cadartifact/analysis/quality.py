@@ -518,7 +518,7 @@ def criteria(net, profile: Profile | None = None) -> list[Criterion]:
     for k in off:
         out[k] = Criterion(k, False, reason="off in this profile")
     why = {}  # what the face lacks, by the spec's needs
-    if net.knots is None:
+    if not net.is_bspline:
         why["knots"] = why["trim"] = ("a subdivision cage has no knots, degree or trim (its limit surface is not "
                                       "evaluated here)")
     else:

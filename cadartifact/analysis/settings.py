@@ -49,7 +49,7 @@ def resolve_scheme(net, scheme=None):
     from ..theory.catalogue import Scheme, bspline, scheme as by_name
 
     if scheme is None:
-        return bspline(*net.degrees) if net.degrees is not None else by_name("catmull-clark")
+        return bspline(*net.degrees) if net.is_bspline else by_name("catmull-clark")
     return scheme if isinstance(scheme, Scheme) else by_name(scheme)
 
 

@@ -182,7 +182,7 @@ def used_net(net: ControlNet, tolerance: float | None = None) -> tuple[ControlNe
         ``net`` itself when nothing lies outside the trim (``region`` then None or with zero shares);
         else a new clamped net over the kept knot intervals (same degrees, weights, uv bounds, origin).
     """
-    if net.knots is None or net.uv_bounds is None:
+    if not net.is_bspline or net.uv_bounds is None:
         return net, None
     u0, u1, v0, v1 = (float(b) for b in net.uv_bounds)
     full, ranges = [], []
@@ -227,7 +227,7 @@ def cage_bounds(net: ControlNet) -> tuple[float, float, float, float] | None:
     direction is kept whole (``0`` to ``n``). None for a cage, a face without uv bounds, or one whose bounds
     cover its surface.
     """
-    if net.knots is None or net.uv_bounds is None:
+    if not net.is_bspline or net.uv_bounds is None:
         return None
     out, trimmed = [], False
     for axis in (0, 1):

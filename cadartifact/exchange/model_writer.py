@@ -269,7 +269,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     source = check_file(source)
     provenance = dict(provenance or {})
     for index, net in replacements.items():
-        if not isinstance(net, ControlNet) or net.degrees is None or net.knots is None:
+        if not isinstance(net, ControlNet) or not net.is_bspline:
             raise OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)", type(net).__name__)
         if net.rational:
             raise OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights")

@@ -347,7 +347,7 @@ def occ_surface(net: ControlNet) -> Geom_BSplineSurface:
     OptionError
         For a cage (no degrees/knots).
     """
-    if net.degrees is None or net.knots is None:
+    if not net.is_bspline:
         raise OptionError("net", "a B-spline net with degrees and knots", f"a {net.origin.kind} cage {net.origin.label()}")
     nu, nv = net.shape
     (p, q), (pu, pv) = net.degrees, net.periodic

@@ -481,7 +481,7 @@ def write_step(nets, path, *, provenance: dict | None = None) -> Path:
     Parameters
     ----------
     nets : ControlNet or iterable of ControlNet
-        Cages (``degrees is None``) are skipped. A net with ``uv_bounds`` becomes a face
+        Cages (``form == "cage"``) are skipped. A net with ``uv_bounds`` becomes a face
         bounded by that parameter rectangle; ``origin.name`` becomes the ``ADVANCED_FACE``
         name, so it reads back as the face name.
     path : str or path-like
@@ -509,7 +509,7 @@ def write_step(nets, path, *, provenance: dict | None = None) -> Path:
     """
     if isinstance(nets, ControlNet):
         nets = [nets]
-    nets = [n for n in nets if n.degrees is not None and n.knots is not None]
+    nets = [n for n in nets if n.is_bspline]
     if not nets:
         raise OptionError("nets", "at least one B-spline net (cages cannot be written to STEP)", "none")
     path = Path(path)

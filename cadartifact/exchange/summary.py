@@ -9,7 +9,7 @@ __all__ = ["parameter_range", "trimmed_fraction", "net_summary", "result_summary
 
 def parameter_range(net: ControlNet) -> tuple[float, float, float, float] | None:
     """The full knot range ``(u0, u1, v0, v1)``: ``[t_p, t_{m-p-1}]`` per direction (None for a cage)."""
-    if net.knots is None:
+    if not net.is_bspline:
         return None
     out = []
     for t, p in zip(net.knots, net.degrees):
@@ -38,7 +38,7 @@ def net_summary(net: ControlNet) -> dict:
         "face": net.origin.face,
         "name": net.origin.name,
         "kind": net.origin.kind,
-        "degrees": list(net.degrees) if net.degrees else None,
+        "degrees": list(net.degrees) if net.is_bspline else None,
         "size": list(net.shape),
         "rational": net.rational,
         "weights_vary": net.weights_vary,

@@ -209,7 +209,7 @@ def evaluate(net: ControlNet, u: np.ndarray, v: np.ndarray, points: np.ndarray |
     S : (a, b, 3) float
         ``S = sum_ij N_i(u) N_j(v) w_ij P_ij / sum_ij N_i(u) N_j(v) w_ij``.
     """
-    if net.knots is None:
+    if not net.is_bspline:
         raise OptionError("net", "a B-spline net with knots", f"a {net.origin.kind} cage")
     (ku, kv), (p, q), (pu, pv) = net.knots, net.degrees, net.periodic
     nu, nv = net.shape

@@ -152,7 +152,7 @@ def resampled_nets(kept) -> list:
     out = []
     for _, net, adv in kept:
         new = adv.resampled()
-        if new.degrees is None:
+        if not new.is_bspline:
             degs = get_scheme(adv.scheme).degrees or (3, 3)
             degs = tuple(min(d, n - 1) for d, n in zip(degs, new.shape))
             knots = tuple(clamped_uniform_knots(n, d) for n, d in zip(new.shape, degs))

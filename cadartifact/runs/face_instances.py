@@ -129,7 +129,7 @@ def congruence(face, other, rtol: float = RTOL, *, decided: dict | None = None) 
         related by a proper rigid motion, each within ``rtol``, and the analysis reads both alike
         where it decides at finer tolerances (:func:`_decisions`).
     """
-    if face.knots is None or other.knots is None or _key(face) != _key(other):
+    if not face.is_bspline or not other.is_bspline or _key(face) != _key(other):
         return None
     shift = []
     for ka, kb in zip(face.knots, other.knots):
@@ -200,7 +200,7 @@ def instances(nets: list, rtol: float = RTOL) -> list[tuple[int, Motion | None]]
     buckets: dict = {}  # key -> (rep indices, their radii stacked, their sizes)
     decided: dict = {}  # _decisions per net, for the reps compared with many
     for i, net in enumerate(nets):
-        if net.knots is None:
+        if not net.is_bspline:
             plan.append((i, None))
             continue
         key = _key(net)

@@ -54,7 +54,7 @@ def budget_record(net, budget, include_signal_error: bool = False, uncertainty=N
         "name": net.origin.name,
         "kind": net.origin.kind,
         "net": list(net.shape),
-        "degrees": list(net.degrees) if net.degrees else None,
+        "degrees": list(net.degrees) if net.is_bspline else None,
         "rational": net.rational,
         "units": net.unit,
         "entity": getattr(net.origin, "entity", None),
@@ -62,7 +62,7 @@ def budget_record(net, budget, include_signal_error: bool = False, uncertainty=N
         "exact": list(getattr(net, "exact", (None, None))),
         "scheme": budget.scheme,
         "method": budget.method,
-        "uniform": bool(net.knots is None or net.uniform),
+        "uniform": bool(not net.is_bspline or net.uniform),
         "intent": budget.intent,
         "reason": budget.reason,
         "notes": budget.notes,
@@ -111,7 +111,7 @@ def peak_location(net, scheme=None, field: str = "total", current=None) -> PeakA
     x, y = float(b.fields.x[i]), float(b.fields.y[j])
     uv = None
     xyz = np.asarray(b.fields.surface)[i, j]  # cages: the limit surface there
-    if net.knots is not None:
+    if net.is_bspline:
         from ..exchange.load import evaluate_grid
         from ..analysis.frames import axis_frames
 
