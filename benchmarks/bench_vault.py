@@ -27,9 +27,6 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-SAMPLES = ROOT / "samples"
-REALDATA = ROOT.parent / "shared" / "realdata"
 
 SMALL = [SAMPLES / n for n in ("cage.obj", "car_hood_coarse.step", "clean_panel.step", "hull_freeform.step",
                                "wavy_panel_diagonal.step")]

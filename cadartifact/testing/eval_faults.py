@@ -1,4 +1,4 @@
-"""Faults injected into OCCT's evaluation in the reader child (tests/test_isolated_evaluation.py): the child
+"""Faults injected into OCCT's evaluation in the reader child (tests/exchange/test_isolated_evaluation.py): the child
 imports this module by name, as it imports the real evaluator (``cadartifact.exchange.load.EVALUATE``)."""
 
 import os

@@ -1,6 +1,6 @@
 """A seeded mutation generator for STEP and OBJ files, and the contract every outcome must meet.
 
-Used by ``tests/test_fuzz.py`` (a few hundred inputs in CI) and ``benchmarks/fuzz_campaign.py``
+Used by ``tests/integration/test_fuzz.py`` (a few hundred inputs in CI) and ``benchmarks/fuzz_campaign.py``
 (10 000 and more). ``mutations(sources, n, seed)`` yields the same inputs for the same arguments.
 
 Mutation kinds (:data:`KINDS`): byte flips, truncation, deleted / duplicated lines, a number
@@ -26,8 +26,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-REALDATA = ROOT.parent / "shared" / "realdata"
+from .paths import REALDATA, ROOT
 
 KINDS = ("flip", "truncate", "delete-line", "duplicate-line", "nan", "inf", "1e308", "1e154", "broken-ref",
          "decreasing-knots", "multiplicity", "degree", "zero-weight", "obj-index", "odd-name", "empty",

@@ -3,7 +3,7 @@
 A family of NURBS faces with clamped uniform knots and weights that vary: degrees 2-4 per direction,
 6-14 control points per direction, weights varying by 10-45 % (a smooth field of random phase), control
 points on a smooth shape (a dome with a tilt) plus a small ripple (a cosine of 0.1-0.45 cycles per control
-point, random direction and phase). Used by ``tests/test_rational_borders.py`` and
+point, random direction and phase). Used by ``tests/analysis/test_rational_borders.py`` and
 ``benchmarks/rational_borders.py``.
 """
 

@@ -4,8 +4,7 @@ import re
 import shutil
 from pathlib import Path
 
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
-REALDATA = Path(__file__).resolve().parents[2] / "shared" / "realdata"
+from .paths import REALDATA, SAMPLES
 
 #: Quick files (about a second each or less): the samples and the smallest real files.
 SAMPLE_NAMES = ("cage.obj", "car_hood_coarse.step", "clean_panel.step", "hull_freeform.step")

@@ -1,7 +1,6 @@
 """Density advice (SPEC §5): re-fitted candidates, against known shapes, a coherent advisor."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,10 +11,8 @@ from cadartifact.advice.advise import advise, resample
 from cadartifact.advice.density_search import frontier as _frontier, gallop as _gallop
 from cadartifact.net import ControlNet, clamped_uniform_knots
 from cadartifact.numerics.splines import basis_matrix
-from known_shapes import family
-
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
-REAL_STEP = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "step"
+from cadartifact.testing.known_shapes import family
+from cadartifact.testing.paths import REAL_STEP, SAMPLES
 
 
 def _brute_force_fewest(net, truth, t, limit=60):
@@ -176,8 +173,7 @@ def test_advise_rejects_bad_options():
 
 
 @pytest.mark.realdata
-@pytest.mark.skipif(not REAL_STEP.is_dir(), reason="../shared/realdata/step not present")
-@pytest.mark.parametrize("path", sorted(REAL_STEP.glob("*.st*p")) if REAL_STEP.is_dir() else [], ids=lambda p: p.name)
+@pytest.mark.parametrize("path", sorted(REAL_STEP.glob("*.st*p")), ids=lambda p: p.name)
 def test_every_real_step_file_advises(path):
     for net in ca.load(path)[:6]:
         a = advise(net, 0.05, compare=False, verify=False)
@@ -256,7 +252,7 @@ def test_total_ripple_of_faces_is_the_budgets_number_to_the_bit():
         i, j = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
         pts = np.stack([5.0 * i, 4.0 * j, np.zeros(shape)], -1) + rng.normal(size=shape + (3,))
         nets.append(ControlNet.from_points(pts, degrees=degrees))
-    samples = Path(__file__).resolve().parents[1] / "samples"
+    samples = SAMPLES
     nets += [n for f in sorted(samples.glob("*.step")) for n in ca.load(f)]
     for net in nets:
         for metric in ("peak", "rms"):

@@ -10,12 +10,12 @@ surface, and OCCT's evaluation of the advised net (the advice's verification).
 from __future__ import annotations
 
 import itertools
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from extended_faces import SIDES, extended_face, jointed_face, smooth_face
+from cadartifact.testing.extended_faces import SIDES, extended_face, jointed_face, smooth_face
+from cadartifact.testing.paths import REAL_STEP
 
 import cadartifact as ca
 from cadartifact.advice.advise import advise
@@ -244,12 +244,8 @@ def test_the_corner_search_is_bounded_and_never_claims_an_infeasible_corner(a0, 
     assert STALL > 0
 
 
-REAL_STEP = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "step"
-
-
 @pytest.mark.slow
 @pytest.mark.realdata
-@pytest.mark.skipif(not REAL_STEP.is_dir(), reason="../shared/realdata/step not present")
 def test_no_real_face_is_advised_more_than_four_times_its_points_without_saying_why():
     """Every distinct B-spline face of the real files at t = 0.05: an answer or an honest no, and no more than
     4x today's points unless its reason names the band that needs them."""
@@ -267,7 +263,6 @@ def test_no_real_face_is_advised_more_than_four_times_its_points_without_saying_
 
 
 @pytest.mark.realdata
-@pytest.mark.skipif(not (REAL_STEP / "boxed_sphere.step").is_file(), reason="../shared/realdata/step not present")
 def test_a_written_advised_face_is_built_over_the_region_its_trim_uses(tmp_path):
     """boxed_sphere's 23x23 faces leave a span outside their trim at each end: the advised surface written into the model spans
     that region (OCCT reads it back), keeps the face's trim, and the model stays valid."""

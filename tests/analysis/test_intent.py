@@ -7,7 +7,7 @@ from hypothesis import given, settings, strategies as st
 import cadartifact as ca
 from cadartifact.analysis.intent import UNDERSAMPLED_SHARE, design_intent
 from cadartifact.net import ControlNet
-from known_shapes import DIRECTIONS, family, known_face, shape_function
+from cadartifact.testing.known_shapes import DIRECTIONS, family, known_face, shape_function
 
 
 def _errors(net, truth):

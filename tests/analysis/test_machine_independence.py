@@ -13,12 +13,12 @@ import json
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-CTC02 = ROOT.parent / "shared" / "realdata" / "step" / "nist_ctc_02_asme1_ap242-1.stp"
+from cadartifact.testing.paths import REAL_STEP, ROOT
+
+CTC02 = REAL_STEP / "nist_ctc_02_asme1_ap242-1.stp"
 
 _SCRIPT = """
 import json, sys

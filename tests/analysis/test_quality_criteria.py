@@ -35,7 +35,7 @@ from cadartifact.analysis.quality import (  # noqa: E402
 from cadartifact.exchange.occ import make_face, occ_surface  # noqa: E402
 from cadartifact.net import ControlNet, clamped_uniform_knots  # noqa: E402
 
-from known_shapes import DIRECTIONS, known_face, shape_function  # noqa: E402
+from cadartifact.testing.known_shapes import DIRECTIONS, known_face, shape_function  # noqa: E402
 
 
 def by_key(net, profile=DEFAULT_PROFILE):

@@ -6,7 +6,6 @@ budgets are cadartifact's. Files are read in place from ``../shared/realdata/ste
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,11 +16,10 @@ pytest.importorskip("OCP")
 
 from cadartifact.exchange.load import read  # noqa: E402
 from cadartifact.exchange.occ import net_from_surface, occ_surface  # noqa: E402
+from cadartifact.testing.paths import REAL_STEP
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
-STEP = sorted((REALDATA / "step").glob("*")) if REALDATA.exists() else []
-pytestmark = [pytest.mark.realdata,
-              pytest.mark.skipif(not STEP, reason="../shared/realdata/step not present (real files are not in the repo)")]
+STEP = sorted(REAL_STEP.glob("*"))
+pytestmark = pytest.mark.realdata
 
 DIRECTIONS = ("total", "x1", "x2", "diagonal", "lateral")
 

@@ -2,7 +2,7 @@
 cannot.
 
 Independent road: the measured road reads the real surface (exact NURBS evaluation). Clamped uniform knots are
-read from their uniform-equivalent points (cadartifact/analysis/clamped.py; tests/test_rational_borders.py holds
+read from their uniform-equivalent points (cadartifact/analysis/clamped.py; tests/analysis/test_rational_borders.py holds
 its figures). Other open rational directions (uneven clamped knots) are read by the uniform synthesis as an
 infinite net, which on this family read 1.6-258x the measured road (median 11x, 2026-12-03): a run that asks
 for the predicted road there gets a caveat. Faces are measured by default (``method="auto"``).
@@ -57,7 +57,7 @@ def test_a_rational_face_on_uneven_clamped_knots_says_the_predicted_road_departs
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_clamped_uniform_knots_are_read_from_uniform_equivalent_points_without_a_caveat(seed):
-    """tests/test_rational_borders.py checks that road's numbers against the measured road."""
+    """tests/analysis/test_rational_borders.py checks that road's numbers against the measured road."""
     net = _rational_face(seed)
     b = ca.budget(net, method="predicted")
     assert not any("predicted road" in n for n in b.notes), b.notes

@@ -16,7 +16,7 @@ from cadartifact.analysis.settings import (COMPONENTS, METHODS, METRICS, READING
 from cadartifact.errors import OptionError, SchemeError
 from cadartifact.net import ControlNet
 
-from known_shapes import family
+from cadartifact.testing.known_shapes import family
 
 CHOICES = {"metric": METRICS, "method": METHODS, "component": COMPONENTS, "region": REGIONS, "intent": READINGS}
 

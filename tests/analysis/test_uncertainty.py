@@ -1,10 +1,10 @@
 """The intent's uncertainty U and the decision rule (issue 22; SPEC §4 "Uncertainty and decisions", §5).
 
 Calibration on known shapes: clamped faces whose control points sample a known smooth shape at their Greville
-abscissae (tests/known_shapes.py: nets of 6-40 points, degrees 1-5, content 0.05-0.45 cycles per point in four
-directions, random phases; cosines, sums of cosines, bumps, polynomials; tolerances 0.2-10 % of the amplitude).
-Every number is checked against the known shape itself, evaluated here, and the advised net is evaluated by
-scipy's B-spline basis (not the tool's).
+abscissae (cadartifact/testing/known_shapes.py: nets of 6-40 points, degrees 1-5, content 0.05-0.45 cycles per
+point in four directions, random phases; cosines, sums of cosines, bumps, polynomials; tolerances 0.2-10 % of the
+amplitude). Every number is checked against the known shape itself, and the advised net is evaluated by scipy's
+B-spline basis (not the tool's): cadartifact/testing/calibration.py, shared with benchmarks/calibrate_uncertainty.py.
 """
 
 from __future__ import annotations
@@ -16,38 +16,10 @@ from cadartifact.advice.advise import advise
 from cadartifact.advice.decision import CONFORMS, NONCONFORMING, UNDECIDED, decide, unverifiable_note
 from cadartifact.analysis.intent import design_intent
 from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, intent_uncertainty
+from cadartifact.testing.calibration import SEED, calibration, false_claims, not_refused, summary
+from cadartifact.testing.known_shapes import calibration_family, known_face, shape_function
+from cadartifact.testing.paths import SAMPLES
 from cadartifact.theory.catalogue import bspline
-
-from known_shapes import calibration_family, known_face, shape_function
-
-#: The calibration: seed and count (issue 22 asks for at least 500 cases).
-SEED, CASES = 2022, 500
-
-
-def _scipy_surface(net, u, v) -> np.ndarray:
-    """A non-rational B-spline net on ``u x v`` by scipy's basis (an evaluator independent of the tool's)."""
-    from scipy.interpolate import BSpline
-
-    Bu = BSpline.design_matrix(u, np.asarray(net.knots[0], float), net.degrees[0]).toarray()
-    Bv = BSpline.design_matrix(v, np.asarray(net.knots[1], float), net.degrees[1]).toarray()
-    return np.einsum("ai,ijc,bj->abc", Bu, np.asarray(net.points, float), Bv)
-
-
-def _independent_fit_error(truth, shape, degrees, u, v) -> float:
-    """Whole-face error of the least-squares B-spline of ``shape`` (clamped uniform knots) fitted to the known
-    shape on ``u x v`` (scipy's basis): what the best net of that density can do."""
-    from scipy.interpolate import BSpline
-
-    from cadartifact.net import clamped_uniform_knots
-
-    mats = []
-    for n, p, s in zip(shape, degrees, (u, v)):
-        p = min(p, n - 1)
-        mats.append(BSpline.design_matrix(s, clamped_uniform_knots(n, p), p).toarray())
-    T = truth(u, v)
-    Q = np.einsum("ia,abc,jb->ijc", np.linalg.pinv(mats[0]), T, np.linalg.pinv(mats[1]))
-    S = np.einsum("ai,ijc,bj->abc", mats[0], Q, mats[1])
-    return float(np.linalg.norm(S - T, axis=-1).max())
 
 
 def test_the_decision_rule():
@@ -160,10 +132,6 @@ def test_U_equals_its_definition_computed_the_slow_way():
             assert abs(a - b) <= 3e-3 * want[0] + 2e-4, (info["text"], (got.peak, got.u, got.v), want)
 
 
-#: The calibration's check grid: K = 4 per span (``levels=2``; the default is 8). A coarser check grid reads
-#: a candidate's peak less exactly, so its claims are the riskier ones; it keeps the advice runs affordable.
-LEVELS = 2
-
 #: The default run's share of the campaign: the first ``SUBSET`` cases of each of ``CHUNKS`` seeds (the same cases
 #: the full campaign starts with: ``calibration_family`` draws them in order). About 1.2 s per case on a loaded
 #: 2-core machine: the default run stays near a minute per worker. The full campaign (5 seeds x 100 cases and the
@@ -174,43 +142,6 @@ CHUNKS, SUBSET = 2, 40
 NOT_REFUSED_CASES = 60
 
 
-def _calibration(seed, count, **family):
-    """One row per case of ``calibration_family(seed, count, **family)``: the advice at ``LEVELS`` and what the
-    known shape says of it (scipy's basis on a 161 x 157 grid of the whole face)."""
-    rows = []
-    u, v = np.linspace(0, 1, 161), np.linspace(0, 1, 157)
-    for net, truth, info in calibration_family(seed, count, **family):
-        t = info["tolerance"]
-        a = advise(net, t, intent="net", compare=False, verify=False, levels=LEVELS)
-        it = design_intent(net, bspline(*net.degrees), 3)
-        fu, fv = it.frames
-        intent_error = float(np.linalg.norm(it.evaluate(fu.x, fv.x) - truth(fu.param(fu.x), fv.param(fv.x)),
-                                            axis=-1).max())
-        true = float(np.linalg.norm(_scipy_surface(a.resampled(), u, v) - truth(u, v), axis=-1).max())
-        (nu, nv), f = info["shape"], info["f"]
-        eligible = min(nu, nv) >= 16 and f <= 0.3 and t >= 0.02
-        fit = _independent_fit_error(truth, a.shape, net.degrees, u, v) if eligible else None
-        rows.append({"info": info, "claim": bool(a.meets_tolerance), "true": true, "t": t, "U": a.uncertainty.peak,
-                     "intent_error": intent_error, "eligible": eligible and fit <= t / 2,
-                     "today": a.today_decision})
-    return rows
-
-
-def _summary(rows) -> str:
-    claims = [r for r in rows if r["claim"]]
-    return (f"cases {len(rows)}, claims {len(claims)}, false claims "
-            f"{sum(r['true'] > 1.1 * r['t'] for r in claims)}, coverage of U "
-            f"{np.mean([r['intent_error'] <= r['U'] + 1e-9 for r in rows]):.4f}, today's net decided "
-            f"{np.mean([r['today'] != UNDECIDED for r in rows]):.3f}, worst claimed true/t "
-            f"{max((r['true'] / r['t'] for r in claims), default=0):.3f}")
-
-
-def false_claims(rows) -> list:
-    """The cases claimed within tolerance whose advised net is more than 1.1 t from the known shape."""
-    return [r["info"]["text"] + f" true/t={r['true'] / r['t']:.3f}" for r in rows
-            if r["claim"] and r["true"] > 1.1 * r["t"]]
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("chunk", range(CHUNKS))
 def test_calibration_on_known_shape_families(chunk):
@@ -218,16 +149,10 @@ def test_calibration_on_known_shape_families(chunk):
     500 is benchmarks/calibrate_uncertainty.py): no false claim (true whole-face distance of the advised net > 1.1 t
     while conformance is claimed), and U covers the intent's true whole-face error in at least 95 % of the cases
     (of each chunk)."""
-    rows = _calibration(SEED + chunk, SUBSET)
-    print("\n" + _summary(rows))
+    rows = calibration(SEED + chunk, SUBSET)
+    print("\n" + summary(rows))
     assert not false_claims(rows), false_claims(rows)
     assert np.mean([r["intent_error"] <= r["U"] + 1e-9 for r in rows]) >= 0.95
-
-
-def not_refused(rows) -> tuple[list, float]:
-    """The eligible rows (an independent fit at the advised density meets t/2) and the share claimed among them."""
-    eligible = [r for r in rows if r["eligible"]]
-    return eligible, float(np.mean([r["claim"] for r in eligible])) if eligible else 0.0
 
 
 @pytest.mark.slow
@@ -236,9 +161,9 @@ def test_claims_are_not_refused_where_the_net_supports_them():
     least 2 % of the amplitude, wherever an independent least-squares fit of the true shape meets t/2 at the
     advised density, conformance is claimed in at least 80 % of the cases (the first 60 seeded cases of that kind;
     the full campaign's 100: benchmarks/calibrate_uncertainty.py)."""
-    rows = _calibration(SEED + 100, NOT_REFUSED_CASES, nmin=16, fmax=0.3, tol_range=(0.02, 0.1))
+    rows = calibration(SEED + 100, NOT_REFUSED_CASES, nmin=16, fmax=0.3, tol_range=(0.02, 0.1))
     eligible, claimed = not_refused(rows)
-    print(f"\n{_summary(rows)}; eligible {len(eligible)}, claimed among them {claimed:.3f}")
+    print(f"\n{summary(rows)}; eligible {len(eligible)}, claimed among them {claimed:.3f}")
     assert len(eligible) >= 15 and claimed >= 0.8  # 35 of the full campaign's 100 are eligible (fit meets t/2)
     assert not false_claims(rows)
 
@@ -261,7 +186,7 @@ def test_the_gate_computes_a_net_reading_face_s_U_once(monkeypatch):
         return real(*args, **kwargs)
 
     monkeypatch.setattr(unc_module, "intent_uncertainty", counting)
-    path = Path(__file__).resolve().parents[1] / "samples" / "hull_freeform.step"
+    path = SAMPLES / "hull_freeform.step"
     entry = gate_file(str(path), FileSettings(tolerance=0.05, intent="net"))
     faces = entry["faces"]
     assert faces and all(f["advice"] is not None for f in faces if f["verdict"] == "fail")

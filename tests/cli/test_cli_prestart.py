@@ -3,6 +3,7 @@
 import pytest
 
 from cadartifact.cli.prestart import will_read_here
+from cadartifact.testing.paths import ROOT
 
 
 @pytest.mark.parametrize("argv, expected", [
@@ -39,7 +40,7 @@ def test_prestarted_child_serves_the_first_read_and_isolation_off_starts_none(mo
     isolation.prestart()
     child = isolation._child
     assert child is not None and not child.ready
-    sample = Path(__file__).resolve().parents[1] / "cadartifact" / "samples" / "clean_panel.step"
+    sample = ROOT / "cadartifact" / "samples" / "clean_panel.step"
     assert read(sample).nets and isolation._child is child and child.ready  # the same process, now ready
     isolation.shutdown()
     monkeypatch.setenv(isolation.ENV_ISOLATION, "0")
@@ -51,7 +52,7 @@ def test_prestarted_child_serves_the_first_read_and_isolation_off_starts_none(mo
 def _sample():
     from pathlib import Path
 
-    return Path(__file__).resolve().parents[1] / "cadartifact" / "samples" / "clean_panel.step"
+    return ROOT / "cadartifact" / "samples" / "clean_panel.step"
 
 
 def test_first_read_names_the_one_file(tmp_path, monkeypatch):

@@ -16,9 +16,11 @@ from pathlib import Path
 
 import pytest
 
+from cadartifact.testing.paths import ROOT
+
 pytest.importorskip("OCP")
 
-SAMPLES = Path(__file__).resolve().parents[1] / "cadartifact" / "samples"
+SAMPLES = ROOT / "cadartifact" / "samples"
 LONG_FACE = "wavy_panel_diagonal_renamed_to_a_face_name_longer_than_any_table_cell"
 HEAD = 12  # a token's first (last) characters: where they stand, the whole token must
 

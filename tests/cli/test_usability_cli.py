@@ -15,8 +15,8 @@ import cadartifact
 from cadartifact import errors
 from cadartifact.cli.advise_cmds import demo_hint
 from cadartifact.cli.app import app
+from cadartifact.testing.paths import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
 ONE_FACE = SAMPLES / "clean_panel.step"
 

@@ -5,7 +5,6 @@ import json
 import re
 import shutil
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,8 +22,8 @@ from cadartifact.gate.reports import render_text, to_junit, to_sarif, to_text  #
 from cadartifact.runs.advising import advise_files
 from cadartifact.runs.records import analysed_share, peak_location
 from cadartifact.runs.terminal import render  # noqa: E402
+from cadartifact.testing.paths import REAL_STEP, ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
 MIXED = [SAMPLES / "cage.obj", SAMPLES / "hull_freeform.step", SAMPLES / "wavy_panel_diagonal.step"]
 
@@ -146,9 +145,7 @@ def test_step_entity_ids_and_lines_by_two_roads():
 
 @pytest.mark.realdata
 def test_entity_ids_on_real_step_files():
-    folder = ROOT.parent / "shared" / "realdata" / "step"
-    if not folder.is_dir():
-        pytest.skip("../shared/realdata/step is absent")
+    folder = REAL_STEP
     checked = 0
     for path in sorted(folder.glob("*.st*p"))[:3]:
         lines = path.read_text(encoding="latin-1").splitlines()

@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -38,13 +37,11 @@ import cadartifact as ca  # noqa: E402
 from cadartifact.exchange.load import evaluate_grid, from_shape, occ_surface, read, write_step  # noqa: E402
 from cadartifact.exchange.canonical import NOT_CANONICAL, RTOL, recognise  # noqa: E402
 from cadartifact.net import ControlNet  # noqa: E402
+from cadartifact.testing.paths import REALDATA
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
 STEP_DIR = REALDATA / "step"
-STEP_FILES = sorted(STEP_DIR.glob("*")) if STEP_DIR.is_dir() else []
+STEP_FILES = sorted(STEP_DIR.glob("*"))
 BOXED_SPHERE = STEP_DIR / "boxed_sphere.step"
-needs_boxed_sphere = pytest.mark.skipif(not BOXED_SPHERE.is_file(),
-                                        reason="../shared/realdata/step/boxed_sphere.step not present")
 
 RIPPLE = ("x1", "x2", "diagonal", "total")
 
@@ -283,13 +280,11 @@ def test_occt_failure_is_not_recognised():
 
 # ---------------------------------------------------------------- real files
 @pytest.fixture(scope="module")
-def boxed_sphere():
-    if not BOXED_SPHERE.is_file():
-        pytest.skip("../shared/realdata/step/boxed_sphere.step not present")
+def boxed_sphere(realdata):
     return read(BOXED_SPHERE)
 
 
-@needs_boxed_sphere
+@pytest.mark.realdata
 def test_boxed_sphere_spheres_exactly(boxed_sphere):
     """Exactly the faces that a least-squares sphere fits (to 1e-6 of their size) are recognised, with
     the fitted radius; their budget is zero in every ripple direction."""
@@ -314,7 +309,7 @@ def test_boxed_sphere_spheres_exactly(boxed_sphere):
             assert all(b.stats[k].peak == 0.0 for k in RIPPLE), net.origin.label()
 
 
-@needs_boxed_sphere
+@pytest.mark.realdata
 def test_gate_and_advise_report_the_label(tmp_path):
     from typer.testing import CliRunner
 
@@ -358,7 +353,7 @@ REAL_COUNTS = {
 }
 
 
-@pytest.mark.skipif(not STEP_FILES, reason="../shared/realdata/step not present")
+@pytest.mark.realdata
 @pytest.mark.parametrize("path", STEP_FILES, ids=lambda p: p.name)
 def test_real_exact_directions_hold_on_a_denser_grid(path):
     """Every direction the reader calls exact is, on 33 isocurves of OCCT's evaluation (not the

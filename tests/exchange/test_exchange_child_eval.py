@@ -8,14 +8,15 @@ gating process: the reader child has it loaded already.
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from cadartifact.testing.paths import ROOT
+
 pytest.importorskip("OCP")
 
-SAMPLES = Path(__file__).resolve().parents[1] / "cadartifact" / "samples"
+SAMPLES = ROOT / "cadartifact" / "samples"
 
 CODE = """
 import json, sys

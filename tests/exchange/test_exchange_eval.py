@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,9 +22,7 @@ from cadartifact.exchange.load import evaluate_grid, occ_surface, read  # noqa: 
 from cadartifact.exchange.occ import iter_faces, net_from_surface, periodic_flat_knots  # noqa: E402
 from cadartifact.exchange.step import read_step  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
-
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
-needs_realdata = pytest.mark.skipif(not REALDATA.exists(), reason="../shared/realdata not present")
+from cadartifact.testing.paths import REALDATA
 
 
 # ---------------------------------------------------------------- plain Cox-de Boor (independent road)
@@ -69,7 +66,6 @@ def param_range(net: ControlNet, axis: int) -> tuple[float, float]:
 
 
 # ---------------------------------------------------------------- real faces
-@needs_realdata
 @pytest.mark.realdata
 @pytest.mark.parametrize("name", ["nist_ctc_02_asme1_ap242-1.stp", "boxed_sphere.step", "MAINBODY_BACK.stp"])
 def test_evaluate_grid_matches_occt_value_and_de_boor(name):

@@ -12,10 +12,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cadartifact.exchange.load import read
+from cadartifact.testing.paths import REALDATA
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
-OBJ_FILES = sorted((REALDATA / "obj").glob("*.obj")) if REALDATA.exists() else []
-needs_realdata = pytest.mark.skipif(not REALDATA.exists(), reason="../shared/realdata not present")
+OBJ_FILES = sorted((REALDATA / "obj").glob("*.obj"))
 
 
 # ---------------------------------------------------------------- independent checks
@@ -94,7 +93,6 @@ def check_charts(result, expected_regular=None):
 
 
 # ---------------------------------------------------------------- real cages
-@needs_realdata
 @pytest.mark.realdata
 @pytest.mark.parametrize("path", OBJ_FILES, ids=lambda p: p.name)
 def test_real_obj_keeps_quads_and_charts_cover_regular_faces(path):
@@ -114,7 +112,6 @@ def test_real_obj_keeps_quads_and_charts_cover_regular_faces(path):
     assert skipped.get("irregular quad", 0) == mesh.n_quads - int(expected.sum())
 
 
-@needs_realdata
 @pytest.mark.realdata
 def test_real_obj_facts():
     """Counts from SOURCES.md."""

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import functools
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,10 +21,9 @@ from OCP.TopoDS import TopoDS  # noqa: E402
 
 from cadartifact.exchange.load import LoadWarning, from_shape, load, read, write_step  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
+from cadartifact.testing.paths import REALDATA
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
-STEP_FILES = sorted((REALDATA / "step").glob("*")) if REALDATA.exists() else []
-needs_realdata = pytest.mark.skipif(not REALDATA.exists(), reason="../shared/realdata not present")
+STEP_FILES = sorted((REALDATA / "step").glob("*"))
 
 
 # ---------------------------------------------------------------- the independent road: plain OCP
@@ -101,7 +99,6 @@ def check_net_against_surface(net: ControlNet, surface) -> None:
 
 
 # ---------------------------------------------------------------- real files
-@needs_realdata
 @pytest.mark.realdata
 @pytest.mark.parametrize("path", STEP_FILES, ids=lambda p: p.name)
 def test_real_step_matches_occt_per_index(path):
@@ -120,7 +117,6 @@ def test_real_step_matches_occt_per_index(path):
     assert load(path)[0].points.tobytes() == result.nets[0].points.tobytes()
 
 
-@needs_realdata
 @pytest.mark.realdata
 def test_real_step_summary_facts():
     """Facts from SOURCES.md, reached through the loader."""
@@ -182,7 +178,6 @@ def test_write_step_keeps_uv_bounds_and_skips_cages(tmp_path):
         write_step([cage], tmp_path / "none.step")
 
 
-@needs_realdata
 @pytest.mark.realdata
 def test_real_nets_round_trip_through_write_step(tmp_path):
     src = cached_read(str(REALDATA / "step" / "boxed_sphere.step")).nets

@@ -1,15 +1,13 @@
 """OCCT's evaluation runs in the reader child (issue 27 item 2): a crash or a hang while verifying advice or
 locating a peak costs that face an error entry naming the file and the face, never the run.
 
-The same fault injection as the reader's (tests/test_reliability_fixes.py: a child that aborts, a child that
+The same fault injection as the reader's (tests/exchange/test_reader_guards.py: a child that aborts, a child that
 sleeps past the timeout), here in the evaluator the child runs (``exchange.load.EVALUATE``, replaced by the
-functions of ``tests/eval_faults.py``, which fail on the hood's face only)."""
+functions of ``cadartifact/testing/eval_faults.py``, which fail on the hood's face only)."""
 
 from __future__ import annotations
 
 import json
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,9 +20,9 @@ import importlib  # noqa: E402
 
 from cadartifact.exchange import isolation  # noqa: E402
 from cadartifact.exchange.isolation import ChildFailed  # noqa: E402
+from cadartifact.testing.outcomes import no_traceback  # noqa: E402
+from cadartifact.testing.paths import SAMPLES  # noqa: E402
 
-TESTS = Path(__file__).resolve().parent
-SAMPLES = TESTS.parent / "samples"
 HOOD = SAMPLES / "car_hood_coarse.step"
 PANEL = SAMPLES / "wavy_panel_diagonal.step"
 load = importlib.import_module("cadartifact.exchange.load")  # the module (the package exports a function of its name)
@@ -33,12 +31,11 @@ load = importlib.import_module("cadartifact.exchange.load")  # the module (the p
 @pytest.fixture
 def fault(monkeypatch):
     """``fault("crash" | "hang")``: the reader child's evaluator replaced by a faulty one."""
-    isolation.shutdown()  # the next child is started with this folder on its path
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(TESTS), os.environ.get("PYTHONPATH", "")]))
+    isolation.shutdown()  # a fresh child for the faulty evaluator
     monkeypatch.setenv("CADARTIFACT_SHARE_FACES", "0")
 
     def use(name: str, timeout: float | None = None):
-        monkeypatch.setattr(load, "EVALUATE", f"eval_faults:{name}")
+        monkeypatch.setattr(load, "EVALUATE", f"cadartifact.testing.eval_faults:{name}")
         if timeout is not None:
             monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", str(timeout))
 
@@ -74,7 +71,7 @@ def test_the_gate_locating_a_peak_gives_the_face_an_error_entry_and_gates_the_ne
     fault(kind, timeout=3 if kind == "hang" else None)
     # tolerance 0.05: both faces fail, so both peaks are located (OCCT evaluates a point of each)
     r = CliRunner().invoke(app, ["gate", str(HOOD), str(PANEL), "--tol", "0.05", "--format", "json", "--jobs", "1"])
-    assert "Traceback" not in r.output
+    no_traceback(r)
     doc = json.loads(r.stdout)
     assert r.exit_code == 2
     hood, panel = doc["files"]

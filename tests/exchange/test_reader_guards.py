@@ -18,13 +18,13 @@ from typer.testing import CliRunner
 from cadartifact.cli.app import app
 from cadartifact.errors import FileFormatError, OptionError
 from cadartifact.exchange.load import read
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.paths import REALDATA, ROOT, SAMPLES
 
 pytest.importorskip("OCP")
 pytestmark = pytest.mark.filterwarnings("ignore::UserWarning")
 
-ROOT = Path(__file__).resolve().parents[1]
 HOOD = ROOT / "samples" / "car_hood_coarse.step"
-REALDATA = ROOT.parent / "shared" / "realdata"
 
 
 def hood_text() -> str:
@@ -39,7 +39,7 @@ def write(tmp_path, name, text) -> Path:
 
 def gate(path, *extra):
     r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1e6", "--format", "json", "--jobs", "1", *extra])
-    assert "Traceback" not in r.output
+    no_traceback(r)
     return r, json.loads(r.stdout)
 
 
@@ -95,10 +95,10 @@ def test_one_dropped_face_among_good_ones_fails_the_folder(tmp_path, monkeypatch
     assert verdicts == {"good.step": "pass", "two.step": "error"} and r.exit_code == 2
 
 
+@pytest.mark.realdata
 def test_real_files_lose_no_face(tmp_path):
-    files = sorted((REALDATA / "step").glob("*.st*p")) if REALDATA.exists() else []
-    if not files:
-        pytest.skip(f"{REALDATA} not present")
+    files = sorted((REALDATA / "step").glob("*.st*p"))
+    assert files
     for path in files:
         res = read(path)
         declared = len(re.findall(r"=\s*(?:ADVANCED_FACE|FACE_SURFACE)\s*\(", path.read_text(encoding="latin-1")))
@@ -391,7 +391,8 @@ def test_an_unexpected_exception_is_one_line_and_exit_2(monkeypatch):
 
     monkeypatch.setattr(report, "advise_files", boom)
     r = CliRunner().invoke(app, ["advise", str(HOOD), "--tol", "1"])
-    assert r.exit_code == 2 and "Traceback" not in r.output
+    assert r.exit_code == 2
+    no_traceback(r)
     assert len(r.stderr.strip().splitlines()) == 1 and "RuntimeError: something broke" in r.stderr
     assert len(r.stderr) < 700
 
@@ -427,8 +428,8 @@ def test_the_reader_child_ignores_a_cadartifact_folder_in_the_working_directory(
     fake = tmp_path / "cadartifact"
     fake.mkdir()
     (fake / "__init__.py").write_text("raise ImportError('the wrong cadartifact')\n")
-    sample = Path(__file__).resolve().parents[1] / "samples" / "clean_panel.step"
+    sample = SAMPLES / "clean_panel.step"
     out = subprocess.run([str(script), "gate", str(sample), "--tol", "0.05", "--format", "json"], cwd=tmp_path,
                          capture_output=True, text=True, timeout=300)
-    assert out.returncode in (0, 1), out.stdout[-500:] + out.stderr[-500:]
+    assert out.returncode == 0, out.stdout[-500:] + out.stderr[-500:]  # the clean panel passes at 0.05
     assert json.loads(out.stdout)["files"][0]["verdict"] != "error"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,8 +11,7 @@ pytest.importorskip("OCP")
 
 import cadartifact as ca  # noqa: E402
 from cadartifact.exchange.load import evaluate_grid, load, read  # noqa: E402
-
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+from cadartifact.testing.paths import SAMPLES
 
 
 def _one(name):

@@ -8,23 +8,21 @@ from __future__ import annotations
 
 import random
 import re
-import sys
 from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import fuzzing  # noqa: E402
+from cadartifact.testing import fuzzing
 
 from cadartifact.errors import FileFormatError  # noqa: E402
 from cadartifact.exchange.step_refs import check_references  # noqa: E402
 from cadartifact.exchange.step_scan import data_section, record_heads, record_ids  # noqa: E402
+from cadartifact.testing.paths import REAL_STEP, ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = sorted((ROOT / "samples").glob("*.step"))
-REAL = sorted((fuzzing.REALDATA / "step").glob("*.st*p")) if fuzzing.REALDATA.exists() else []
+REAL = sorted(REAL_STEP.glob("*.st*p"))
 FILES = SAMPLES + REAL
 ROLES = ("face", "bound", "surface", "loop", "oriented edge", "edge", "pole")
 #: How each role reads in a message.

@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import random
 import re
-from pathlib import Path
 
 import pytest
 
 from cadartifact.exchange import step_refs
 from cadartifact.exchange.step_scan import clean_data, data_section, record_heads
+from cadartifact.testing.paths import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = sorted((ROOT / "samples").glob("*.step"))
 
 

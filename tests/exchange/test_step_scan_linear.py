@@ -12,15 +12,14 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
 from cadartifact.errors import FileFormatError
 from cadartifact.exchange.step_refs import check_references
 from cadartifact.exchange.step_scan import check_step_text, clean_data, data_section
+from cadartifact.testing.paths import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 HOOD = ROOT / "samples" / "car_hood_coarse.step"
 POINT = "#23 = CARTESIAN_POINT('',(0.,0.,-14.));"
 N = 200_000

@@ -6,17 +6,16 @@ list on the real files, the samples and generated text full of quotes, comments 
 """
 
 import re
-from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cadartifact.exchange import step_text
+from cadartifact.testing.paths import REAL_STEP, ROOT
 
 _RECORD = re.compile(r"#(\d+)\s*=\s*([A-Za-z_][A-Za-z0-9_]*|\()")
-ROOT = Path(__file__).resolve().parents[1]
-REAL = ROOT.parent / "shared" / "realdata" / "step"
+REAL = REAL_STEP
 
 
 def reference(text: str) -> tuple:

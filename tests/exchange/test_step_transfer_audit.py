@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import re
-import sys
 import warnings
 from pathlib import Path
 
@@ -16,8 +15,9 @@ import pytest
 pytest.importorskip("OCP")
 
 from cadartifact.exchange.load import read  # noqa: E402
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.paths import REALDATA, SAMPLES
 
-REALDATA = Path(__file__).resolve().parents[2] / "shared" / "realdata"
 MAINBODY = REALDATA / "step" / "MAINBODY_BACK.stp"
 
 # (what is broken, the record's text before and after, the face record that came out as more faces, faces)
@@ -29,11 +29,10 @@ CASES = [
 ]
 
 
+@pytest.mark.realdata
 def test_a_malformed_control_point_of_an_edge_curve_is_refused_before_occt(tmp_path):
     """The campaign's other cases were syntax errors in control points of edge curves (OCCT read them, and split
     the face): the reference scan now refuses them, naming the point and its curve."""
-    if not MAINBODY.exists():
-        pytest.skip(f"{MAINBODY} is absent (shared/realdata beside the checkout)")
     from cadartifact.errors import FileFormatError
 
     text = MAINBODY.read_bytes().decode("latin-1")
@@ -52,12 +51,11 @@ def _read(path: Path, isolated: bool, monkeypatch):
         return read(path)
 
 
+@pytest.mark.realdata
 @pytest.mark.parametrize("isolated", [True, False], ids=["reader child", "in process"])
 @pytest.mark.parametrize("what, before, after, record, faces", CASES, ids=[c[0] for c in CASES])
 def test_a_face_split_by_occt_s_repair_is_said_naming_its_record(tmp_path, monkeypatch, what, before, after, record,
                                                                   faces, isolated):
-    if not MAINBODY.exists():
-        pytest.skip(f"{MAINBODY} is absent (shared/realdata beside the checkout)")
     text = MAINBODY.read_bytes().decode("latin-1")
     assert text.count(before) == 1
     path = tmp_path / "m.step"
@@ -73,12 +71,10 @@ def test_a_face_split_by_occt_s_repair_is_said_naming_its_record(tmp_path, monke
     assert intact.faces_total == 31 and not any("distinct faces" in w for w in intact.warnings)
 
 
+@pytest.mark.realdata
 def test_the_gate_report_carries_it_and_meets_the_fuzz_contract(tmp_path):
     """The campaign's contract: more faces reported than declared is allowed only when the report says so."""
-    if not MAINBODY.exists():
-        pytest.skip(f"{MAINBODY} is absent (shared/realdata beside the checkout)")
-    sys.path.insert(0, str(Path(__file__).parent))
-    import fuzzing
+    from cadartifact.testing import fuzzing
     from typer.testing import CliRunner
 
     from cadartifact.cli.app import app
@@ -160,11 +156,10 @@ def test_loose_surfaces_with_no_face_record_are_not_said(tmp_path, monkeypatch):
     assert result.faces_total == 2 and not any("distinct faces" in w for w in result.warnings), result.warnings
 
 
+@pytest.mark.realdata
 def test_many_faces_beyond_the_records_are_said_without_naming(tmp_path, monkeypatch):
     """Naming the split records maps every face back to its entity (OCCT's lookup is linear per face): above
     NAME_SPLIT_FACES_UP_TO faces the warning says so without names."""
-    if not MAINBODY.exists():
-        pytest.skip(f"{MAINBODY} is absent (shared/realdata beside the checkout)")
     import cadartifact.exchange.step as step
 
     monkeypatch.setattr(step, "NAME_SPLIT_FACES_UP_TO", 10)
@@ -176,7 +171,7 @@ def test_many_faces_beyond_the_records_are_said_without_naming(tmp_path, monkeyp
 
 
 # ------------------------------------------------ a lost face the face count cannot see (loose surfaces, a split)
-HOOD = Path(__file__).resolve().parents[1] / "samples" / "car_hood_coarse.step"
+HOOD = SAMPLES / "car_hood_coarse.step"
 DROP_HOOD_POLE = ("#50 = CARTESIAN_POINT('',(", "#50 = XCARTESIAN_POINT('',(")  # its face, #17, is dropped
 
 
@@ -201,7 +196,7 @@ def _gate(path: Path, monkeypatch):
 
     monkeypatch.setenv("CADARTIFACT_READ_ISOLATION", "0")
     r = CliRunner().invoke(app, ["gate", str(path), "--tol", "1e6", "--format", "json", "--jobs", "1"])
-    assert "Traceback" not in r.output
+    no_traceback(r)
     return r, json.loads(r.stdout)["files"][0]
 
 
@@ -243,11 +238,10 @@ def test_a_face_dropped_beside_loose_surfaces_is_named_and_fails_the_gate(tmp_pa
     assert r.exit_code == 2 and entry["verdict"] == "error" and "#17" in entry["error"]
 
 
+@pytest.mark.realdata
 def test_a_face_dropped_beside_a_face_split_by_occt_s_repair_is_named(tmp_path, monkeypatch):
     """One face record split into two and another dropped: as many faces as records, and the face count alone
     saw nothing (the gate passed the file)."""
-    if not MAINBODY.exists():
-        pytest.skip(f"{MAINBODY} is absent (shared/realdata beside the checkout)")
     _without_reference_scan(monkeypatch)
     text = MAINBODY.read_bytes().decode("latin-1")
     _, before, after, _, _ = CASES[0]

@@ -1,9 +1,9 @@
 """``gate --advise all|failing|none``: the verdict needs today's budget only, the advice is added where asked.
 
-Models are the STEP files of :mod:`tests.test_gate` (a rippled ridge and a clean saddle). The gate's
-numbers without advice (today's budget, ``report.budget_record``) are checked against the numbers
-with advice (``advise`` -> ``face_record``, whose budget is computed inside ``advise``): two roads to
-the same record.
+Models are the STEP files of :mod:`cadartifact.testing.gate_models` (a rippled ridge and a clean saddle; the
+``models`` fixture of tests/conftest.py). The gate's numbers without advice (today's budget,
+``report.budget_record``) are checked against the numbers with advice (``advise`` -> ``face_record``, whose budget
+is computed inside ``advise``): two roads to the same record.
 """
 
 import json
@@ -15,10 +15,9 @@ from typer.testing import CliRunner
 from cadartifact.cli.app import app
 from cadartifact.gate.run import build_document, gate_file
 from cadartifact.gate.policy import ADVISE, FileSettings, Policy, PolicyError, check_cli, parse_policy
+from cadartifact.testing.outcomes import no_traceback
 
 pytest.importorskip("OCP")
-
-from test_gate import models  # noqa: E402,F401  (module-scoped fixture: STEP files of known ripple)
 
 
 def gate(path, mode, tol, **kw):
@@ -30,7 +29,7 @@ def faces_by_name(entry):
 
 
 @pytest.fixture(scope="module")
-def pair(models):  # noqa: F811
+def pair(models):
     """pair.step (clean + ridge) at a tolerance the ridge fails, under each mode."""
     tol = models["value"] / 1.5
     return {mode: gate(models["root"] / "pair.step", mode, tol) for mode in ADVISE}
@@ -63,13 +62,13 @@ def test_verdicts_and_budgets_do_not_depend_on_the_mode(pair):
     assert faces_by_name(pair["failing"])["ridge"] == faces_by_name(pair["all"])["ridge"]
 
 
-def test_a_warning_face_is_advised(models):  # noqa: F811
+def test_a_warning_face_is_advised(models):
     entry = gate(models["root"] / "ridge.step", "failing", models["value"] / 0.9)
     (f,) = entry["faces"]
     assert f["verdict"] == "warn" and f["advice"]["net"] and f["advice_skipped"] is None
 
 
-def test_include_signal_error_and_net_intent_agree_with_all(models):  # noqa: F811
+def test_include_signal_error_and_net_intent_agree_with_all(models):
     path = models["root"] / "pair.step"
     for kw in ({"include_signal_error": True}, {"intent": "net"}):
         a, n = gate(path, "all", 0.01, **kw), gate(path, "none", 0.01, **kw)
@@ -99,14 +98,16 @@ def test_every_report_format_takes_a_face_without_advice(pair, tmp_path):
     assert "ridge" in (tmp_path / "r.html").read_text()
 
 
-def test_cli_option_text_report_and_bad_values(models, tmp_path):  # noqa: F811
+def test_cli_option_text_report_and_bad_values(models, tmp_path):
     runner = CliRunner()
     pair = models["root"] / "pair.step"
     tol = str(models["value"] / 1.5)
     out = runner.invoke(app, ["gate", str(pair), "--tol", tol, "--jobs", "1", "--advise", "none"])
-    assert out.exit_code == 1 and "Traceback" not in out.output
+    assert out.exit_code == 1
+    no_traceback(out)
     bad = runner.invoke(app, ["gate", str(pair), "--tol", tol, "--advise", "some"])
-    assert bad.exit_code == 2 and "Traceback" not in bad.output
+    assert bad.exit_code == 2
+    no_traceback(bad)
     assert "--advise" in bad.output and "'all', 'failing', 'none'" in bad.output and "'some'" in bad.output
     (tmp_path / "cadartifact.toml").write_text(f'tolerance = {tol}\nadvise = "all"\n')
     doc = json.loads(runner.invoke(app, ["gate", str(pair), "--policy", str(tmp_path / "cadartifact.toml"),
@@ -127,14 +128,14 @@ def test_policy_key_is_validated_top_level_and_in_overrides(tmp_path):
         parse_policy({"override": [{"glob": "*", "advise": 1}]}, "policy p.toml", tmp_path)
 
 
-def test_the_cache_key_follows_the_mode(models):  # noqa: F811
+def test_the_cache_key_follows_the_mode(models):
     from cadartifact.gate.cache import cache_key
 
     keys = {cache_key("0" * 64, FileSettings(tolerance=1.0, advise=m), False) for m in ADVISE}
     assert len(keys) == 3
 
 
-def test_the_dask_task_gives_the_same_records(models, pair):  # noqa: F811
+def test_the_dask_task_gives_the_same_records(models, pair):
     """gate_cluster.gate_task (what a Dask worker runs), by path and by shipped bytes, in this process."""
     from cadartifact.gate.cluster import gate_task
 
@@ -144,7 +145,7 @@ def test_the_dask_task_gives_the_same_records(models, pair):  # noqa: F811
     assert gate_task(str(path), path.read_bytes(), settings, False) == pair["failing"]
 
 
-def test_peak_at_reuses_todays_budget_and_equals_a_fresh_peak_location(models, pair):  # noqa: F811
+def test_peak_at_reuses_todays_budget_and_equals_a_fresh_peak_location(models, pair):
     import cadartifact as ca
     from cadartifact.runs.records import peak_location
 

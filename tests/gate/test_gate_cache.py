@@ -16,7 +16,8 @@ import cadartifact.gate.run as gate
 from cadartifact.cli.app import app
 from cadartifact.gate.cache import GateCache, cache_key, file_digest
 
-from vault_support import SAMPLES, TOL, documents, settings_for, small_set
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.vault_support import SAMPLES, TOL, documents, settings_for, small_set
 
 pytest.importorskip("OCP")
 
@@ -181,7 +182,7 @@ def test_error_entries_are_not_stored(tmp_path):
 # ---------------------------------------------------------------- command line
 def run(*args):
     result = CliRunner().invoke(app, ["gate", *map(str, args)])
-    assert "Traceback" not in result.output
+    no_traceback(result)
     return result
 
 

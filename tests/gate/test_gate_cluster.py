@@ -21,7 +21,8 @@ from typer.testing import CliRunner
 from cadartifact.cli.app import app
 from cadartifact.gate.run import run_gate
 
-from vault_support import TOL, documents, settings_for, small_set
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.vault_support import TOL, documents, settings_for, small_set
 
 pytest.importorskip("OCP")
 
@@ -30,7 +31,7 @@ cluster = [pytest.mark.cluster, pytest.mark.xdist_group("dask")]
 
 def run(*args):
     result = CliRunner().invoke(app, ["gate", *map(str, args)])
-    assert "Traceback" not in result.output
+    no_traceback(result)
     return result
 
 

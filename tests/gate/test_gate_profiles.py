@@ -2,7 +2,7 @@
 inputs (one line naming the file, the key, what was expected and what was received; exit 2), every report
 format listing the criteria per face with value, threshold and place, and the exit codes.
 
-The criteria's numbers are tested against OCCT in tests/test_quality_criteria.py; here the independent road is
+The criteria's numbers are tested against OCCT in tests/analysis/test_quality_criteria.py; here the independent road is
 :func:`cadartifact.analysis.quality.criteria` called on the nets the STEP files were written from.
 """
 
@@ -24,6 +24,8 @@ from cadartifact.exchange.load import read, write_step  # noqa: E402
 from cadartifact.gate.profiles import load_profile  # noqa: E402
 from cadartifact.gate.policy import PolicyError  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.paths import REAL_STEP
 
 
 def wavy_points(periods=4.0, n=30):
@@ -50,7 +52,7 @@ def files(tmp_path_factory):
 
 def gate(*args):
     result = CliRunner().invoke(app, ["gate", *map(str, args), "--jobs", "1", "--advise", "none"])
-    assert "Traceback" not in result.output
+    no_traceback(result)
     return result
 
 
@@ -224,9 +226,7 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
 
 
 # ---------------------------------------------------------------- real files, read in place
-REALDATA = __import__("pathlib").Path(__file__).resolve().parents[2] / "shared" / "realdata" / "step"
-
-
+@pytest.mark.realdata
 @pytest.mark.parametrize("name,exit_code", [("boxed_sphere.step", 1), ("nist_ftc_07_asme1_rd.stp", 0)])
 def test_real_files_criteria_equal_each_faces_own(name, exit_code):
     """Every face's criteria equal those computed on its own net (repeated faces reuse their first face's
@@ -234,9 +234,7 @@ def test_real_files_criteria_equal_each_faces_own(name, exit_code):
     its own surface (its uv evaluated on the face's net gives its xyz: a tie between symmetric worst places may
     pick another of them). boxed_sphere.step fails on its 0.29 mm spheres' radius."""
     from cadartifact.numerics.splines import evaluate
-    path = REALDATA / name
-    if not path.is_file():
-        pytest.skip(f"{path} is absent")
+    path = REAL_STEP / name
     result, doc = gate_json(path, "--tol", "0.05", "--profile", "default")
     assert result.exit_code == exit_code
     nets = {n.origin.face: n for n in read(str(path)).nets}

@@ -3,7 +3,6 @@
 import json
 import os
 import re
-from pathlib import Path
 
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -13,8 +12,9 @@ from cadartifact.runs.verdicts import VERDICTS, face_verdict
 from cadartifact.gate.run import build_document, file_verdict
 from cadartifact.gate.policy import FileSettings, Policy, PolicyError, expand_paths, find_policy, load_policy, parse_policy
 from cadartifact.gate.reports import to_junit, to_sarif, write_atomic
+from cadartifact.testing.paths import ROOT
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = ROOT
 
 
 def record(value, method="predicted", rms=None, face=0):

@@ -10,7 +10,6 @@ import runpy
 import subprocess
 import sys
 import warnings
-from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -20,6 +19,7 @@ cq = pytest.importorskip("cadquery")
 
 import cadartifact as ca  # noqa: E402
 from cadartifact.errors import ArtifactToleranceError, CadArtifactError, OptionError, SchemeError  # noqa: E402
+from cadartifact.testing.paths import SAMPLES
 
 plugin = ca.cq
 
@@ -192,7 +192,7 @@ def test_importing_the_plugin_does_not_import_cadquery():
 
 
 def test_sample_script_runs(capsys):
-    sample = Path(__file__).resolve().parents[1] / "samples" / "cadquery_check.py"
+    sample = SAMPLES / "cadquery_check.py"
     module = runpy.run_path(str(sample))
     assert module["main"](0.002) == 0
     out = capsys.readouterr().out

@@ -9,8 +9,8 @@ another order moves the 13th digit, and that is not a change of result (issue 24
 layout work (issue 21) before it moved every module. A change that is *meant* to change documents records
 them anew::
 
-    python tests/test_documents_unchanged.py --record          # rewrites tests/golden/documents.json.gz
-    python tests/test_documents_unchanged.py --dump DIR        # writes the documents themselves, to diff
+    python tests/integration/test_documents_unchanged.py --record          # rewrites tests/golden/documents.json.gz
+    python tests/integration/test_documents_unchanged.py --dump DIR        # writes the documents themselves, to diff
 
 and says why in its commit and in CHANGELOG.md.
 """
@@ -27,12 +27,12 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from cadartifact.testing.paths import REALDATA, REALDATA_MISSING, ROOT
+
 RECORD = ROOT / "tests" / "golden" / "documents.json.gz"
 #: Numbers (not integers) may move by this share of their size, plus NUMBER_ATOL: rounding, not results.
 NUMBER_RTOL = 1e-6
 NUMBER_ATOL = 1e-9
-REALDATA = ROOT.parent / "shared" / "realdata"
 SAMPLES = ["samples/clean_panel.step", "samples/car_hood_coarse.step", "samples/hull_freeform.step",
            "samples/wavy_panel_diagonal.step", "samples/cage.obj"]
 COMMANDS = {
@@ -103,7 +103,7 @@ def test_differences_sees_results_and_forgives_rounding():
 @pytest.mark.parametrize("command,path", _cases(), ids=lambda x: x)
 def test_document_is_unchanged(command, path):
     if path.startswith("../shared/") and not REALDATA.is_dir():
-        pytest.skip("../shared/realdata is not beside the checkout")
+        pytest.skip(REALDATA_MISSING)
     expected = _recorded()[f"{command} {path}"]
     out, code = document(command, path)
     assert code == expected["exit"], f"{command} {path}: exit {code}, recorded {expected['exit']}"
@@ -138,6 +138,6 @@ if __name__ == "__main__":
                 (opts.dump / f"{Path(path).name}.{command}.json").write_bytes(out)
             print(f"{command:8s} {path}: exit {code}, {len(out)} bytes", flush=True)
     if opts.record:
-        text = json.dumps({"about": "each document and its exit code; tests/test_documents_unchanged.py",
+        text = json.dumps({"about": "each document and its exit code; tests/integration/test_documents_unchanged.py",
                            "documents": record}, sort_keys=True, separators=(",", ":"))
         RECORD.write_bytes(gzip.compress(text.encode(), compresslevel=9, mtime=0))

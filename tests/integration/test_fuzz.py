@@ -15,12 +15,10 @@ import re
 import subprocess
 import sys
 import warnings
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import fuzzing  # noqa: E402
+from cadartifact.testing import fuzzing
 
 pytest.importorskip("OCP")
 

@@ -7,7 +7,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from cadartifact.testing.paths import ROOT
 
 
 def _campaign():

@@ -3,6 +3,8 @@
 import subprocess
 import sys
 
+from cadartifact.testing.paths import SAMPLES
+
 HEAVY = ("OCP", "cadquery", "pyvista", "vtk", "matplotlib", "trimesh", "meshio", "typer", "rich")
 
 
@@ -16,10 +18,14 @@ def test_import_loads_numpy_only():
 
 
 def test_public_names_resolve_lazily():
-    import cadartifact
-
-    for name in ("ControlNet", "errors", "scheme", "schemes"):
-        assert getattr(cadartifact, name) is not None
+    """The public names are loaded on first use (not by ``import cadartifact``), as the very objects of the
+    modules that define them."""
+    code = ("import sys, cadartifact as ca; loaded = 'cadartifact.theory.catalogue' in sys.modules; "
+            "from cadartifact import errors, net; from cadartifact.theory import catalogue; "
+            "print(loaded, ca.ControlNet is net.ControlNet, ca.errors is errors, ca.scheme is catalogue.scheme, "
+            "ca.schemes is catalogue.schemes)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "True", "True", "True", "True"], out.stdout
 
 
 def test_the_reader_child_starts_before_numpy():
@@ -36,7 +42,7 @@ def test_a_gate_run_does_not_import_scipy(tmp_path):
     numpy's FFT, in this process and in the reader child alike (here: the file read in-process)."""
     from pathlib import Path
 
-    sample = Path(__file__).resolve().parents[1] / "samples" / "wavy_panel_diagonal.step"
+    sample = SAMPLES / "wavy_panel_diagonal.step"
     code = ("import sys\n"
             f"sys.argv = ['cadartifact', 'advise', {str(sample)!r}, '--tol', '0.05', '--json']\n"
             "from cadartifact.cli.app import run\n"

@@ -14,7 +14,9 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "cadartifact"
+from cadartifact.testing.paths import ROOT
+
+PACKAGE = ROOT / "cadartifact"
 
 #: The wings, bottom to top: a module may import its own wing and the wings before it. The package's
 #: ``__init__`` and ``__main__`` are its front door (the lazy public API), above every wing.
@@ -31,6 +33,7 @@ WINGS = (
     ("viz",),  # maps, heatmaps, the HTML report
     ("cq",),  # the CadQuery hook
     ("cli",),  # the command line
+    ("testing",),  # test support for tests/ and benchmarks/: may import every wing, imported by none
 )
 RANK = {name: k for k, names in enumerate(WINGS) for name in names}
 STDLIB_ONLY = ("errors", "dependencies")
@@ -143,6 +146,13 @@ def _circles(graph: dict[str, set[str]]) -> list[list[str]]:
     return out
 
 
+def test_no_module_of_the_package_imports_its_test_support():
+    """``cadartifact.testing`` sits above the command line and the front door: only tests and benchmarks use it."""
+    users = sorted(m for m, targets in GRAPH.items() if wing(m) != "testing"
+                   and any(t == "cadartifact.testing" or t.startswith("cadartifact.testing.") for t in targets))
+    assert not users, f"modules of the package importing cadartifact.testing: {users}"
+
+
 def test_no_import_circles():
     # the package's own __init__ files are left out: a package importing its submodules is no circle
     graph = {m: {t for t in ts if MODULES[t].name != "__init__.py"} for m, ts in GRAPH.items()
@@ -154,6 +164,7 @@ def test_the_checker_sees_circles_and_climbs():
     """The two checks above, on a made-up graph: they would fail where they should."""
     assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
     assert RANK["analysis"] > RANK["exchange"] > RANK["net"] > RANK["numerics"]
+    assert RANK["testing"] == max(RANK.values())
 
 
 @pytest.mark.parametrize("module", sorted(m for m in MODULES if wing(m) in STDLIB_ONLY))
@@ -174,8 +185,9 @@ def test_no_module_over_600_lines():
 
 
 def test_import_cadartifact_loads_the_standard_library_only():
-    code = ("import sys, cadartifact, cadartifact.exchange, cadartifact.cli, cadartifact.cli.prestart; "
+    code = ("import sys, cadartifact, cadartifact.exchange, cadartifact.cli, cadartifact.cli.prestart, "
+            "cadartifact.testing.paths; "
             "print(' '.join(sorted(m for m in sys.modules if m.split('.')[0] in "
             "('numpy', 'OCP', 'cadquery', 'pyvista', 'vtk', 'matplotlib', 'trimesh', 'typer', 'rich'))))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
-    assert out == "", f"importing the front door, the exchange wing or the CLI's start loaded: {out}"
+    assert out == "", f"importing the front door, the exchange wing, the CLI's start or the test paths loaded: {out}"

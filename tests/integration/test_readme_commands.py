@@ -13,11 +13,11 @@ import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from cadartifact.testing.paths import ROOT
+
 PLACEHOLDERS = re.compile(r"your-org|<[a-z ]+>|\bFILE\b|\bPATH\b|my_mask")
 
 pytest.importorskip("OCP")

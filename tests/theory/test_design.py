@@ -1,13 +1,12 @@
 """Scheme design (issue 26): the affine family, the proofs, the search, the mask files and the command.
 
 Independent roads: the sum rules are checked by subdividing polynomial nets in space (no symbol); the designed
-mask's responses by brute-force subdivision of sinusoid nets (tests/test_bruteforce.py); the Sobolev exponents
+mask's responses by brute-force subdivision of sinusoid nets (tests/theory/test_bruteforce.py); the Sobolev exponents
 against the closed forms of B-splines (degree p: p + 1/2); the difference contraction against the factored
 B-spline symbol (1/2 per step).
 """
 
 import json
-import time
 from functools import lru_cache
 
 import numpy as np
@@ -17,11 +16,12 @@ from typer.testing import CliRunner
 
 import cadartifact as ca
 from cadartifact.errors import OptionError, SchemeError
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.periodic_nets import SHIFTS, circular_convolve, omega_grid, project, sinusoid_nets, subdivide
 from cadartifact.theory import symbols as sy
 from cadartifact.theory.catalogue import SCHEME_NAMES, scheme
 from cadartifact.theory.design import DesignSpec, affine_family, design, objective_value, symmetric_basis
 from cadartifact.theory.regularity import continuity_proof, difference_contraction, proven_class, sobolev_exponent
-from test_bruteforce import SHIFTS, circular_convolve, omega_grid, project, sinusoid_nets, subdivide
 
 
 @lru_cache(maxsize=None)
@@ -140,10 +140,9 @@ def test_rediscovery_of_4_8_at_7x7_is_at_least_as_good():
     assert d.objective <= d.references["4-8"][0] * (1 + 1e-9)
 
 
-def test_designed_6x6_c1_beats_4_8_in_under_a_minute():
-    t0 = time.perf_counter()
+def test_designed_6x6_c1_beats_4_8():
+    """The design itself takes under a minute: benchmarks/time_limits.py."""
     d = cached(support=(6, 6), degree=2, objective="energy", continuity=1)
-    assert time.perf_counter() - t0 < 60
     assert d.proof.convergent and d.proof.continuity >= 1
     assert d.artifact < d.references["4-8"][1]
     # the reported number is the exact engine's: RMS of Response.energy on the same midpoint grid
@@ -274,7 +273,8 @@ def test_design_command_errors_are_one_line(args, option):
     r = _cli(["design", *args, "--no-maps"])
     assert r.exit_code == 2
     lines = [x for x in r.stderr.splitlines() if x.strip()]
-    assert len(lines) == 1 and option in lines[0] and "Traceback" not in r.stderr, r.stderr
+    assert len(lines) == 1 and option in lines[0], r.stderr
+    no_traceback(r, r.stderr)
 
 
 def test_the_named_schemes_are_compared_under_the_same_objective():

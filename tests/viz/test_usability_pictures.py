@@ -1,6 +1,5 @@
 """A first day with the pictures (issue 12): GLB in metres with extras, maps options, noise, camera."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,8 +13,7 @@ from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.exchange.load import read  # noqa: E402
 from cadartifact.viz import view as V  # noqa: E402
 from cadartifact.viz import facemaps as FM  # noqa: E402
-
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+from cadartifact.testing.paths import SAMPLES
 
 
 def test_glb_is_in_metres_with_extras(tmp_path):

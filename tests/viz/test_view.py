@@ -6,7 +6,6 @@ the budget the analysis reports for the loaded face.
 """
 
 import io
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,6 +23,8 @@ from cadartifact.errors import CadArtifactError, OptionError  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
 from cadartifact.viz import view as V  # noqa: E402
 from cadartifact.viz import facemaps as FM  # noqa: E402
+from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.paths import REALDATA
 
 SIZE = (360, 260)
 
@@ -186,7 +187,7 @@ def test_bad_arguments_write_nothing(model, tmp_path):
 # ---------------------------------------------------------------- the view command
 def invoke(*args):
     result = CliRunner().invoke(app, ["view", *map(str, args)])
-    assert "Traceback" not in result.output
+    no_traceback(result)
     return result
 
 
@@ -226,11 +227,7 @@ def test_view_command_bad_file(tmp_path, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.step"]
 
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
-
-
 @pytest.mark.realdata
-@pytest.mark.skipif(not REALDATA.exists(), reason="../shared/realdata not present")
 def test_real_file_heatmap(tmp_path):
     """CATIA degree-5 faces (MAINBODY_BACK): one picture of all faces, peak equals their budgets."""
     path = REALDATA / "step" / "MAINBODY_BACK.stp"
