@@ -172,6 +172,7 @@ def test_advise_rejects_bad_options():
         advise(net, 0.05, objective="total")
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.parametrize("path", sorted(REAL_STEP.glob("*.st*p")), ids=lambda p: p.name)
 def test_every_real_step_file_advises(path):
@@ -322,6 +323,7 @@ def test_rounding_does_not_pick_the_binding_direction_of_a_symmetric_face():
         assert a.binding == "u", k
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n, kind, t", [(8, "bump", 0.5), (8, "bump", 0.02), (12, "bump", 0.1), (12, "diag", 0.1),
                                         (12, "diag", 0.02), (10, "saddle", 0.1)])
 def test_rounding_does_not_turn_the_advised_net_of_a_symmetric_face(n, kind, t):

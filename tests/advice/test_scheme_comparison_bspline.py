@@ -60,6 +60,7 @@ def _face(seed: int):
     return net, float(amplitude * rng.uniform(0.05, 0.12))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(8))
 def test_a_bspline_scheme_s_row_is_the_fewest_points_fit_within_the_tolerance(seed):
     net, t = _face(seed)

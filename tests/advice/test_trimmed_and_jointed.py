@@ -292,6 +292,7 @@ def test_a_written_advised_face_is_built_over_the_region_its_trim_uses(tmp_path)
 
 
 # ---------------------------------------------------------------- each piece's density on its own (item 2)
+@pytest.mark.slow
 @pytest.mark.parametrize("amps,kind,direction,spans,seed", [((3.0, 0.0), "C0", 0, 8, 3), ((0.0, 2.0), "G1", 1, 8, 5),
                                                             ((0.0, 2.0, 0.0), "C0", 1, 8, 3),
                                                             ((0.0, 2.5, 1.5), "G1", 0, 6, 7)])
@@ -391,6 +392,7 @@ def _scored(monkeypatch):
     return scored
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pieces,kind,degree,spans,seed", [(2, "C0", 3, 4, 1), (3, "C0", 2, 8, 3),
                                                            (2, "G1", 5, 4, 0)])
 def test_a_jointed_face_at_a_very_tight_tolerance_ends_within_a_normal_faces_cost(pieces, kind, degree, spans, seed,

@@ -3,7 +3,8 @@
 A clamped direction is read from its uniform-equivalent points ``Q = C P`` (the uniform B-spline equal to the
 face on its domain), continued past the ends by a lattice bridge. Checks: the change of basis is exact, the
 predicted surface is the face's, and the predicted road's ripple is within 10 % of the measured road's on a
-family of rational clamped faces (cadartifact/testing/rational_faces.py: degrees 2-4, 6-14 points, weights varying 10-45 %).
+family of rational clamped faces (cadartifact/testing/rational_faces.py: degrees 2-4, 6-14 points, weights varying
+10-45 %).
 """
 
 import numpy as np

@@ -19,7 +19,7 @@ from cadartifact.exchange.occ import net_from_surface, occ_surface  # noqa: E402
 from cadartifact.testing.paths import REAL_STEP
 
 STEP = sorted(REAL_STEP.glob("*"))
-pytestmark = pytest.mark.realdata
+pytestmark = [pytest.mark.realdata, pytest.mark.slow]  # every real file read and analysed
 
 DIRECTIONS = ("total", "x1", "x2", "diagonal", "lateral")
 

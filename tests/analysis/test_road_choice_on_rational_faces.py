@@ -2,7 +2,8 @@
 cannot.
 
 Independent road: the measured road reads the real surface (exact NURBS evaluation). Clamped uniform knots are
-read from their uniform-equivalent points (cadartifact/analysis/clamped.py; tests/analysis/test_rational_borders.py holds
+read from their uniform-equivalent points (cadartifact/analysis/clamped.py; tests/analysis/test_rational_borders.py
+holds
 its figures). Other open rational directions (uneven clamped knots) are read by the uniform synthesis as an
 infinite net, which on this family read 1.6-258x the measured road (median 11x, 2026-12-03): a run that asks
 for the predicted road there gets a caveat. Faces are measured by default (``method="auto"``).

@@ -1,7 +1,8 @@
 """Short nets (5-10 points per direction) read what their surface really carries, not the curvature of the
 smooth shape it fits (issue 23, item 5).
 
-Independent road (cadartifact/testing/short_fits.py): least-squares clamped fits of known smooth shapes (a wide bump, a cylinder arc, a saddle,
+Independent road (cadartifact/testing/short_fits.py): least-squares clamped fits of known smooth shapes (a wide bump,
+a cylinder arc, a saddle,
 low-frequency waves, a sphere patch; any size and direction), evaluated densely by the B-spline basis
 (:func:`cadartifact.numerics.splines.basis_matrix`), and their distance to the shape itself: radial for the arc
 and the sphere, along the graph's normal (to first order) for the others. The ripple is what no placement of
@@ -33,6 +34,7 @@ def _ratios(seed):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [11, 12, 13])
 def test_short_nets_read_at_most_three_times_their_distance_to_the_smooth_shape(seed):
     """Nets of 5-10 points, degrees 2-3, five shapes at random sizes and directions: the ripple read is within
@@ -44,6 +46,7 @@ def test_short_nets_read_at_most_three_times_their_distance_to_the_smooth_shape(
     assert np.median([r for r, _ in ratios]) <= 1.5, sorted(np.round([r for r, _ in ratios], 2))
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(strict=True, reason=SHORT_NETS_OPEN)
 def test_short_nets_read_no_more_than_1_3_times_their_distance_on_every_face():
     """Issue 23's bound: 1.3x on every face of the family. Reached on 32-48 % of the faces per seed; the worst

@@ -102,6 +102,7 @@ def test_the_checker_sees_a_broken_path_or_name():
 COLUMNS = pytest.mark.parametrize("columns", [None, "80"], ids=["no-COLUMNS", "COLUMNS=80"])
 
 
+@pytest.mark.slow
 @COLUMNS
 def test_gate_text(long_files, columns, tmp_path):
     paths = [str(p) for p in long_files.values()]
@@ -115,6 +116,7 @@ def test_gate_text(long_files, columns, tmp_path):
     assert_whole(out.read_text(), paths + list(long_files))
 
 
+@pytest.mark.slow
 @COLUMNS
 def test_gate_text_with_pdq_criteria(long_files, columns):
     """The PDQ lines (``gate --profile default``, issue 25) name paths and faces whole too."""
@@ -125,6 +127,7 @@ def test_gate_text_with_pdq_criteria(long_files, columns):
     assert_whole(res.stdout, paths + list(long_files))
 
 
+@pytest.mark.slow
 @COLUMNS
 def test_advise_tables(long_files, columns):
     paths = [str(p) for p in long_files.values()]
@@ -142,6 +145,7 @@ def test_inspect(long_files, columns):
     assert_whole(res.stdout, paths + list(long_files))
 
 
+@pytest.mark.slow
 @COLUMNS
 def test_demo(columns):
     res = cadartifact("demo", columns=columns)

@@ -87,6 +87,7 @@ def same_bounds(a, b, net) -> bool:
     return True
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("model", _models())
 def test_written_model_keeps_faces_names_trims_and_untouched_faces(model, tmp_path):
     before = quiet_read(model)

@@ -70,6 +70,7 @@ def test_the_intact_file_passes(text):
     assert len(_pcurve_splines(text)) >= 100  # the family below is not empty
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("how", sorted(BREAKS))
 def test_a_broken_control_point_of_every_b_spline_pcurve_is_named(text, how):
     rng = random.Random(f"pcurves-{how}")

@@ -81,6 +81,7 @@ def test_deleting_a_referenced_entity_of_each_role_names_it_its_owner_and_the_ow
     assert {"face", "bound", "surface", "loop", "oriented edge", "edge"} <= seen
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["wrong-type-ref", "self-ref", "empty-point", "corrupt-keyword"])
 @pytest.mark.parametrize("path", FILES, ids=lambda p: p.name)
 def test_each_break_of_the_chain_is_an_error_that_says_what_is_wrong(path, kind):

@@ -141,6 +141,7 @@ def _same_documents(entries, vault):
 
 
 # ---------------------------------------------------------------- a LocalCluster
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_local_cluster_of_two_workers_equals_jobs_1_and_feeds_the_cache(vault, tmp_path):
@@ -162,6 +163,7 @@ def test_local_cluster_of_two_workers_equals_jobs_1_and_feeds_the_cache(vault, t
              cluster=ClusterOptions(f"tcp://127.0.0.1:{_free_port()}", timeout=0.5))
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_a_file_that_kills_its_workers_is_an_error_the_others_survive(vault, tmp_path, monkeypatch):
@@ -189,6 +191,7 @@ def test_a_file_that_kills_its_workers_is_an_error_the_others_survive(vault, tmp
 
 
 # ---------------------------------------------------------------- dask scheduler + dask worker
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_scheduler_and_workers_by_path_and_by_shipped_bytes(vault, dask_pair, monkeypatch):
@@ -208,6 +211,7 @@ def test_scheduler_and_workers_by_path_and_by_shipped_bytes(vault, dask_pair, mo
     assert blind[0]["verdict"] == "error"  # by path the workers do not find it: failed closed
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_workers_of_another_version_fail_closed(vault, dask_pair, monkeypatch):
@@ -219,6 +223,7 @@ def test_workers_of_another_version_fail_closed(vault, dask_pair, monkeypatch):
     assert all(e["verdict"] == "error" and "install the same version" in e["error"] for e in entries)
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_a_worker_killed_mid_run_loses_no_file(vault, dask_pair, tmp_path):
@@ -247,6 +252,7 @@ def test_a_worker_killed_mid_run_loses_no_file(vault, dask_pair, tmp_path):
     assert sum(ln.startswith("[") for ln in lines) == len(vault["files"])
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_an_unreachable_scheduler_is_a_one_line_error_within_the_timeout(tmp_path):
@@ -354,6 +360,7 @@ def test_face_batches_merge_into_the_whole_files_entry(tmp_path, monkeypatch):
     assert merge_parts(parts, settings) == gate_file(str(tmp_path / "bad.step"), settings)
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 @pytest.mark.xdist_group("dask")
 def test_a_big_file_alone_on_a_cluster_goes_as_face_batches(tmp_path, monkeypatch):

@@ -55,6 +55,7 @@ def baseline(sources):
                 for src in sources}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("chunk", range(CHUNKS))
 def test_mutated_inputs_meet_the_contract_in_process(sources, baseline, tmp_path, chunk):
     from cadartifact.gate.policy import FileSettings
@@ -152,6 +153,7 @@ def test_every_break_of_an_iges_chain_is_an_error_naming_the_entities(iges_sourc
     assert changed >= len(iges_sources)
 
 
+@pytest.mark.slow
 def test_mutated_iges_inputs_meet_the_contract(iges_sources, tmp_path):
     from cadartifact.gate.run import gate_file
     from cadartifact.gate.policy import FileSettings

@@ -214,6 +214,7 @@ def test_a_step_file_of_repeated_faces_reads_the_same_with_and_without_reuse(tmp
         assert assert_same_documents(*_documents(monkeypatch, args, exit_code)) == 2, args[0]
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.parametrize("name, exit_code", [("boxed_sphere.step", 0), ("nist_ftc_07_asme1_rd.stp", 1),
                                              ("nist_ctc_02_asme1_ap242-1.stp", 1)])

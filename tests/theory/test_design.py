@@ -194,6 +194,7 @@ def test_designed_responses_equal_brute_force_subdivision():
         assert abs(project(limit, (om[k:k + 1] + np.array(V)) / 2, lpos)[0]) <= 1e-12
 
 
+@pytest.mark.slow
 def test_attenuation_weight_trades_artifact_for_signal():
     plain = cached(support=(6, 6), degree=2)
     kept = cached(support=(6, 6), degree=2, attenuation_weight=1.0)
