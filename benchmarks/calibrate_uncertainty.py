@@ -3,7 +3,8 @@
 Run:  python benchmarks/calibrate_uncertainty.py [--seeds 5] [--cases 100] [--not-refused 100]
 
 The default test run (tests/analysis/test_uncertainty.py) checks the first 40 cases of two seeds; this script runs
-the whole campaign the issue asks for with the same code (cadartifact/testing/calibration.py): ``--seeds`` seeds from 2022, ``--cases`` cases each, of
+the whole campaign the issue asks for with the same code (cadartifact/testing/calibration.py): ``--seeds`` seeds from
+2022, ``--cases`` cases each, of
 ``cadartifact.testing.known_shapes.calibration_family`` (nets of 6-40 points, degrees 1-5, content 0.05-0.45 cycles per
 point, random phases and directions; cosines, sums, bumps, polynomials; tolerances 0.2-10 % of the
 amplitude), then the "not refused" family (nets >= 16, content <= 0.3, tolerances 2-10 %). Prints one summary

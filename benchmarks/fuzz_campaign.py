@@ -3,7 +3,8 @@
     nice -n 10 python benchmarks/fuzz_campaign.py [-n 10000] [--seed 14] [--batch 100] [--all] [--read-timeout 10]
                                                   [--advise none|failing] [--max-seconds S]
 
-Generates ``n`` inputs with ``cadartifact/testing/fuzzing.py`` (round-robin over its mutation kinds, sources at random: the
+Generates ``n`` inputs with ``cadartifact/testing/fuzzing.py`` (round-robin over its mutation kinds, sources at
+random: the
 samples, IGES files written from them and from MAINBODY_BACK (``fuzzing.iges_sources``; ``--no-iges`` leaves them
 out), and the real files under 150 KB, or every real file with ``--all``) and gates them **in batches**: one
 ``python -m cadartifact gate --format json --jobs 1`` process per ``--batch`` files (its JSON report has one entry

@@ -10,11 +10,13 @@ Per floor, three families that do not use the split's own model:
 - ``rational``: predicted over measured total ripple peak on ``cadartifact/testing/rational_faces.py`` (24 faces);
 - ``truth``: ``benchmarks/surface_split_truth.py``'s border-free truth (faces cut from faces 12 spans longer):
   the largest pointwise difference ``E`` and the peak difference ``Epk`` over the true ripple peak;
-- ``short``: ``tests/analysis/test_short_nets.py``'s smooth least-squares fits: ripple peak over the distance to the shape.
+- ``short``: ``tests/analysis/test_short_nets.py``'s smooth least-squares fits: ripple peak over the distance to the
+  shape.
 
 Figures (2026-12-04, defaults; about 5 min):
 
-| floor | rational: pred/meas, within 10 % | short: ripple/d median, worst | truth non-rational (92): Epk/true median, 95th | rational (53) |
+| floor | rational: pred/meas, within 10 % | short: ripple/d median, worst | truth non-rational (92): Epk/true
+median, 95th | rational (53) |
 |---|---|---|---|---|
 | 0 (as it stands) | 0.49-1.58, 62 % | 1.35, 2.59 | 0.20, 0.78 | 0.44, 0.99 |
 | 30 | 0.85-1.08, 75 % | 1.38, 2.78 | 0.20, 0.65 | 0.44, 0.99 |

@@ -2,7 +2,8 @@
 
 Run:  python benchmarks/rational_borders.py [--faces 40] [--start 0] [--extension 3] [--truth]
 
-Per face of ``cadartifact/testing/rational_faces.py`` (degrees 2-4, 6-14 points per direction, weights varying 10-45 %, a
+Per face of ``cadartifact/testing/rational_faces.py`` (degrees 2-4, 6-14 points per direction, weights varying 10-45
+%, a
 smooth shape plus a small ripple): the predicted road's total ripple peak over the measured road's, along the
 normal (the gated number), and each band's ratio; then the median, range and share within 10 %.
 ``--extension N`` gives the measured road a continuation period of N times the face (3 is the road as it

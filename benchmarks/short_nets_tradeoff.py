@@ -2,7 +2,8 @@
 
 Run:  python benchmarks/short_nets_tradeoff.py [--seeds 11 12 13] [--count 25] [--real FILE.step]
 
-The family of ``tests/analysis/test_short_nets.py``: least-squares clamped fits (5-10 points, degrees 2-3) of smooth shapes
+The family of ``tests/analysis/test_short_nets.py``: least-squares clamped fits (5-10 points, degrees 2-3) of smooth
+shapes
 (bump, arc, saddle, low-frequency waves, sphere patch; random sizes and directions). For each face, on the measured
 road's own fine grid and normals (:func:`cadartifact.analysis.fields.measured_fields`), the peak of the ripple band
 (the normal part of ``total``) of three fields, each over the surface's distance ``d`` to the shape:

@@ -20,7 +20,8 @@ REALDATA = ROOT.parent / "shared" / "realdata"
 REAL_STEP = REALDATA / "step"
 REAL_OBJ = REALDATA / "obj"
 #: Why a ``realdata`` test is skipped.
-REALDATA_MISSING = f"real files are not in the repository: {REALDATA} (../shared/realdata beside the checkout) is absent"
+REALDATA_MISSING = f"real files are not in the repository: {REALDATA} (../shared/realdata beside the checkout) " \
+                   "is absent"
 
 
 def have_realdata() -> bool:
