@@ -16,11 +16,9 @@ import time
 import warnings
 from pathlib import Path
 
-from timing import best_of  # noqa: E402  (benchmarks/timing.py, beside this script)
+from timing import best_of  # benchmarks/timing.py, beside this script
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-REALDATA = ROOT.parent / "shared" / "realdata"
+from cadartifact.testing.paths import REALDATA
 
 
 def occt_read(path: Path):

@@ -16,17 +16,15 @@ the (8 nu) x (8 nv) grids the measured road uses, and OBJ load times.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
-from timing import best_of  # noqa: E402  (benchmarks/timing.py, beside this script)
+from timing import best_of  # benchmarks/timing.py, beside this script
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-REALDATA = ROOT.parent / "shared" / "realdata"
+from cadartifact.testing.paths import REALDATA
+
 
 
 

@@ -27,9 +27,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-SAMPLES = ROOT / "samples"
-REALDATA = ROOT.parent / "shared" / "realdata"
+from cadartifact.testing.paths import REALDATA, SAMPLES
 
 SMALL = [SAMPLES / n for n in ("cage.obj", "car_hood_coarse.step", "clean_panel.step", "hull_freeform.step",
                                "wavy_panel_diagonal.step")]

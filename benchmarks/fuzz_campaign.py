@@ -3,7 +3,8 @@
     nice -n 10 python benchmarks/fuzz_campaign.py [-n 10000] [--seed 14] [--batch 100] [--all] [--read-timeout 10]
                                                   [--advise none|failing] [--max-seconds S]
 
-Generates ``n`` inputs with ``tests/fuzzing.py`` (round-robin over its mutation kinds, sources at random: the
+Generates ``n`` inputs with ``cadartifact/testing/fuzzing.py`` (round-robin over its mutation kinds, sources at
+random: the
 samples, IGES files written from them and from MAINBODY_BACK (``fuzzing.iges_sources``; ``--no-iges`` leaves them
 out), and the real files under 150 KB, or every real file with ``--all``) and gates them **in batches**: one
 ``python -m cadartifact gate --format json --jobs 1`` process per ``--batch`` files (its JSON report has one entry
@@ -44,11 +45,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT))
-
-import fuzzing  # noqa: E402
+from cadartifact.testing import fuzzing
 
 #: Classes that are findings (the exit code is 1 when any is non-zero), beside the contract violations.
 FINDINGS = ("traceback", "crash", "hang", "false-pass", "silent-loss")
@@ -56,8 +53,7 @@ FINDINGS = ("traceback", "crash", "hang", "false-pass", "silent-loss")
 
 def _env() -> dict:
     env = dict(os.environ)
-    env.update(OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1", COLUMNS="200",
-               PYTHONPATH=str(ROOT) + os.pathsep + env.get("PYTHONPATH", ""))
+    env.update(OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1", COLUMNS="200")
     return env
 
 

@@ -7,14 +7,16 @@ The measured road continues a face past each open border over a gap of about twi
 one of 30, ``clamped.MIN_GAP``) is tried by giving each open frame the smallest period multiple that reaches it.
 Per floor, three families that do not use the split's own model:
 
-- ``rational``: predicted over measured total ripple peak on ``tests/rational_faces.py`` (24 faces);
+- ``rational``: predicted over measured total ripple peak on ``cadartifact/testing/rational_faces.py`` (24 faces);
 - ``truth``: ``benchmarks/surface_split_truth.py``'s border-free truth (faces cut from faces 12 spans longer):
   the largest pointwise difference ``E`` and the peak difference ``Epk`` over the true ripple peak;
-- ``short``: ``tests/test_short_nets.py``'s smooth least-squares fits: ripple peak over the distance to the shape.
+- ``short``: ``tests/analysis/test_short_nets.py``'s smooth least-squares fits: ripple peak over the distance to the
+  shape.
 
 Figures (2026-12-04, defaults; about 5 min):
 
-| floor | rational: pred/meas, within 10 % | short: ripple/d median, worst | truth non-rational (92): Epk/true median, 95th | rational (53) |
+| floor | rational: pred/meas, within 10 % | short: ripple/d median, worst | truth non-rational (92): Epk/true
+median, 95th | rational (53) |
 |---|---|---|---|---|
 | 0 (as it stands) | 0.49-1.58, 62 % | 1.35, 2.59 | 0.20, 0.78 | 0.44, 0.99 |
 | 30 | 0.85-1.08, 75 % | 1.38, 2.78 | 0.20, 0.65 | 0.44, 0.99 |
@@ -29,19 +31,13 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
-import sys
 import time
 from contextlib import contextmanager
-from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent / "tests"))
-sys.path.insert(0, str(HERE))
-
-import cadartifact as ca  # noqa: E402
-from cadartifact.analysis.frames import AxisFrame  # noqa: E402
+import cadartifact as ca
+from cadartifact.analysis.frames import AxisFrame
 
 
 @contextmanager
@@ -62,7 +58,7 @@ def gap_floor(spans: int):
 
 
 def rational() -> str:
-    from rational_faces import rational_face
+    from cadartifact.testing.rational_faces import rational_face
 
     r = []
     for seed in range(24):
@@ -74,7 +70,7 @@ def rational() -> str:
 
 
 def truth(seeds, cases) -> str:
-    import surface_split_truth as T
+    import surface_split_truth as T  # benchmarks/surface_split_truth.py, beside this script
 
     rows = []
     for seed in seeds:
@@ -90,10 +86,11 @@ def truth(seeds, cases) -> str:
 
 
 def short() -> str:
-    import short_nets_tradeoff as B
-    import test_short_nets as family
+    import short_nets_tradeoff as B  # benchmarks/short_nets_tradeoff.py, beside this script
 
-    r = np.array([ca.budget(net).stats["total"].peak / family._distance(net, distance)
+    from cadartifact.testing.short_fits import distance_to_shape
+
+    r = np.array([ca.budget(net).stats["total"].peak / distance_to_shape(net, distance)
                   for seed in (11, 12, 13) for net, _, distance, _ in B.faces(seed, 25)])
     return f"ripple/d median {np.median(r):.2f}, worst {r.max():.2f}, within 1.3 {np.mean(r <= 1.3):.0%}"
 

@@ -4,7 +4,7 @@ on the real files.
 Run:  python benchmarks/pdq_crosscheck.py [--count 240] [--tol 0.05] [--seed 25]
 
 Families: clamped faces of 100 x 80 mm whose control points sample a known shape of amplitude 1 mm at their
-Greville abscissae (tests/known_shapes.py: cosines, sums of two cosines, Gaussian bumps; directions u, v,
+Greville abscissae (cadartifact/testing/known_shapes.py: cosines, sums of two cosines, Gaussian bumps; directions u, v,
 diagonal, 30 degrees; degrees 2-5; nets of 14-40 points; content from 0.03 to 0.45 cycles per control point).
 Per face: the ripple (``budget(...).stats["total"].peak``, the surface reading, the face's own degrees) and the
 waviness (the most inflections of the normal curvature along one isoparametric line, default profile).
@@ -17,14 +17,10 @@ other does not) and the numbers that say why.
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
-REALDATA = ROOT.parent / "shared" / "realdata" / "step"
+from cadartifact.testing.paths import REAL_STEP as REALDATA, ROOT
 
 
 def rank_correlation(a, b) -> float:
@@ -33,7 +29,7 @@ def rank_correlation(a, b) -> float:
 
 
 def families(count: int, seed: int):
-    from known_shapes import DIRECTIONS, known_face, shape_function
+    from cadartifact.testing.known_shapes import DIRECTIONS, known_face, shape_function
 
     rng = np.random.default_rng(seed)
     for _ in range(count):

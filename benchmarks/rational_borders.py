@@ -2,7 +2,8 @@
 
 Run:  python benchmarks/rational_borders.py [--faces 40] [--start 0] [--extension 3] [--truth]
 
-Per face of ``tests/rational_faces.py`` (degrees 2-4, 6-14 points per direction, weights varying 10-45 %, a
+Per face of ``cadartifact/testing/rational_faces.py`` (degrees 2-4, 6-14 points per direction, weights varying 10-45
+%, a
 smooth shape plus a small ripple): the predicted road's total ripple peak over the measured road's, along the
 normal (the gated number), and each band's ratio; then the median, range and share within 10 %.
 ``--extension N`` gives the measured road a continuation period of N times the face (3 is the road as it
@@ -16,18 +17,13 @@ and the ratio says little: the summary keeps the faces whose truth is at least 0
 from __future__ import annotations
 
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from rational_faces import cut, rational_face  # noqa: E402
-
-from cadartifact.analysis import fields  # noqa: E402
-from cadartifact.analysis.budget import budget  # noqa: E402
+from cadartifact.analysis import fields
+from cadartifact.analysis.budget import budget
+from cadartifact.testing.rational_faces import cut, rational_face
 
 BANDS = ("x1", "x2", "diagonal", "lateral", "total")
 MARGIN = 12

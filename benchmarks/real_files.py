@@ -14,8 +14,7 @@ from pathlib import Path
 
 import cadartifact as ca
 from cadartifact.exchange.load import read
-
-ROOT = Path(__file__).resolve().parents[1].parent / "shared" / "realdata" / "step"
+from cadartifact.testing.paths import REAL_STEP as ROOT
 
 
 def main(argv=None) -> int:

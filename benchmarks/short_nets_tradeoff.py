@@ -2,7 +2,8 @@
 
 Run:  python benchmarks/short_nets_tradeoff.py [--seeds 11 12 13] [--count 25] [--real FILE.step]
 
-The family of ``tests/test_short_nets.py``: least-squares clamped fits (5-10 points, degrees 2-3) of smooth shapes
+The family of ``tests/analysis/test_short_nets.py``: least-squares clamped fits (5-10 points, degrees 2-3) of smooth
+shapes
 (bump, arc, saddle, low-frequency waves, sphere patch; random sizes and directions). For each face, on the measured
 road's own fine grid and normals (:func:`cadartifact.analysis.fields.measured_fields`), the peak of the ripple band
 (the normal part of ``total``) of three fields, each over the surface's distance ``d`` to the shape:
@@ -45,19 +46,15 @@ from __future__ import annotations
 import argparse
 import sys
 from contextlib import contextmanager
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-import test_short_nets as family  # noqa: E402
-
-import cadartifact as ca  # noqa: E402
-from cadartifact.analysis import fields  # noqa: E402
-from cadartifact.analysis.intent import design_intent  # noqa: E402
-from cadartifact.analysis.measure import real_surface  # noqa: E402
-from cadartifact.analysis.settings import resolve_scheme  # noqa: E402
+import cadartifact as ca
+from cadartifact.analysis import fields
+from cadartifact.analysis.intent import design_intent
+from cadartifact.analysis.measure import real_surface
+from cadartifact.analysis.settings import resolve_scheme
+from cadartifact.testing import short_fits
 
 TODAY = fields._poly_fit
 
@@ -101,13 +98,13 @@ REMEDIES = {
 
 
 def faces(seed: int, count: int):
-    """``(net, points, distance, label)`` of ``tests/test_short_nets.py``'s family (the same draws)."""
+    """``(net, points, distance, label)`` of ``tests/analysis/test_short_nets.py``'s family (the same draws)."""
     rng = np.random.default_rng(seed)
     for i in range(count):
         p = tuple(int(d) for d in rng.integers(2, 4, 2))
         n = tuple(int(rng.integers(max(5, d + 2), 11)) for d in p)
-        points, distance, text = family._shape(family.KINDS[i % len(family.KINDS)], rng)
-        yield family._fit(points, n, p), points, distance, f"{text}, degrees {p}, net {n}"
+        points, distance, text = short_fits.shape(short_fits.KINDS[i % len(short_fits.KINDS)], rng)
+        yield short_fits.fit(points, n, p), points, distance, f"{text}, degrees {p}, net {n}"
 
 
 def split_peaks(net, points) -> tuple[float, float, float]:
@@ -145,7 +142,7 @@ def main(argv=None) -> int:
     rows = []
     for seed in args.seeds:
         for net, points, distance, text in faces(seed, args.count):
-            d = family._distance(net, distance)
+            d = short_fits.distance_to_shape(net, distance)
             size = float(np.ptp(net.points.reshape(-1, 3), axis=0).max())
             S, T, e = split_peaks(net, points)
             amplitude = max(5 * d, 1e-3 * size)

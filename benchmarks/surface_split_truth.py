@@ -6,7 +6,7 @@ The ``surface`` reading splits the real surface into its smooth part and its rip
 :func:`cadartifact.analysis.fields.measured_fields`: a polynomial fit, a Hermite bridge past each open
 border, an FFT). What is uncertain is the border continuation. The truth used here: a clamped uniform
 B-spline face (the "long" face) ``margin`` spans longer at each border than the face under test, whose control
-points sample a known shape at their Greville abscissae (tests/known_shapes.py: cosines, sums of cosines,
+points sample a known shape at their Greville abscissae (cadartifact/testing/known_shapes.py: cosines, sums of cosines,
 bumps, polynomials, 0.05-0.45 cycles per point in four directions, random phases; degrees 2-5, nets of 6-40;
 30 % of the faces rational, weights ``exp(0.3 cos(...))`` at 0.02-0.15 cycles per point). The face under test
 is the long face cut at knots ``margin`` spans in from every border, computed exactly by scipy (least squares
@@ -25,22 +25,17 @@ About 2 s per case (the long face is read too).
 from __future__ import annotations
 
 import argparse
-import sys
 import time
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from known_shapes import DIRECTIONS, shape_function  # noqa: E402
-
-from cadartifact.analysis.fields import _bridged_bands, _from_lifted, intent_normals  # noqa: E402
-from cadartifact.analysis.intent import design_intent  # noqa: E402
-from cadartifact.analysis.measure import real_surface  # noqa: E402
-from cadartifact.net import ControlNet, clamped_uniform_knots, greville  # noqa: E402
-from cadartifact.theory.catalogue import bspline  # noqa: E402
+from cadartifact.analysis.fields import _bridged_bands, _from_lifted, intent_normals
+from cadartifact.analysis.intent import design_intent
+from cadartifact.analysis.measure import real_surface
+from cadartifact.net import ControlNet, clamped_uniform_knots, greville
+from cadartifact.testing.known_shapes import DIRECTIONS, shape_function
+from cadartifact.theory.catalogue import bspline
 
 
 def homogeneous(net) -> np.ndarray:

@@ -20,7 +20,7 @@ import subprocess  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-REALDATA = Path(__file__).resolve().parents[2] / "shared" / "realdata"
+from cadartifact.testing.paths import REALDATA  # noqa: E402,F401  (the benchmarks import it from here)
 
 #: The baseline process: OCCT's bare STEP read + transfer of the file, nothing else (same interpreter).
 OCCT_READ = ("import sys\n"

@@ -2,7 +2,7 @@
 
 The error of a candidate falls as either density rises (the band structure); the search walks the
 frontier ``n'v(n'u)`` of the feasible region, galloping from a hint (today's density), so an answer near
-the hint costs a few evaluations. Property tests check it against brute force (``tests/test_advice.py``).
+the hint costs a few evaluations. Property tests check it against brute force (``tests/advice/test_advice.py``).
 """
 
 from __future__ import annotations

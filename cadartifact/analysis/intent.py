@@ -16,7 +16,7 @@ interior at 0.15-0.35 cycles per control point); the smooth extension has no kin
 600 random clamped faces sampling known shapes (cosines, sums of cosines, bumps; degrees 2-5,
 nets of 14-40, content up to 0.35 cycles per control point): at most 1.0 % of the amplitude on
 the interior (15-85 % of the parameter range) and 2.6 % on the whole face
-(``tests/test_intent.py`` checks the same bounds on families it draws itself).
+(``tests/analysis/test_intent.py`` checks the same bounds on families it draws itself).
 
 The residual's series is T-periodic with integer frequencies ``k / T``: its samples on the lattice
 ``x = j + offset`` (:class:`cadartifact.analysis.frames.AxisFrame`) have exactly the series' coefficients as

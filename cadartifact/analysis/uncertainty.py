@@ -20,7 +20,7 @@ one direction at a time. Per direction ``d`` and check-grid point ``z`` the spre
 over the (trimmed) face, ``k`` = :data:`COVERAGE_FACTOR`, calibrated on known-shape families (nets of 6-40
 points, degrees 1-5, content 0.05-0.45 cycles per point, cosines in four directions, sums of cosines, bumps,
 polynomials) so that the intent's true whole-face error is within ``U`` in at least 95 % of cases
-(``tests/test_uncertainty.py``, docs/uncertainty.md).
+(``tests/analysis/test_uncertainty.py``, docs/uncertainty.md).
 
 **Cost.** The alternates' operators depend on a direction's geometry only and are cached
 (:data:`_CACHE`). Each band-limit, ridge or period alternate is built by :func:`_fourier_part`: its Gram matrix
@@ -77,7 +77,7 @@ ALTERNATES = (
 )
 
 
-#: Coverage factor ``k`` of the ``net`` reading (calibrated: tests/test_uncertainty.py, docs/uncertainty.md).
+#: Coverage factor ``k`` of the ``net`` reading (calibrated: tests/analysis/test_uncertainty.py, docs/uncertainty.md).
 COVERAGE_FACTOR = 2.0
 
 
@@ -140,7 +140,7 @@ def _fourier_part(frame, fmax: float, ridge: float):
     period 3 x the span, ``M`` = 719 and ``m`` = 4 200), and the pseudo-inverse of the symmetric
     ``A G^-1 A'`` by its eigenvalues (:func:`_pinv_sym`). The system is ill-conditioned (condition about 1e14
     on 40-point nets, hence the pseudo-inverse): against the product and the SVD, ``U`` moves by up to 0.22 %
-    of itself (median 1e-7) on 80 known-shape faces (tests/test_uncertainty.py compares the two roads).
+    of itself (median 1e-7) on 80 known-shape faces (tests/analysis/test_uncertainty.py compares the two roads).
 
     Returns
     -------

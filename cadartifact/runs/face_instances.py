@@ -9,7 +9,7 @@ motion of the points and a shift of the parameters. Only where the peak lies mov
 The reader gives such faces with the last bits of their points, weights and knots differing
 (1e-11 of the face's size in the NIST models), so they are matched to :data:`RTOL` of it.
 
-Measured on ``../shared/realdata/step`` (``tests/test_face_instances.py``): each matched face's own
+Measured on ``../shared/realdata/step`` (``tests/runs/test_face_instances.py``): each matched face's own
 analysis agrees with its instance's to 1e-6 in every number and exactly in every density, verdict and
 note. Mirror images are analysed on their own (a reflection reverses the parametrisation's handedness).
 

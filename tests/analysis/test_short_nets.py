@@ -1,0 +1,86 @@
+"""Short nets (5-10 points per direction) read what their surface really carries, not the curvature of the
+smooth shape it fits (issue 23, item 5).
+
+Independent road (cadartifact/testing/short_fits.py): least-squares clamped fits of known smooth shapes (a wide bump,
+a cylinder arc, a saddle,
+low-frequency waves, a sphere patch; any size and direction), evaluated densely by the B-spline basis
+(:func:`cadartifact.numerics.splines.basis_matrix`), and their distance to the shape itself: radial for the arc
+and the sphere, along the graph's normal (to first order) for the others. The ripple is what no placement of
+points can steer, so it stays within a small multiple of that distance (the band split's own constant on the
+fit's error).
+
+With the measured road's fifth-order bridge (``BRIDGE_ORDER = 5``, since 2026-12-03) these faces read at most
+2.6x their distance (median 1.32-1.37 per seed; the third-order bridge before it: 4.3x, median 1.58), which is
+tested, and the 6x4 arc is advised 6x4 again. Issue 23 asks for 1.3x on every face: not reached (strict xfails).
+What is left is the band split's own constant on the fit's error and, on curved quadratic faces, the fit's
+tangential error at half a cycle per span, which the Cartesian split turns partly into normal ripple
+(``benchmarks/short_nets_tradeoff.py``; docs/model.md).
+"""
+
+import numpy as np
+import pytest
+
+import cadartifact as ca
+from cadartifact.testing.short_fits import distance_to_shape, family, fit
+
+SHORT_NETS_OPEN = "issue 23 item 5: short nets read part of a smooth shape's curvature as ripple"
+
+
+def _ratios(seed):
+    """``(ripple / distance, label)`` of the family's 25 faces of one seed."""
+    out = []
+    for net, distance, text in family(seed, 25):
+        out.append((ca.budget(net).stats["total"].peak / distance_to_shape(net, distance), text))
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [11, 12, 13])
+def test_short_nets_read_at_most_three_times_their_distance_to_the_smooth_shape(seed):
+    """Nets of 5-10 points, degrees 2-3, five shapes at random sizes and directions: the ripple read is within
+    3x the surface's distance to the shape on every face and 1.5x on the median (fifth-order bridge: 2.59x and
+    1.32-1.37 over the three seeds; the third-order bridge read 4.27x and 1.58)."""
+    ratios = _ratios(seed)
+    for r, text in ratios:
+        assert r <= 3.0, f"{text}: ripple {r:.2f}x its distance to the shape"
+    assert np.median([r for r, _ in ratios]) <= 1.5, sorted(np.round([r for r, _ in ratios], 2))
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=SHORT_NETS_OPEN)
+def test_short_nets_read_no_more_than_1_3_times_their_distance_on_every_face():
+    """Issue 23's bound: 1.3x on every face of the family. Reached on 32-48 % of the faces per seed; the worst
+    are arcs and spheres along quadratic directions (up to 2.6x: the fit's tangential error at half a cycle per
+    span, split in Cartesian components, is partly read along the normal), then the split's constant on the
+    fit's error."""
+    worst = max(max(r for r, _ in _ratios(seed)) for seed in (11, 12, 13))
+    assert worst <= 1.3
+
+
+def _arc_6x4():
+    """Issue 23's fuselage section: the 6x4 cubic least-squares fit of a 60 degree arc of radius 1500 mm, and its
+    largest distance to the arc."""
+    R, ang = 1500.0, np.radians(60)
+
+    def points(u, v):
+        a, t = np.broadcast_arrays(((u - 0.5) * ang)[:, None], v[None, :])
+        return np.stack([R * np.sin(a), 400.0 * t, R * np.cos(a)], -1)
+
+    net = fit(points, (6, 4), (3, 3))
+    return net, distance_to_shape(net, lambda P: np.abs(np.hypot(P[..., 0], P[..., 2]) - R))
+
+
+def test_a_60_degree_arc_on_a_6x4_cubic_net_keeps_its_net():
+    """The arc's fit lies within 0.035 mm of the arc, and at t = 0.05 it is advised 6x4, conforming (the
+    third-order bridge read 0.148 mm of ripple, 4.2x the distance, and advised 7x4)."""
+    net, d = _arc_6x4()
+    assert d < 0.04
+    a = ca.advise(net, tolerance=0.05)
+    assert a.shape == (6, 4) and a.meets_tolerance
+
+
+@pytest.mark.xfail(strict=True, reason=SHORT_NETS_OPEN)
+def test_a_60_degree_arc_on_a_6x4_cubic_net_reads_no_more_ripple_than_its_distance():
+    """Issue 23's bound on the arc: 1.3x its distance. It reads 0.048 mm, 1.37x."""
+    net, d = _arc_6x4()
+    assert ca.budget(net).stats["total"].peak <= 1.3 * d
