@@ -143,7 +143,7 @@ def test_every_document_the_samples_give_validates(name, args, code, files, vali
 def test_face_records_with_joins_and_with_no_density_validate():
     """Advice the samples do not give: the joins of a jointed face kept, and an honest no (no density
     conforms), in the face record of the advise document."""
-    from extended_faces import jointed_face
+    from cadartifact.testing.extended_faces import jointed_face
 
     from cadartifact.advice.advise import advise
     from cadartifact.runs.records import face_record
