@@ -56,9 +56,12 @@ def test_environment_values_and_options():
     assert execution_settings({"CADARTIFACT_READ_TIMEOUT": "  "}).read_timeout == 120.0  # blank: the default
     c = cluster_options("local", env, workers=2)
     assert (c.face_batches, c.worker_exit, c.workers) == (3, "a.step", 2)
-    for value in ("soon", "0", "-1", "inf"):
-        with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):
-            execution_settings({"CADARTIFACT_READ_TIMEOUT": value})
+    from cadartifact.execution.child import configured, read_timeout
+
+    for value in ("soon", "0", "-1", "inf"):  # the error of the read that needs the timeout
+        with configured(execution_settings({"CADARTIFACT_READ_TIMEOUT": value})):
+            with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):
+                read_timeout()
 
 
 def test_prestart_checks_isolation_without_raising():
