@@ -69,7 +69,7 @@ def test_prestart_checks_isolation_without_raising():
 
     assert isolation_on({}) and isolation_on({"CADARTIFACT_READ_ISOLATION": ""})
     assert not isolation_on({"CADARTIFACT_READ_ISOLATION": "0"})
-    assert isolation_on({"CADARTIFACT_READ_TIMEOUT": "soon"})  # another variable's bad value: the command's error
+    assert isolation_on({"CADARTIFACT_READ_TIMEOUT": "soon"})  # another variable's bad value: its read's error
 
 
 def test_the_child_imports_the_cli_names_are_the_gates():
