@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from ..errors import OptionError
-from ..execution.settings import ClusterOptions, ExecutionSettings
+from ..execution.settings import ClusterOptions, ExecutionSettings, InvalidValue
 
 __all__ = ["ENVIRONMENT", "Variable", "cluster_options", "execution_settings", "read"]
 
@@ -34,13 +34,15 @@ def _flag(name: str, raw: str) -> bool:
     return raw.strip().lower() not in _OFF
 
 
-def _seconds(name: str, raw: str) -> float:
+def _seconds(name: str, raw: str) -> float | InvalidValue:
+    # a bad value is the error of the read that needs it (a gate file's error entry), as when the variable was
+    # read there: a run that reads no B-rep file, or is given --read-timeout, goes on
     try:
         value = float(raw)
     except ValueError:
-        raise OptionError(name, "a positive number of seconds", raw) from None
+        return InvalidValue(name, "a positive number of seconds", raw)
     if not (0 < value < float("inf")):
-        raise OptionError(name, "a positive number of seconds", value)
+        return InvalidValue(name, "a positive number of seconds", value)
     return value
 
 
@@ -75,8 +77,12 @@ ENVIRONMENT = (
 )
 
 
-def read(environ=None) -> dict:
-    """The settings the environment sets: ``{field: value}`` for each variable set and not blank.
+def read(environ=None, fields=None) -> dict:
+    """The settings the environment sets: ``{field: value}`` for each variable set and not blank (only those of
+    ``fields`` when given: a variable is read only where its setting is used).
+
+    A read timeout it cannot take is an :class:`~cadartifact.execution.settings.InvalidValue`: its error is raised
+    by the read that needs the timeout.
 
     Raises
     ------
@@ -86,6 +92,8 @@ def read(environ=None) -> dict:
     environ = os.environ if environ is None else environ
     out = {}
     for var in ENVIRONMENT:
+        if fields is not None and var.field not in fields:
+            continue
         raw = environ.get(var.name)
         if raw is None or not raw.strip():
             continue
@@ -101,13 +109,15 @@ def execution_settings(environ=None, **options) -> ExecutionSettings:
     OptionError
         A variable's or an option's value is invalid.
     """
-    values = {k: v for k, v in read(environ).items() if not k.startswith("cluster.")}
-    values.update({k: v for k, v in options.items() if v is not None})
-    return ExecutionSettings(**values)
+    options = {k: v for k, v in options.items() if v is not None}
+    # an option replaces its variable, which is then not read at all (its bad value stops nothing)
+    fields = [v.field for v in ENVIRONMENT if not v.field.startswith("cluster.") and v.field not in options]
+    return ExecutionSettings(**read(environ, fields), **options)
 
 
 def cluster_options(address: str, environ=None, **options) -> ClusterOptions:
     """:class:`ClusterOptions` for ``--scheduler ADDRESS``: the command line's ``options`` and the environment's
     cluster fields (face batches, the worker-exit test hook)."""
-    values = {k.partition(".")[2]: v for k, v in read(environ).items() if k.startswith("cluster.")}
+    fields = [v.field for v in ENVIRONMENT if v.field.startswith("cluster.")]
+    values = {k.partition(".")[2]: v for k, v in read(environ, fields).items()}
     return ClusterOptions(address, **options, **values)

@@ -26,7 +26,7 @@ CHILD_IMPORTS = ("cadartifact.runs.face_sharing", "cadartifact.gate.run", "cadar
 
 def isolation_on(environ=None) -> bool:
     """Whether the environment leaves OCCT's reads in the reader child (``CADARTIFACT_READ_ISOLATION`` not off),
-    read as :mod:`.environment` reads it; never raises (a bad value elsewhere is the command's usage error)."""
+    read as :mod:`.environment` reads it; never raises (another variable's bad value is raised where it is used)."""
     from .environment import ENVIRONMENT
 
     var = next(v for v in ENVIRONMENT if v.field == "isolation")

@@ -25,7 +25,8 @@ from ..registry import LiveMapping, LiveTuple
 __all__ = ["FileFormat", "FORMATS", "register", "format_of", "suffixes", "brep_formats", "cad_suffixes",
            "labels", "hook_pattern", "LiveMapping", "LiveTuple"]
 
-#: The reader child's function for a B-rep file (``module:function``, run by :mod:`.isolation`).
+#: The reader child's function for a B-rep file (``module:function``, run by
+#: :mod:`cadartifact.execution.child`).
 OCCT_READER = "cadartifact.exchange.load:read_occt"
 
 
@@ -45,8 +46,8 @@ class FileFormat:
         ``"module:function"`` (imported on first use) or a function: ``reader(path) -> LoadResult`` for a
         format read in this process; for a B-rep format, the reader child's function (:data:`OCCT_READER`).
     brep : bool
-        An OCCT B-rep: read in the reader child (:mod:`.isolation`), lengths in mm, a model that
-        ``--write-resampled`` keeps (only the faces of other formats are written).
+        An OCCT B-rep: read in the reader child (:mod:`cadartifact.execution.child`), lengths in mm, a model
+        that ``--write-resampled`` keeps (only the faces of other formats are written).
     gated : bool
         A folder or a glob given to ``gate`` or ``advise`` contributes its files of this format (and the
         pre-commit hook passes them).

@@ -30,7 +30,7 @@ import time
 
 from . import start as _start
 from ..errors import CadArtifactError, FileFormatError, InputError
-from .settings import ExecutionSettings, check_timeout
+from .settings import ExecutionSettings, InvalidValue, check_timeout
 
 __all__ = ["START_TIMEOUT", "ChildFailed", "answered", "call", "configure", "configured", "enabled",
            "error_fields", "prestart", "read_timeout", "rebuilt_error", "serving", "settings", "shutdown", "warm"]
@@ -101,9 +101,13 @@ def read_timeout(timeout: float | None = None) -> float:
     Raises
     ------
     OptionError
-        A timeout that is not a positive finite number.
+        A timeout that is not a positive finite number; the configured one's when it could not be read
+        (:class:`~cadartifact.execution.settings.InvalidValue`: a bad ``CADARTIFACT_READ_TIMEOUT``).
     """
-    return _settings.read_timeout if timeout is None else check_timeout(timeout)
+    value = _settings.read_timeout if timeout is None else check_timeout(timeout)
+    if isinstance(value, InvalidValue):
+        raise value.error()
+    return value
 
 
 # ---------------------------------------------------------------- framing

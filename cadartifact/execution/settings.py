@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 from ..errors import OptionError
 
-__all__ = ["BACKENDS", "DEFAULT_READ_TIMEOUT", "ClusterOptions", "ExecutionSettings", "check_timeout"]
+__all__ = ["BACKENDS", "DEFAULT_READ_TIMEOUT", "ClusterOptions", "ExecutionSettings", "InvalidValue",
+           "check_timeout"]
 
 #: Seconds a reader (or an OCCT evaluation) may take in the child before it is stopped.
 DEFAULT_READ_TIMEOUT = 120.0
@@ -33,6 +34,29 @@ def check_timeout(value, parameter: str = "timeout") -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not (0 < value < math.inf):
         raise OptionError(parameter, "a positive number of seconds", value)
     return float(value)
+
+
+@dataclass(frozen=True)
+class InvalidValue:
+    """A setting's value that could not be read (an environment variable's text), kept as given so that its error
+    is raised where the setting is used: a run that never needs it (no B-rep read, or an option that replaces it)
+    is not stopped by it.
+
+    Attributes
+    ----------
+    parameter : str
+        What was given (the variable's name).
+    expected : str
+    received : object
+    """
+
+    parameter: str
+    expected: str
+    received: object
+
+    def error(self) -> OptionError:
+        """The :class:`~cadartifact.errors.OptionError` naming ``parameter``, ``expected`` and ``received``."""
+        return OptionError(self.parameter, self.expected, self.received)
 
 
 @dataclass(frozen=True)
@@ -83,8 +107,9 @@ class ExecutionSettings:
 
     Attributes
     ----------
-    read_timeout : float
-        Seconds OCCT's reader (or one evaluation) may take in the reader child before it is stopped.
+    read_timeout : float or InvalidValue
+        Seconds OCCT's reader (or one evaluation) may take in the reader child before it is stopped; an
+        :class:`InvalidValue` raises its error when a reader asks for it (:func:`.child.read_timeout`).
     isolation : bool
         Run OCCT's readers and evaluation in the reader child (False: in this process, for debugging; a
         crash then ends the run).
@@ -98,7 +123,7 @@ class ExecutionSettings:
         Run on Dask instead of this machine's processes.
     """
 
-    read_timeout: float = DEFAULT_READ_TIMEOUT
+    read_timeout: float | InvalidValue = DEFAULT_READ_TIMEOUT
     isolation: bool = True
     share_faces: bool = True
     reuse_faces: bool = True
@@ -106,7 +131,8 @@ class ExecutionSettings:
     cluster: ClusterOptions | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "read_timeout", check_timeout(self.read_timeout, "read_timeout"))
+        if not isinstance(self.read_timeout, InvalidValue):  # else its error is raised where it is read
+            object.__setattr__(self, "read_timeout", check_timeout(self.read_timeout, "read_timeout"))
         for name in ("isolation", "share_faces", "reuse_faces"):
             object.__setattr__(self, name, bool(getattr(self, name)))
         if isinstance(self.workers, bool) or not isinstance(self.workers, int) or self.workers < 1:

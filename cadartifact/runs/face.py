@@ -33,14 +33,19 @@ from dataclasses import dataclass, replace
 
 from ..errors import CadArtifactError, OptionError, check_option
 
-__all__ = ["ADVICE", "ADVISE", "GATE", "HOOK_CHECK", "HOOK_REPORT", "READINGS", "FaceOptions", "FaceWork", "NonFiniteResult", "analyse_face", "analysed",
-           "beyond", "finish_face", "start_face"]
+__all__ = ["ADVICE", "ADVISE", "GATE", "HOOK_CHECK", "HOOK_REPORT", "NON_FINITE_VALUE", "READINGS", "FaceOptions",
+           "FaceWork", "NonFiniteResult", "analyse_face", "analysed", "beyond", "finish_face", "start_face"]
 
 #: Which faces get the density advice: every face, those the gate's verdict warns or fails, none.
 ADVICE = ("all", "failing", "none")
 #: Under which reading today's net is scored: the run's (``settings.reading``: the net's when the signal error
 #: counts) or the settings' ``intent`` as given (the CadQuery hook's ``check`` and ``report`` without a tolerance).
 READINGS = ("run", "intent")
+
+
+#: :class:`NonFiniteResult`'s message when the analysis's value is not finite; each door adds its own hint (the gate
+#: and advise worded it differently before they shared this pipeline, and their documents keep their words).
+NON_FINITE_VALUE = "the analysis gave a non-finite value"
 
 
 class NonFiniteResult(CadArtifactError):
@@ -179,7 +184,11 @@ def start_face(net, settings, options: FaceOptions = FaceOptions(), *, later: bo
     current = budget_for(net, scored, keep_fields=run.reading == "surface" or options.advice == "all")
     unc = None if run.tolerance is None else face_uncertainty(net, scored, current)  # the U the advice's rule uses
     key_deviation = reading == "net" if options.reading == "run" else run.include_signal_error
-    rec = _finite(budget_record(net, current, key_deviation, unc), run, options)
+    rec = budget_record(net, current, key_deviation, unc)
+    if options.verdict or run.tolerance is None or options.advice != "all":
+        # checked before the verdict; a sure advice (advise's) is checked with its record, after its search, as
+        # advise always did (a search on a non-finite face raises its own error first)
+        rec = _finite(rec, run, options)
     verdict = reason = value = skipped = None
     if options.verdict:
         from .verdicts import face_verdict
@@ -246,7 +255,7 @@ def _finite(rec: dict, run, options: FaceOptions) -> dict:
     """The record, or :class:`NonFiniteResult` where ``options.finite`` asks and the compared value or the ripple
     is not finite (:func:`cadartifact.runs.records.json_number` maps inf and NaN to None)."""
     if options.finite and any(rec["budget"][k][run.metric] is None for k in (run.compared, "total")):
-        raise NonFiniteResult("the analysis gave a non-finite value (coordinates or weights too large?)")
+        raise NonFiniteResult(NON_FINITE_VALUE)
     return rec
 
 

@@ -184,7 +184,8 @@ def _advised(net, settings, advice: dict, path, later: bool):
     try:
         return face.start_face(net, settings, _advise_options(advice), later=later)
     except face.NonFiniteResult as exc:
-        return FileFormatError(path, f"face {net.origin.face}: {exc}")
+        hint = " (coordinates or weights too large?)" if str(exc) == face.NON_FINITE_VALUE else ""
+        return FileFormatError(path, f"face {net.origin.face}: {exc}{hint}")
     except Exception as exc:  # noqa: BLE001 - raised by the caller, in face order
         return exc
 
@@ -232,7 +233,8 @@ def _budgeted(net, settings, verify: bool):
     except ChildFailed as exc:  # OCCT's evaluation crashed or hung in the child: it names the face
         return exc
     except CadArtifactError as exc:
-        return CadArtifactError(f"face {net.origin.face}: {exc}")
+        hint = " (coordinates too large?)" if str(exc) == face.NON_FINITE_VALUE else ""
+        return CadArtifactError(f"face {net.origin.face}: {exc}{hint}")
     except Exception as exc:  # noqa: BLE001 - fail closed, worded as the gate words it
         return CadArtifactError(f"analysis failed ({type(exc).__name__}: {exc})")
 

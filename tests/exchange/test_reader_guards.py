@@ -233,11 +233,13 @@ def test_gate_read_timeout_option_and_environment(tmp_path, monkeypatch):
     assert r.exit_code == 2 and "gave no answer in 0.001 s" in doc["files"][0]["error"]
     monkeypatch.setenv("CADARTIFACT_READ_TIMEOUT", "soon")
     from cadartifact.cli.environment import execution_settings
+    from cadartifact.execution.child import configured
 
-    with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):  # read once, at the CLI's edge
-        execution_settings()
-    r = CliRunner().invoke(app, ["gate", str(HOOD), "--tol", "1"])
-    assert r.exit_code == 2 and "CADARTIFACT_READ_TIMEOUT" in r.stderr
+    with configured(execution_settings()):  # read at the CLI's edge, its error raised by the read
+        with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):
+            read(HOOD)
+    r, doc = gate(HOOD)
+    assert r.exit_code == 2 and "CADARTIFACT_READ_TIMEOUT" in doc["files"][0]["error"]
     monkeypatch.delenv("CADARTIFACT_READ_TIMEOUT")
     r = CliRunner().invoke(app, ["gate", str(HOOD), "--tol", "1", "--read-timeout", "-1"])
     assert r.exit_code == 2 and "--read-timeout" in r.stderr

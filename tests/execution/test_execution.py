@@ -57,9 +57,12 @@ def test_environment_values_and_options():
     assert execution_settings({"CADARTIFACT_READ_TIMEOUT": "  "}).read_timeout == 120.0  # blank: the default
     c = cluster_options("local", env, workers=2)
     assert (c.face_batches, c.worker_exit, c.workers) == (3, "a.step", 2)
-    for value in ("soon", "0", "-1", "inf"):
-        with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):
-            execution_settings({"CADARTIFACT_READ_TIMEOUT": value})
+    from cadartifact.execution.child import configured, read_timeout
+
+    for value in ("soon", "0", "-1", "inf"):  # the error of the read that needs the timeout
+        with configured(execution_settings({"CADARTIFACT_READ_TIMEOUT": value})):
+            with pytest.raises(OptionError, match="CADARTIFACT_READ_TIMEOUT"):
+                read_timeout()
 
 
 def test_prestart_checks_isolation_without_raising():
@@ -67,7 +70,7 @@ def test_prestart_checks_isolation_without_raising():
 
     assert isolation_on({}) and isolation_on({"CADARTIFACT_READ_ISOLATION": ""})
     assert not isolation_on({"CADARTIFACT_READ_ISOLATION": "0"})
-    assert isolation_on({"CADARTIFACT_READ_TIMEOUT": "soon"})  # another variable's bad value: the command's error
+    assert isolation_on({"CADARTIFACT_READ_TIMEOUT": "soon"})  # another variable's bad value: its read's error
 
 
 def test_the_child_imports_the_cli_names_are_the_gates():
