@@ -15,7 +15,9 @@ from typer.testing import CliRunner
 from cadartifact.cli.app import app
 from cadartifact.errors import OptionError
 
-SAMPLES = Path(__file__).resolve().parent.parent / "cadartifact" / "samples"
+from cadartifact.testing.paths import ROOT  # noqa: E402
+
+SAMPLES = ROOT / "cadartifact" / "samples"
 PANEL = SAMPLES / "clean_panel.step"
 CAGE = SAMPLES / "cage.obj"
 
