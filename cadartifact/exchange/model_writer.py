@@ -7,13 +7,14 @@ the neighbouring faces; each edge of a replaced face gets its old pcurve again o
 surface (valid because a replacement covers the same parameter range by contract), and
 ``ShapeFix_Edge.FixSameParameter`` then sets the edge tolerance to the gap between the edge's
 3-D curve and the new surface. Untouched faces, face order, face and product names and the
-file's length unit are kept; the header carries the provenance.
+file's length unit and distance uncertainty are kept; the header carries the provenance.
 
 This module does no analysis: the distance it reports is a plain grid comparison of two surfaces.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -33,12 +34,12 @@ from OCP.BRepLib import BRepLib  # noqa: E402
 from OCP.BRepTools import BRepTools  # noqa: E402
 from OCP.gp import gp_Pnt  # noqa: E402
 from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
-from OCP.Interface import Interface_Static  # noqa: E402
 from OCP.ShapeBuild import ShapeBuild_ReShape  # noqa: E402
 from OCP.ShapeFix import ShapeFix_Edge, ShapeFix_Face  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
 from OCP.StepBasic import StepBasic_Product  # noqa: E402
-from OCP.STEPConstruct import STEPConstruct  # noqa: E402
+from OCP.StepGeom import StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx  # noqa: E402
+from OCP.STEPConstruct import STEPConstruct, STEPConstruct_UnitContext  # noqa: E402
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer  # noqa: E402
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TColStd import TColStd_SequenceOfAsciiString  # noqa: E402
@@ -48,7 +49,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Iterator  # noqa: E402
 from OCP.TopTools import TopTools_IndexedMapOfShape  # noqa: E402
 
 from .occ import iter_faces, occ_surface, quiet_occt, surface_kind  # noqa: E402
-from .step import set_header  # noqa: E402
+from .step import set_header, write_settings  # noqa: E402
 
 __all__ = ["write_model", "STEP_SUFFIXES", "check_step_output", "GRID"]
 
@@ -61,6 +62,9 @@ GRID = 41
 _UNITS = {"millimetre": "MM", "mm": "MM", "centimetre": "CM", "cm": "CM", "metre": "M", "m": "M",
           "kilometre": "KM", "km": "KM", "micrometre": "UM", "um": "UM", "inch": "INCH", "foot": "FT",
           "ft": "FT", "mile": "MI", "mil": "MIL", "microinch": "UIN"}
+#: ``write.step.unit`` value -> its length in mm.
+_MM = {"MM": 1.0, "CM": 10.0, "M": 1000.0, "KM": 1e6, "UM": 1e-3, "INCH": 25.4, "FT": 304.8, "MI": 1609344.0,
+       "MIL": 0.0254, "UIN": 2.54e-5}
 
 
 def check_step_output(out, parameter: str = "out") -> Path:
@@ -74,8 +78,29 @@ def check_step_output(out, parameter: str = "out") -> Path:
     return path
 
 
+def _uncertainty(model, unit: str) -> float | None:
+    """The distance uncertainty ``model`` declares, in mm: that of its first representation context in ``unit``
+    (else its first with one). None without one, or with one that is not finite and positive."""
+    found = []
+    for i in range(1, model.NbEntities() + 1):
+        entity = model.Value(i)
+        if not isinstance(entity, StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx):
+            continue
+        context = STEPConstruct_UnitContext()
+        context.ComputeFactors(entity.GlobalUnitAssignedContext())  # a missing angle unit is no matter here
+        if entity.GlobalUncertaintyAssignedContext() is None or not context.LengthDone():
+            continue
+        context.ComputeTolerance(entity.GlobalUncertaintyAssignedContext())
+        if context.HasUncertainty():
+            found.append((context.LengthFactor(), context.Uncertainty() * context.LengthFactor()))
+    same = [value for factor, value in found if math.isclose(factor, _MM.get(unit, 1.0), rel_tol=1e-9)]
+    value = (same or [value for _, value in found] or [None])[0]
+    return value if value is not None and math.isfinite(value) and value > 0 else None
+
+
 def _read_source(path: Path):
-    """(shape, face_name, length unit for write.step.unit, product names) of a STEP/IGES/BREP model."""
+    """(shape, face_name, length unit for write.step.unit, product names, distance uncertainty in mm or None) of a
+    STEP/IGES/BREP model."""
     from . import formats, step
 
     record = formats.format_of(path)
@@ -86,7 +111,7 @@ def _read_source(path: Path):
     if fmt != "step":
         reader = step.read_iges if fmt == "iges" else step.read_brep
         shape, face_name = reader(path)
-        return shape, face_name, "MM", []
+        return shape, face_name, "MM", [], None
     reader = step.open_step(path)
     shape, face_name = reader.OneShape(), step._step_name(reader)
     lengths, angles, solids = TColStd_SequenceOfAsciiString(), TColStd_SequenceOfAsciiString(), \
@@ -105,7 +130,7 @@ def _read_source(path: Path):
         if isinstance(entity, StepBasic_Product):
             products.append((entity.Id().ToCString() if entity.Id() else "",
                              entity.Name().ToCString() if entity.Name() else ""))
-    return shape, face_name, unit, products
+    return shape, face_name, unit, products, _uncertainty(model, unit)
 
 
 def _check_range(index: int, surface, net: ControlNet, face=None) -> None:
@@ -182,16 +207,12 @@ def _replace_surface(face, surface):
     return new_face, fixed
 
 
-def _write(shape, out: Path, *, unit: str, names, products, source: Path, provenance: dict) -> None:
-    """Write ``shape`` to ``out`` atomically (temporary file + rename) in ``unit``."""
+def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source: Path, provenance: dict) -> None:
+    """Write ``shape`` to ``out`` atomically (temporary file + rename) in ``unit``, declaring ``uncertainty`` (mm)."""
     writer = STEPControl_Writer()
-    saved = Interface_Static.CVal_s("write.step.unit")
     with quiet_occt():
-        Interface_Static.SetCVal_s("write.step.unit", unit)
-        try:
+        with write_settings(unit, uncertainty):
             status = writer.Transfer(shape, STEPControl_AsIs)
-        finally:
-            Interface_Static.SetCVal_s("write.step.unit", saved)
         if status != IFSelect_RetDone:
             raise InputError(out, "OCCT could not translate the model to STEP")
         model = writer.Model()
@@ -273,7 +294,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             raise OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)", type(net).__name__)
         if net.rational:
             raise OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights")
-    shape, face_name, unit, products = _read_source(source)
+    shape, face_name, unit, products, uncertainty = _read_source(source)
     faces = list(iter_faces(shape))
     missing = sorted(set(replacements) - set(range(len(faces))))
     if missing:
@@ -287,7 +308,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         _check_range(index, basis, replacements[index], face)
         old[index] = (face, basis)
     if faces_only:
-        return _write_faces_only(source, replacements, old, out, provenance)
+        return _write_faces_only(source, replacements, old, out, provenance, unit, uncertainty)
 
     reshape = ShapeBuild_ReShape()
     new_surfaces = {}
@@ -329,7 +350,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             name = face_name(before)
             if name:
                 names.append((after, name))
-    _write(result, out, unit=unit, names=names, products=products, source=source, provenance=provenance)
+    _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
+           provenance=provenance)
     records = []
     for index in sorted(replacements):
         face, basis = old[index]
@@ -345,13 +367,14 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     return records
 
 
-def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, provenance: dict) -> list[dict]:
-    """Today's output: the replacement nets alone, one untrimmed face each."""
+def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, provenance: dict, unit: str,
+                      uncertainty) -> list[dict]:
+    """Today's output: the replacement nets alone, one untrimmed face each, in the source's unit and uncertainty."""
     from .occ import make_face
     from .step import write_step
 
     nets = [replacements[i] for i in sorted(replacements)]
-    write_step(nets, out, provenance={"source": source.name, **provenance})
+    write_step(nets, out, provenance={"source": source.name, **provenance}, unit=unit, uncertainty=uncertainty)
     records = []
     for index in sorted(replacements):
         face, basis = old[index]

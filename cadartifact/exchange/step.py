@@ -8,6 +8,7 @@ one-line :class:`~cadartifact.errors.FileFormatError` naming the file.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -24,6 +25,7 @@ from OCP.BRep import BRep_Builder  # noqa: E402
 from OCP.BRepTools import BRepTools  # noqa: E402
 from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
 from OCP.IGESControl import IGESControl_Reader  # noqa: E402
+from OCP.Interface import Interface_Static  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
 from OCP.StepBasic import StepBasic_Product  # noqa: E402
 from OCP.STEPConstruct import STEPConstruct  # noqa: E402
@@ -33,7 +35,10 @@ from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape, TopoDS_Shell  # noqa: E402
 
 __all__ = ["check_file", "open_step", "read_step", "read_step_audited", "set_header", "read_iges",
-           "read_iges_audited", "read_brep", "write_step"]
+           "read_iges_audited", "read_brep", "write_step", "write_settings", "DEFAULT_UNCERTAINTY"]
+
+#: The distance uncertainty written when none is given: OCCT's confusion distance, 1e-7 in its internal unit (mm).
+DEFAULT_UNCERTAINTY = 1e-7
 
 
 @contextlib.contextmanager
@@ -430,6 +435,30 @@ def read_brep(path) -> tuple[TopoDS_Shape, None]:
     return shape, None
 
 
+@contextlib.contextmanager
+def write_settings(unit: str = "MM", uncertainty: float | None = None):
+    """OCCT's STEP write settings for one ``Transfer``: length unit and uncertainty; the session's restored after.
+
+    Left alone, OCCT writes as ``UNCERTAINTY_MEASURE_WITH_UNIT`` 1.5 x the average of the shape's tolerances,
+    rounded up to 1-2-5 (``write.precision.mode`` 0): one infinite edge or vertex tolerance makes that 5e+199 file
+    units, a file no reader accepts. The value is set instead (mode 2): ``uncertainty`` in mm (OCCT divides by the
+    unit's factor), or :data:`DEFAULT_UNCERTAINTY` when it is None, not finite or not positive.
+    """
+    if uncertainty is None or not math.isfinite(uncertainty) or uncertainty <= 0:
+        uncertainty = DEFAULT_UNCERTAINTY
+    saved = (Interface_Static.CVal_s("write.step.unit"), Interface_Static.IVal_s("write.precision.mode"),
+             Interface_Static.RVal_s("write.precision.val"))
+    Interface_Static.SetCVal_s("write.step.unit", unit)
+    Interface_Static.SetIVal_s("write.precision.mode", 2)
+    Interface_Static.SetRVal_s("write.precision.val", float(uncertainty))
+    try:
+        yield
+    finally:
+        Interface_Static.SetCVal_s("write.step.unit", saved[0])
+        Interface_Static.SetIVal_s("write.precision.mode", saved[1])
+        Interface_Static.SetRVal_s("write.precision.val", saved[2])
+
+
 def _name_products(writer: STEPControl_Writer, name: str) -> None:
     """Name the STEP products after the file: OCCT's default carries a per-process counter,
     which would make the same nets give different files."""
@@ -475,7 +504,8 @@ def set_header(writer: STEPControl_Writer, name: str, provenance: dict | None) -
     header.SetAuthorisation(TCollection_HAsciiString(str(provenance.get("authorization", "cadartifact"))))
 
 
-def write_step(nets, path, *, provenance: dict | None = None) -> Path:
+def write_step(nets, path, *, provenance: dict | None = None, unit: str = "MM",
+               uncertainty: float | None = None) -> Path:
     """Write B-spline nets to a STEP file, one face each, in one shell.
 
     Parameters
@@ -488,6 +518,11 @@ def write_step(nets, path, *, provenance: dict | None = None) -> Path:
         Output file (``.step``/``.stp``).
     provenance : dict, optional
         Header provenance (see :func:`set_header`); None keeps OCCT's default header.
+    unit : str
+        The file's length unit as OCCT's ``write.step.unit`` names it (``"MM"``, ``"CM"``, ``"INCH"``, ...); the
+        nets are in mm (OCCT's internal unit) and are converted.
+    uncertainty : float, optional
+        The distance uncertainty to declare, in mm (a source model's own); None: :data:`DEFAULT_UNCERTAINTY`.
 
     Returns
     -------
@@ -524,7 +559,9 @@ def write_step(nets, path, *, provenance: dict | None = None) -> Path:
     builder.Add(compound, shell)
     writer = STEPControl_Writer()
     with quiet_occt():
-        if writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone:
+        with write_settings(unit, uncertainty):
+            status = writer.Transfer(compound, STEPControl_AsIs)
+        if status != IFSelect_RetDone:
             raise InputError(path, "OCCT could not translate the nets to STEP")
         _name_products(writer, path.stem)
         set_header(writer, path.name, provenance)
