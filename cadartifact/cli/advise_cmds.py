@@ -115,10 +115,14 @@ def advise_cmd(
 
 
 def _print_written(written: dict, units: str) -> None:
-    """One line per written file and per replaced face (its distance to the old surface)."""
+    """One line per written file, per replaced face (its distance to the old surface) and per refused face (why
+    it was kept)."""
     con = _console()
     for f in written["files"]:
-        if f["mode"] == "model":
+        if f["path"] is None:
+            con.print(f"wrote nothing for {escape(f['source'])}: every advised face's new net was refused "
+                      "(the model would be unchanged)", soft_wrap=True)
+        elif f["mode"] == "model":
             kept = f" ({len(f['kept'])} advised face(s) kept as they were: advice = today's net)" if f["kept"] else ""
             con.print(f"wrote {escape(f['path'])}: the model of {escape(f['source'])} with "
                       f"{len(f['faces'])} face(s) replaced{kept}", soft_wrap=True)
@@ -134,6 +138,9 @@ def _print_written(written: dict, units: str) -> None:
             con.print(f"  face {label}: max {r['max_distance']:.4g} {units}, mean {r['mean_distance']:.4g} {units} "
                       f"from the old surface (same u, v){edges}; "
                       + ("valid" if r["valid"] else "[red]BRepCheck: invalid[/]"), soft_wrap=True)
+        for r in f.get("refused", []):
+            con.print(f"  face {r['face']} kept as it was, its advised net cannot be written: {escape(r['reason'])}",
+                      soft_wrap=True)
         if f.get("valid") is False:
             con.print("  [red]BRepCheck rejects the written model[/] (see the JSON 'written')", soft_wrap=True)
 

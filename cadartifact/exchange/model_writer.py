@@ -248,7 +248,7 @@ def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source:
 
 
 def write_model(source, replacements: dict, out, *, provenance: dict | None = None,
-                faces_only: bool = False) -> list[dict]:
+                faces_only: bool = False, refused: dict | None = None) -> list[dict]:
     """Write ``source`` to STEP with the surfaces of some faces replaced.
 
     Parameters
@@ -266,6 +266,11 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     faces_only : bool
         Write only the replacement nets, one untrimmed face each
         (:func:`cadartifact.exchange.step.write_step`), instead of the whole model.
+    refused : dict, optional
+        Given (an empty dict to fill): a replacement the per-face checks refuse (a cage or rational
+        net, a face without a surface, a net that does not cover the face's trimmed region) is not
+        raised but recorded here as ``face index -> reason`` and that face is kept as it is; the
+        other faces are written. If every replacement is refused, nothing is written (``[]``).
 
     Returns
     -------
@@ -282,31 +287,50 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     ------
     OptionError
         ``out`` not .step/.stp or not in an existing folder; a face index the model has not;
-        a net that is a cage, rational, or over another parameter range; an OBJ source.
+        a net that is a cage, rational, or over another parameter range (unless ``refused`` is given);
+        an OBJ source.
     InputError
         The source cannot be read, or the file cannot be written (nothing is left behind).
     """
     out = check_step_output(out)
     source = check_file(source)
     provenance = dict(provenance or {})
-    for index, net in replacements.items():
+    asked = dict(replacements)
+    refusals = {}
+
+    def refuse(index, exc: OptionError) -> None:
+        if refused is None:
+            raise exc
+        refusals[index] = f"expected {exc.expected}, received {exc.received}"
+
+    for index, net in asked.items():
         if not isinstance(net, ControlNet) or not net.is_bspline:
-            raise OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)", type(net).__name__)
-        if net.rational:
-            raise OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights")
+            refuse(index, OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)",
+                                      type(net).__name__))
+        elif net.rational:
+            refuse(index, OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights"))
     shape, face_name, unit, products, uncertainty = _read_source(source)
     faces = list(iter_faces(shape))
-    missing = sorted(set(replacements) - set(range(len(faces))))
+    missing = sorted(set(asked) - set(range(len(faces))))
     if missing:
         raise OptionError("replacements", f"face indices of {source.name} (0..{len(faces) - 1})", missing[0])
     old = {}
-    for index in sorted(replacements):
+    for index in sorted(set(asked) - set(refusals)):
         face = faces[index][1]
         kind, basis = surface_kind(BRep_Tool.Surface_s(face))
-        if basis is None:
-            raise OptionError(f"replacements[{index}]", "a face with a surface", "a face without one")
-        _check_range(index, basis, replacements[index], face)
+        try:
+            if basis is None:
+                raise OptionError(f"replacements[{index}]", "a face with a surface", "a face without one")
+            _check_range(index, basis, asked[index], face)
+        except OptionError as exc:
+            refuse(index, exc)
+            continue
         old[index] = (face, basis)
+    if refused is not None:
+        refused.update(sorted(refusals.items()))
+    replacements = {index: asked[index] for index in old}
+    if asked and not replacements:  # every replacement refused: the model would be today's, write nothing
+        return []
     if faces_only:
         return _write_faces_only(source, replacements, old, out, provenance, unit, uncertainty)
 

@@ -196,10 +196,13 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
         "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
         "edge_tolerance", "valid", "model_valid"}], "kept": [face indices left as they were],
-        "valid": BRepCheck on the written model or None}], "path", "faces"}``
+        "refused": [{"face", "reason"}], "valid": BRepCheck on the written model or None}], "path", "faces"}``
         (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
         faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
-        untouched and are listed in ``kept``.
+        untouched and are listed in ``kept``. A face whose new net the writer refuses (it does not
+        cover the face's trimmed region, ...) stays as it was and is listed in ``refused`` with the
+        reason; the other faces are written. If every replacement of a file is refused, that file is
+        not written and its ``path`` is null.
     """
     from ..exchange.model_writer import check_step_output, write_model
     from ..exchange.step import write_step
@@ -211,21 +214,27 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         by_face = {net.origin.face: new for (_, net, _), new in zip(items, nets)}
         brep = formats.format_of(src).brep  # a model to keep, else (a cage) its faces only
         mode = "faces-only" if faces_only or not brep else "model"
+        asked: dict = {}
+        refused: dict = {}
         if mode == "faces-only" and not brep:
             write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
                       "edge_tolerance": None, "valid": None} for n in nets]
             kept_faces = []
         elif mode == "faces-only":
-            faces = write_model(src, by_face, target, provenance=provenance, faces_only=True)
+            asked = by_face
+            faces = write_model(src, by_face, target, provenance=provenance, faces_only=True, refused=refused)
             kept_faces = []
         else:
-            changed = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
-                       if not getattr(adv, "kept_today", new.shape == net.shape)}
-            faces = write_model(src, changed, target, provenance=provenance)
-            kept_faces = sorted(set(by_face) - set(changed))
+            asked = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
+                     if not getattr(adv, "kept_today", new.shape == net.shape)}
+            faces = write_model(src, asked, target, provenance=provenance, refused=refused)
+            kept_faces = sorted(set(by_face) - set(asked))
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
-        files.append({"path": str(target), "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
+        # every replacement refused: nothing was written (the model would be today's)
+        path = None if asked and len(refused) == len(asked) else str(target)
+        files.append({"path": path, "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
+                      "refused": [{"face": i, "reason": why} for i, why in refused.items()],
                       "valid": all(checks) if checks else None})
     modes = {f["mode"] for f in files}
     return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,

@@ -14,7 +14,7 @@ from typing import Literal, NotRequired
 from .face import AdviseFace, Metric, Reading, SummaryCounts
 from .keys import TypedDict
 
-__all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "WrittenFile", "Written", "AdviseDocument"]
+__all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "RefusedFace", "WrittenFile", "Written", "AdviseDocument"]
 
 #: The ``schema`` key of the advise document (and of the gate document, which extends it).
 ADVISE_SCHEMA = "cadartifact.advise/3"
@@ -54,15 +54,27 @@ class WrittenFace(TypedDict, closed=True):
     """Several input files: the output file this face was written to."""
 
 
+class RefusedFace(TypedDict, closed=True):
+    """An advised face whose new net the writer refused: the face is kept as it was."""
+
+    face: int
+    reason: str
+    """Why, as the writer's check says it (e.g. the net does not cover the face's trimmed region)."""
+
+
 class WrittenFile(TypedDict, closed=True):
     """One output file."""
 
-    path: str
+    path: str | None
+    """The file written (null: nothing written, every replacement was refused)."""
     source: str
     mode: Literal["model", "faces-only"]
     faces: list[WrittenFace]
     kept: list[int]
     """Faces whose advice keeps today's net: left as they were."""
+    refused: list[RefusedFace]
+    """Faces whose advised net cannot be written faithfully: kept as they were, with the reason; the other faces
+    are written."""
     valid: bool | None
 
 
@@ -71,8 +83,8 @@ class Written(TypedDict, closed=True):
 
     mode: Literal["model", "faces-only", "mixed"]
     files: list[WrittenFile]
-    path: str
-    """The first output file."""
+    path: str | None
+    """The first output file (null: nothing written)."""
     faces: list[WrittenFace]
     """One input file: its faces; several: every file's, each with ``file``."""
 
