@@ -23,23 +23,17 @@ import numpy as np
 
 from cadartifact.analysis import fields
 from cadartifact.analysis.budget import budget
-from cadartifact.testing.rational_faces import cut, rational_face
+from cadartifact.testing.rational_faces import border_free_truth, rational_face
 
 BANDS = ("x1", "x2", "diagonal", "lateral", "total")
-MARGIN = 12
 
 
 def _truth(seed: int) -> tuple[float, float, float]:
     """A face cut from a longer one: its predicted and measured total ripple peaks and the longer face's measured
     one over the region the face covers (the truth)."""
-    whole = rational_face(seed, MARGIN)
-    face = cut(whole, MARGIN)
-    b = budget(whole, method="measured", keep_fields=True)
-    K = 2 ** b.levels
-    (nu, nv), (p, q) = face.shape, face.degrees
-    t = b.scalar_fields["total"][MARGIN * K: MARGIN * K + (nu - p) * K + 1, MARGIN * K: MARGIN * K + (nv - q) * K + 1]
+    face, truth = border_free_truth(seed)
     pb, mb = (budget(face, method=m).stats["total"].peak for m in ("predicted", "measured"))
-    return pb, mb, float(np.abs(t).max())
+    return pb, mb, truth
 
 
 def _summary(name: str, r: np.ndarray) -> str:

@@ -84,3 +84,27 @@ def cut(net: ControlNet, spans: int) -> ControlNet:
     H = np.einsum("ia,abc,jb->ijc", mats[0], H, mats[1])
     w = H[..., 3]
     return ControlNet(points=H[..., :3] / w[..., None], weights=w, degrees=net.degrees, knots=tuple(knots))
+
+
+#: Knot spans the border-free truth's longer face reaches past the face at every border.
+TRUTH_MARGIN = 12
+
+
+def border_free_truth(seed: int, margin: int = TRUTH_MARGIN) -> tuple[ControlNet, float]:
+    """Face ``seed`` drawn ``margin`` spans longer at every border and cut back, and its border-free truth.
+
+    Returns the cut face (:func:`cut`: the same surface as the longer face there, a clamped face of its own, of the
+    family's size and degrees) and the longer face's measured total ripple peak over the region the cut face
+    covers: the reading of the same surface as part of a longer one, which no border convention of the cut face
+    touches.
+    """
+    from cadartifact.analysis.budget import budget
+
+    whole = rational_face(seed, margin)
+    face = cut(whole, margin)
+    b = budget(whole, method="measured", keep_fields=True)
+    K = 2 ** b.levels
+    (nu, nv), (p, q) = face.shape, face.degrees
+    inside = b.scalar_fields["total"][margin * K: margin * K + (nu - p) * K + 1,
+                                      margin * K: margin * K + (nv - q) * K + 1]
+    return face, float(np.abs(inside).max())
