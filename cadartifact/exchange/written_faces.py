@@ -100,9 +100,6 @@ def replace_surface(face, surface, free=None):
             c2 = BRep_Tool.CurveOnSurface_s(TopoDS.Edge_s(edge.Oriented(TopAbs_REVERSED)), face, 0.0, 0.0)
             builder.UpdateEdge(forward, c1, c2, new_face, tol)
         else:
-            old = BRep_Tool.CurveOnSurface_s(edge, face, 0.0, 0.0)
-            if old is None:
-                raise InputError(None, "an edge of the face has no curve on its surface")
             projected = False
             if not BRep_Tool.Degenerated_s(edge):
                 try:
@@ -110,6 +107,9 @@ def replace_surface(face, surface, free=None):
                 except Standard_Failure:
                     projected = False
             if not projected:  # no 3-D curve to project (degenerate) or the projection failed: the old pcurve
+                old = BRep_Tool.CurveOnSurface_s(edge, face, 0.0, 0.0)
+                if old is None:
+                    raise InputError(None, "an edge of the face has no curve on its surface")
                 builder.UpdateEdge(edge, old, new_face, tol)
             elif free is not None and free.Contains(edge):
                 # a free border follows the new surface: drop the old pcurve and 3-D curve, rebuild it from the new
