@@ -43,9 +43,9 @@ __all__ = ["face_samples", "distance_to_face", "face_distance", "edge_tolerance"
            "EDGE_SAMPLES"]
 
 #: Lattice points per direction of a face's uv box (kept where inside the trim).
-GRID = 31
+GRID = 41
 #: Points along each edge of a face.
-EDGE_SAMPLES = 24
+EDGE_SAMPLES = 32
 
 
 def _edges(face) -> list:
