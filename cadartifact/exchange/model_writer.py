@@ -238,10 +238,12 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         One per replaced face, in face order: ``{"face": int, "name": str | None,
         "distance_to_old", "distance_from_old", "max_distance", "mean_distance",
         "allowed_distance", "edge_tolerance_before", "edge_tolerance", "valid_before", "valid",
-        "model_valid"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
+        "pcurves", "model_valid"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
         against the old one by projection both ways, trims respected (model units, mm for STEP),
         its edges' largest tolerance and BRepCheck's verdict on the face in the input and as
-        written, ``model_valid`` on the whole written shape. ``faces_only``: the untrimmed new
+        written, ``model_valid`` on the whole written shape; ``pcurves``: ``"projected"`` (the edges'
+        3-D curves projected onto the new surface) or ``"kept"`` (the old pcurves, tried when the
+        projected face measured unfaithful). ``faces_only``: the untrimmed new
         face against the old one; no edge figures, ``model_valid`` None.
 
     Raises
@@ -298,13 +300,27 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
 
     free = free_edges(shape)
     allowed = dict(allowed or {})
+    kept_pcurves: set = set()  # faces tried again with their old pcurves
+    first: dict = {}  # their projected attempt: (why it failed, what it measured)
     while True:  # replace, measure, keep the faces that fail (shared edges: the others are built again)
-        result, model_valid, measured = _replace(shape, faces, replacements, free, out)
+        result, model_valid, measured = _replace(shape, faces, replacements, free, out, kept_pcurves)
         failed = {index: why for index in replacements
                   if (why := refusal(measured[index], allowed.get(index), tolerance)) is not None}
         if not failed:
             break
+        retry = set(failed) - kept_pcurves
+        if retry:  # the projected pcurves failed: once more with the old ones, before a face is kept
+            kept_pcurves |= retry
+            first.update({index: (failed[index], measured[index]) for index in retry})
+            continue
         for index, why in failed.items():
+            projected, best = first.get(index, (None, measured[index]))
+            if projected is not None:
+                why = f"with its edges projected onto it: {projected}; with its old pcurves: {why}"
+                if measured[index]["max_distance"] + measured[index]["edge_tolerance"] < \
+                        best["max_distance"] + best["edge_tolerance"]:
+                    best = measured[index]
+            measured[index] = best
             if refused is None:
                 raise InputError(out, f"face {index}: the advised net cannot be written faithfully: {why}")
             refusals[index] = why
@@ -325,12 +341,14 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
            provenance=provenance)
     return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
-             "allowed_distance": allowed.get(index), "model_valid": model_valid} for index in sorted(replacements)]
+             "allowed_distance": allowed.get(index), "pcurves": "kept" if index in kept_pcurves else "projected",
+             "model_valid": model_valid} for index in sorted(replacements)]
 
 
-def _replace(shape, faces: list, replacements: dict, free, out: Path):
+def _replace(shape, faces: list, replacements: dict, free, out: Path, kept_pcurves=frozenset()):
     """``(result, model valid, {face index: measure(...)})``: a copy of ``shape`` with the replaced faces on their
-    new surfaces, their edges' pcurves rebuilt and tolerances set (``ShapeFix_Edge.FixSameParameter``)."""
+    new surfaces, their edges' pcurves rebuilt (kept on the faces of ``kept_pcurves``) and tolerances set
+    (``ShapeFix_Edge.FixSameParameter``)."""
     with quiet_occt():
         copier = BRepBuilderAPI_Copy(shape, True, False)  # the edges are updated in place: never the source's
         model = copier.Shape()
@@ -341,7 +359,8 @@ def _replace(shape, faces: list, replacements: dict, free, out: Path):
         reshape = ShapeBuild_ReShape()
         to_fix = []
         for index in sorted(replacements):
-            new_face, edges = replace_surface(copied[index][1], occ_surface(replacements[index]), free_copy)
+            new_face, edges = replace_surface(copied[index][1], occ_surface(replacements[index]), free_copy,
+                                              project=index not in kept_pcurves)
             to_fix.extend(edges)
             reshape.Replace(copied[index][1], new_face)
         result = reshape.Apply(model)
@@ -384,5 +403,6 @@ def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, pr
         with quiet_occt():
             record = measure(face, make_face(net))
         records.append({"face": index, "name": net.origin.name, **record, "edge_tolerance": None,
-                        "edge_tolerance_before": None, "allowed_distance": None, "model_valid": None})
+                        "edge_tolerance_before": None, "allowed_distance": None, "pcurves": None,
+                        "model_valid": None})
     return records

@@ -9,6 +9,8 @@ in space. An edge shared with another face keeps its 3-D curve (the neighbour's 
 consistent; its tolerance becomes its gap to the new surface). An edge bounding this face only (a free border)
 takes the new surface's curve: its 3-D curve is rebuilt from the projected pcurve (``BRepLib.BuildCurve3d``).
 Seams and degenerate edges keep their old pcurves (the new surface spans the old one's parameter range there).
+A face that measures unfaithful so is tried once more with its old pcurves kept (the other explicit map: the new
+surface addressed in the old one's parameters, right where the refit kept the parametrisation).
 
 :func:`measure` gives what the written face is: its distance to the old face both ways by projection
 (:mod:`.face_distance`), the largest edge tolerance before and after, BRepCheck before and after;
@@ -63,7 +65,7 @@ def _edges(face) -> list:
     return [TopoDS.Edge_s(edges.FindKey(i)) for i in range(1, edges.Extent() + 1)]
 
 
-def replace_surface(face, surface, free=None):
+def replace_surface(face, surface, free=None, project: bool = True):
     """A new face on ``surface`` (global coordinates) with ``face``'s wires, each edge's pcurve on it rebuilt.
 
     Parameters
@@ -73,6 +75,10 @@ def replace_surface(face, surface, free=None):
     surface : Geom_Surface
     free : TopTools_IndexedMapOfShape, optional
         The model's free edges (:func:`free_edges`): those take the new surface's curve as their 3-D curve.
+    project : bool
+        Rebuild each pcurve by projecting the edge's 3-D curve (the default); False: keep the old pcurves (the
+        new surface addressed in the old one's parameters: right where the refit kept the parametrisation,
+        which the writer tries when the projected face measures unfaithful).
 
     Returns
     -------
@@ -101,17 +107,18 @@ def replace_surface(face, surface, free=None):
             builder.UpdateEdge(forward, c1, c2, new_face, tol)
         else:
             projected = False
-            if not BRep_Tool.Degenerated_s(edge):
+            if project and not BRep_Tool.Degenerated_s(edge):
                 try:
                     projected = fix.FixAddPCurve(edge, new_face, False)
                 except Standard_Failure:
                     projected = False
-            if not projected:  # no 3-D curve to project (degenerate) or the projection failed: the old pcurve
+            if not projected:  # asked, no 3-D curve to project (degenerate) or the projection failed: the old pcurve
                 old = BRep_Tool.CurveOnSurface_s(edge, face, 0.0, 0.0)
                 if old is None:
                     raise InputError(None, "an edge of the face has no curve on its surface")
                 builder.UpdateEdge(edge, old, new_face, tol)
-            elif free is not None and free.Contains(edge):
+            if (projected or not project) and not BRep_Tool.Degenerated_s(edge) and free is not None \
+                    and free.Contains(edge):
                 # a free border follows the new surface: drop the old pcurve and 3-D curve, rebuild it from the new
                 builder.UpdateEdge(edge, None, old_surface, location, tol)
                 builder.UpdateEdge(edge, None, tol)

@@ -64,6 +64,9 @@ class WrittenFace(TypedDict, closed=True):
     """BRepCheck's verdict on the face alone in the input."""
     valid: bool | None
     """BRepCheck's verdict on the written face alone."""
+    pcurves: NotRequired[Literal["projected", "kept"] | None]
+    """How the face's trim was put on its new surface: its edges' 3-D curves projected onto it, or its old pcurves
+    kept (tried when the projected face measured unfaithful). Null: faces only."""
     model_valid: NotRequired[bool | None]
     """A B-rep source: whether the written model checks valid (absent for OBJ sources)."""
     file: NotRequired[str]
