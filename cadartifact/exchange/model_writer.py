@@ -11,8 +11,8 @@ tolerance to the gap between the edge's 3-D curve and the new surface.
 What is written is what was measured (SPEC §5): each replaced face, as it stands in the fixed model,
 is measured against the old face by projection both ways with the trims respected
 (:mod:`.face_distance`), with its edge tolerances and BRepCheck before and after. A face beyond its
-allowed distance (t + the old face's ripple), with an edge tolerance beyond the input's + t, or that
-BRepCheck rejects where the input's passed, is kept as it was (with the reason and what it measured)
+allowed distance (t + the old face's ripple + its edges' tolerance), with an edge tolerance beyond
+the input's + t, or that BRepCheck rejects where the input's passed, is kept as it was (with the reason and what it measured)
 and the model is built again without it. Untouched faces, face order, face and product names and the
 file's length unit and distance uncertainty are kept; the header carries the provenance.
 """
@@ -224,7 +224,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         The same for a face the written model measures unfaithful (below).
     allowed : dict int -> float, optional
         Per face, the largest distance the written face may lie from the old one (``t`` + the old
-        face's ripple, model units); a face beyond it is refused (kept). Absent: not checked.
+        face's ripple, model units), to which the old face's largest edge tolerance is added (its
+        border is known only to within it); a face beyond that is refused (kept). Absent: not checked.
     tolerance : float, optional
         ``t``: a written face whose largest edge tolerance exceeds the input's + ``t`` is refused.
         None: not checked. A face BRepCheck rejects where the input's passed is always refused.
@@ -304,8 +305,9 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     first: dict = {}  # their projected attempt: (why it failed, what it measured)
     while True:  # replace, measure, keep the faces that fail (shared edges: the others are built again)
         result, model_valid, measured = _replace(shape, faces, replacements, free, out, kept_pcurves)
+        limits = {index: _limit(allowed.get(index), measured[index]) for index in replacements}
         failed = {index: why for index in replacements
-                  if (why := refusal(measured[index], allowed.get(index), tolerance)) is not None}
+                  if (why := refusal(measured[index], limits[index], tolerance)) is not None}
         if not failed:
             break
         retry = set(failed) - kept_pcurves
@@ -325,7 +327,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
                 raise InputError(out, f"face {index}: the advised net cannot be written faithfully: {why}")
             refusals[index] = why
             if measurements is not None:
-                measurements[index] = dict(measured[index], allowed_distance=allowed.get(index))
+                measurements[index] = dict(measured[index], allowed_distance=_limit(allowed.get(index),
+                                                                                    measured[index]))
             del replacements[index]
         if refused is not None:
             refused.update(sorted(refusals.items()))
@@ -341,8 +344,15 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
            provenance=provenance)
     return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
-             "allowed_distance": allowed.get(index), "pcurves": "kept" if index in kept_pcurves else "projected",
-             "model_valid": model_valid} for index in sorted(replacements)]
+             "allowed_distance": _limit(allowed.get(index), measured[index]),
+             "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid} for index in sorted(replacements)]
+
+
+def _limit(allowed, record):
+    """The distance a written face may lie from the old one: ``allowed`` (t + its ripple) plus the old face's
+    largest edge tolerance (its border is known only to within it: the new trim follows the edges' 3-D curves,
+    the old face's border its pcurves). None when ``allowed`` is."""
+    return None if allowed is None else float(allowed) + record["edge_tolerance_before"]
 
 
 def _replace(shape, faces: list, replacements: dict, free, out: Path, kept_pcurves=frozenset()):

@@ -15,7 +15,8 @@ surface addressed in the old one's parameters, right where the refit kept the pa
 :func:`measure` gives what the written face is: its distance to the old face both ways by projection
 (:mod:`.face_distance`), the largest edge tolerance before and after, BRepCheck before and after;
 :func:`refusal` says why a face should be kept instead (SPEC §5: within t + the old face's ripple of the old face,
-edge tolerances within the input's + t, BRepCheck no worse).
+plus its edge tolerance since its border is known only to within it; edge tolerances within the input's + t;
+BRepCheck no worse).
 """
 
 from __future__ import annotations
@@ -158,15 +159,15 @@ def refusal(record: dict, allowed_distance: float | None, tolerance: float | Non
     record : dict
         :func:`measure`'s figures.
     allowed_distance : float, optional
-        ``t + `` the old face's ripple (the value the advice read for today's net): the new face must lie within
-        it of the old face, both ways. None: not checked.
+        ``t + `` the old face's ripple (the value the advice read for today's net) + the old face's largest edge
+        tolerance: the new face must lie within it of the old face, both ways. None: not checked.
     tolerance : float, optional
         ``t``: each edge's tolerance may rise to the input's + ``t``. None: not checked.
     """
     why = []
     if allowed_distance is not None and not record["max_distance"] <= allowed_distance:
         why.append(f"it lies {record['max_distance']:.4g} from the old face, beyond t + the old face's ripple "
-                   f"= {allowed_distance:.4g}")
+                   f"+ its edge tolerance = {allowed_distance:.4g}")
     if tolerance is not None and not record["edge_tolerance"] <= record["edge_tolerance_before"] + tolerance:
         why.append(f"its edges end {record['edge_tolerance']:.4g} off it (edge tolerance; the input's "
                    f"{record['edge_tolerance_before']:.3g} + t = {record['edge_tolerance_before'] + tolerance:.4g})")

@@ -227,8 +227,8 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
         untouched and are listed in ``kept``. Each replaced face is measured as written
         (:func:`cadartifact.exchange.model_writer.write_model`): within ``t`` + the old face's ripple (the
-        value the advice read for today's net) of the old face by projection both ways, edge tolerances
-        within the input's + ``t``, BRepCheck no worse than the input's. A face whose new net the writer
+        value the advice read for today's net) + its edge tolerance of the old face by projection both
+        ways, edge tolerances within the input's + ``t``, BRepCheck no worse than the input's. A face whose new net the writer
         refuses (it does not cover the face's trimmed region, or it measures beyond those bounds) stays
         as it was and is listed in ``refused`` with the reason and, when measured, what the best
         replacement measured; the other faces are written. If every replacement of a file is refused,

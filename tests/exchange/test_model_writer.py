@@ -201,8 +201,9 @@ def test_a_face_moved_beyond_its_allowance_is_kept_with_what_it_measured(dz, tmp
                           provenance=PROVENANCE, refused=refused, allowed={0: 0.1}, tolerance=0.05,
                           measurements=measured)
     assert records == [] and not out.exists()
-    assert "beyond t + the old face's ripple = 0.1" in refused[0]
-    assert measured[0]["max_distance"] == pytest.approx(dz, rel=1e-6) and measured[0]["allowed_distance"] == 0.1
+    assert "beyond t + the old face's ripple + its edge tolerance = 0.1" in refused[0]  # its edges: 1e-7
+    assert measured[0]["max_distance"] == pytest.approx(dz, rel=1e-6)
+    assert measured[0]["allowed_distance"] == pytest.approx(0.1 + measured[0]["edge_tolerance_before"], abs=1e-15)
     (rec,) = write_model(model, {0: net.replace(points=net.points + np.array([0.0, 0.0, dz]))}, out,
                          provenance=PROVENANCE, refused={}, allowed={0: 1.5 * dz}, tolerance=0.05)
     assert rec["max_distance"] <= 1.5 * dz and out.exists()

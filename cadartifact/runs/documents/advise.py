@@ -55,7 +55,8 @@ class WrittenFace(TypedDict, closed=True):
     mean_distance: float | None
     """The mean over both directions' samples."""
     allowed_distance: NotRequired[float | None]
-    """t + the old face's ripple (the peak the advice read for today's net): the most ``max_distance`` may be."""
+    """t + the old face's ripple (the peak the advice read for today's net) + the old face's largest edge tolerance
+    (its border is known only to within it): the most ``max_distance`` may be."""
     edge_tolerance_before: NotRequired[float | None]
     """The largest tolerance of the face's edges in the input."""
     edge_tolerance: float | None
