@@ -315,7 +315,12 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             kept_pcurves |= retry
             first.update({index: (failed[index], measured[index]) for index in retry})
             continue
+        # a face that fails on its own (its distance, BRepCheck) goes first: an edge tolerance may be its
+        # neighbour's doing (a shared edge), so a face failing on that alone is built again without them
+        own = {index for index in failed if not _edges_only(measured[index], limits[index])}
         for index, why in failed.items():
+            if own and index not in own:
+                continue
             projected, best = first.get(index, (None, measured[index]))
             if projected is not None:
                 why = f"with its edges projected onto it: {projected}; with its old pcurves: {why}"
@@ -334,6 +339,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             refused.update(sorted(refusals.items()))
         if not replacements:
             return []
+        kept_pcurves, first = set(), {}  # the others are tried afresh without the faces kept
     new_faces = list(iter_faces(result))
     names = []
     if face_name is not None:
@@ -346,6 +352,12 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
              "allowed_distance": _limit(allowed.get(index), measured[index]),
              "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid} for index in sorted(replacements)]
+
+
+def _edges_only(record, limit) -> bool:
+    """Whether a face's only failing figure is its edge tolerance (it lies within ``limit`` and BRepCheck passes
+    it as it passed the input)."""
+    return (limit is None or record["max_distance"] <= limit) and (record["valid"] or not record["valid_before"])
 
 
 def _limit(allowed, record):

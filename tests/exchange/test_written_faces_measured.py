@@ -93,6 +93,10 @@ def run(tmp_path, shape, tol):
 
 def check(source, out, doc, f, tol):
     assert f["faces"], "the family must replace faces"
+    for r in f["refused"]:  # kept on measured grounds: what it measured says why
+        m = r["measured"]
+        assert m["max_distance"] > m["allowed_distance"] or m["edge_tolerance"] > m["edge_tolerance_before"] + tol \
+            or (m["valid_before"] and not m["valid"]), r
     today = {r["face"]: r["advice"]["today"]["peak"] for r in doc["files"][0]["faces"]}
     old_faces, new_faces = faces_of(source), faces_of(out)
     assert sorted(new_faces) == sorted(old_faces)  # the file reads back, every face in its place
