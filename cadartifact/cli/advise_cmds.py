@@ -115,8 +115,8 @@ def advise_cmd(
 
 
 def _print_written(written: dict, units: str) -> None:
-    """One line per written file, per replaced face (its distance to the old surface) and per refused face (why
-    it was kept)."""
+    """One line per written file, per replaced face (its distance to the old face, edge tolerance before and
+    after, BRepCheck) and per refused face (why it was kept)."""
     con = _console()
     for f in written["files"]:
         if f["path"] is None:
@@ -134,10 +134,13 @@ def _print_written(written: dict, units: str) -> None:
             if r["max_distance"] is None:
                 continue
             label = str(r["face"]) + (f" ({escape(r['name'])})" if r["name"] else "")
-            edges = "" if r["edge_tolerance"] is None else f"; edge tolerance {r['edge_tolerance']:.3g} {units}"
-            con.print(f"  face {label}: max {r['max_distance']:.4g} {units}, mean {r['mean_distance']:.4g} {units} "
-                      f"from the old surface (same u, v){edges}; "
-                      + ("valid" if r["valid"] else "[red]BRepCheck: invalid[/]"), soft_wrap=True)
+            allowed = "" if r.get("allowed_distance") is None else f" (allowed {r['allowed_distance']:.4g})"
+            edges = "" if r["edge_tolerance"] is None else (
+                f"; edge tolerance {r.get('edge_tolerance_before') or 0:.3g} -> {r['edge_tolerance']:.3g} {units}")
+            valid = "valid" if r["valid"] else "[red]BRepCheck: invalid[/]" + (
+                " (as in the input)" if r.get("valid_before") is False else "")
+            con.print(f"  face {label}: {r['max_distance']:.4g} {units} from the old face{allowed}, mean "
+                      f"{r['mean_distance']:.4g} {units} (by projection, both ways){edges}; {valid}", soft_wrap=True)
         for r in f.get("refused", []):
             con.print(f"  face {r['face']} kept as it was, its advised net cannot be written: {escape(r['reason'])}",
                       soft_wrap=True)

@@ -2,14 +2,19 @@
 
 The model is read with OCCT, its faces are walked in the order :func:`cadartifact.exchange.read`
 numbers them (``TopExp_Explorer`` over the whole shape), and each replaced face gets a new TFace
-on the new ``Geom_BSplineSurface`` that keeps the face's own wires. The edges stay shared with
-the neighbouring faces; each edge of a replaced face gets its old pcurve again on the new
-surface (valid because a replacement covers the same parameter range by contract), and
-``ShapeFix_Edge.FixSameParameter`` then sets the edge tolerance to the gap between the edge's
-3-D curve and the new surface. Untouched faces, face order, face and product names and the
-file's length unit and distance uncertainty are kept; the header carries the provenance.
+on the new ``Geom_BSplineSurface`` that keeps the face's own wires, on a copy of the model. The
+edges stay shared with the neighbouring faces; each edge's pcurve on the new surface is rebuilt by
+projecting its 3-D curve (:mod:`.written_faces`: the old pcurves address other points where the new
+surface is parametrised otherwise), and ``ShapeFix_Edge.FixSameParameter`` then sets the edge
+tolerance to the gap between the edge's 3-D curve and the new surface.
 
-This module does no analysis: the distance it reports is a plain grid comparison of two surfaces.
+What is written is what was measured (SPEC §5): each replaced face, as it stands in the fixed model,
+is measured against the old face by projection both ways with the trims respected
+(:mod:`.face_distance`), with its edge tolerances and BRepCheck before and after. A face beyond its
+allowed distance (t + the old face's ripple + its edges' tolerance), with an edge tolerance beyond
+the input's + t, or that BRepCheck rejects where the input's passed, is kept as it was (with the reason and what it measured)
+and the model is built again without it. Untouched faces, face order, face and product names and the
+file's length unit and distance uncertainty are kept; the header carries the provenance.
 """
 
 from __future__ import annotations
@@ -28,11 +33,11 @@ from .files import check_file
 
 require("OCP", "writing STEP models")
 
-from OCP.BRep import BRep_Builder, BRep_Tool  # noqa: E402
+from OCP.BRep import BRep_Tool  # noqa: E402
 from OCP.BRepCheck import BRepCheck_Analyzer  # noqa: E402
 from OCP.BRepLib import BRepLib  # noqa: E402
+from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy  # noqa: E402
 from OCP.BRepTools import BRepTools  # noqa: E402
-from OCP.gp import gp_Pnt  # noqa: E402
 from OCP.IFSelect import IFSelect_RetDone  # noqa: E402
 from OCP.ShapeBuild import ShapeBuild_ReShape  # noqa: E402
 from OCP.ShapeFix import ShapeFix_Edge, ShapeFix_Face  # noqa: E402
@@ -43,20 +48,16 @@ from OCP.STEPConstruct import STEPConstruct, STEPConstruct_UnitContext  # noqa: 
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer  # noqa: E402
 from OCP.TCollection import TCollection_HAsciiString  # noqa: E402
 from OCP.TColStd import TColStd_SequenceOfAsciiString  # noqa: E402
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FORWARD, TopAbs_REVERSED  # noqa: E402
-from OCP.TopExp import TopExp  # noqa: E402
-from OCP.TopoDS import TopoDS, TopoDS_Iterator  # noqa: E402
 from OCP.TopTools import TopTools_IndexedMapOfShape  # noqa: E402
 
 from .occ import iter_faces, occ_surface, quiet_occt, surface_kind  # noqa: E402
 from .step import set_header, write_settings  # noqa: E402
+from .written_faces import free_edges, measure, refusal, replace_surface  # noqa: E402
 
-__all__ = ["write_model", "STEP_SUFFIXES", "check_step_output", "GRID"]
+__all__ = ["write_model", "STEP_SUFFIXES", "check_step_output"]
 
 #: Output suffixes write_model accepts (any case).
 STEP_SUFFIXES = (".step", ".stp")
-#: Evaluations per direction of the old/new distance grid.
-GRID = 41
 
 #: STEP unit names (as OCCT's reader reports them) -> the ``write.step.unit`` value.
 _UNITS = {"millimetre": "MM", "mm": "MM", "centimetre": "CM", "cm": "CM", "metre": "M", "m": "M",
@@ -155,58 +156,6 @@ def _check_range(index: int, surface, net: ControlNet, face=None) -> None:
                           "trimmed region", f"u [{new[0]:g}, {new[1]:g}] x v [{new[2]:g}, {new[3]:g}]")
 
 
-def _distance(face, old_surface, new_surface, grid: int = GRID) -> tuple[float, float]:
-    """Max and mean of ``|S_old(u, v) - S_new(u, v)|`` on a ``grid x grid`` lattice of the face's uv box."""
-    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
-    b = old_surface.Bounds()
-    if not old_surface.IsUPeriodic():
-        u0, u1 = max(u0, b[0]), min(u1, b[1])
-    if not old_surface.IsVPeriodic():
-        v0, v1 = max(v0, b[2]), min(v1, b[3])
-    p, q = gp_Pnt(), gp_Pnt()
-    d = []
-    for u in np.linspace(u0, u1, grid).tolist():
-        for v in np.linspace(v0, v1, grid).tolist():
-            old_surface.D0(u, v, p)
-            new_surface.D0(u, v, q)
-            d.append(p.Distance(q))
-    d = np.asarray(d)
-    return float(d.max()), float(d.mean())
-
-
-def _replace_surface(face, surface):
-    """A new face on ``surface`` (global coordinates) with ``face``'s wires, edges keeping their pcurves."""
-    builder = BRep_Builder()
-    new_face = TopoDS.Face_s(face.EmptyCopied())
-    it = TopoDS_Iterator(face, False, False)  # the wires as stored: relative orientation and location
-    while it.More():
-        builder.Add(new_face, it.Value())
-        it.Next()
-    local = surface
-    if not face.Location().IsIdentity():
-        local = surface.Transformed(face.Location().Inverted().Transformation())
-    builder.UpdateFace(new_face, local, face.Location(), BRep_Tool.Tolerance_s(face))
-    edges = TopTools_IndexedMapOfShape()
-    TopExp.MapShapes_s(new_face, TopAbs_EDGE, edges)
-    fixed = []
-    for i in range(1, edges.Extent() + 1):
-        edge = TopoDS.Edge_s(edges.FindKey(i))
-        tol = BRep_Tool.Tolerance_s(edge)
-        if BRep_Tool.IsClosed_s(edge, face):  # a seam: one pcurve per orientation
-            forward = TopoDS.Edge_s(edge.Oriented(TopAbs_FORWARD))
-            c1 = BRep_Tool.CurveOnSurface_s(forward, face, 0.0, 0.0)
-            c2 = BRep_Tool.CurveOnSurface_s(TopoDS.Edge_s(edge.Oriented(TopAbs_REVERSED)), face, 0.0, 0.0)
-            builder.UpdateEdge(forward, c1, c2, new_face, tol)
-        else:
-            curve = BRep_Tool.CurveOnSurface_s(edge, face, 0.0, 0.0)
-            if curve is None:
-                raise InputError(None, "an edge of the face has no curve on its surface")
-            builder.UpdateEdge(edge, curve, new_face, tol)
-        builder.SameParameter(edge, False)
-        fixed.append(edge)
-    return new_face, fixed
-
-
 def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source: Path, provenance: dict) -> None:
     """Write ``shape`` to ``out`` atomically (temporary file + rename) in ``unit``, declaring ``uncertainty`` (mm)."""
     writer = STEPControl_Writer()
@@ -248,7 +197,8 @@ def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source:
 
 
 def write_model(source, replacements: dict, out, *, provenance: dict | None = None,
-                faces_only: bool = False, refused: dict | None = None) -> list[dict]:
+                faces_only: bool = False, refused: dict | None = None, allowed: dict | None = None,
+                tolerance: float | None = None, measurements: dict | None = None) -> list[dict]:
     """Write ``source`` to STEP with the surfaces of some faces replaced.
 
     Parameters
@@ -271,17 +221,31 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         net, a face without a surface, a net that does not cover the face's trimmed region) is not
         raised but recorded here as ``face index -> reason`` and that face is kept as it is; the
         other faces are written. If every replacement is refused, nothing is written (``[]``).
+        The same for a face the written model measures unfaithful (below).
+    allowed : dict int -> float, optional
+        Per face, the largest distance the written face may lie from the old one (``t`` + the old
+        face's ripple, model units), to which the old face's largest edge tolerance is added (its
+        border is known only to within it); a face beyond that is refused (kept). Absent: not checked.
+    tolerance : float, optional
+        ``t``: a written face whose largest edge tolerance exceeds the input's + ``t`` is refused.
+        None: not checked. A face BRepCheck rejects where the input's passed is always refused.
+    measurements : dict, optional
+        Given (an empty dict to fill): face index -> the figures (as in the records) of a
+        replacement refused on measured grounds, with ``allowed_distance``.
 
     Returns
     -------
     list of dict
         One per replaced face, in face order: ``{"face": int, "name": str | None,
-        "max_distance": float, "mean_distance": float, "edge_tolerance": float, "valid": bool,
-        "model_valid": bool}``.
-        The distances are ``|S_old(u, v) - S_new(u, v)|`` on a 41 x 41 lattice of the face's
-        trimmed uv box (model units, mm for STEP); ``edge_tolerance`` is the largest tolerance
-        of the face's edges after the fix; ``valid`` is BRepCheck's verdict on the written face
-        (on the new face alone when ``faces_only``), ``model_valid`` on the whole written shape.
+        "distance_to_old", "distance_from_old", "max_distance", "mean_distance",
+        "allowed_distance", "edge_tolerance_before", "edge_tolerance", "valid_before", "valid",
+        "pcurves", "model_valid"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
+        against the old one by projection both ways, trims respected (model units, mm for STEP),
+        its edges' largest tolerance and BRepCheck's verdict on the face in the input and as
+        written, ``model_valid`` on the whole written shape; ``pcurves``: ``"projected"`` (the edges'
+        3-D curves projected onto the new surface) or ``"kept"`` (the old pcurves, tried when the
+        projected face measured unfaithful). ``faces_only``: the untrimmed new
+        face against the old one; no edge figures, ``model_valid`` None.
 
     Raises
     ------
@@ -290,7 +254,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         a net that is a cage, rational, or over another parameter range (unless ``refused`` is given);
         an OBJ source.
     InputError
-        The source cannot be read, or the file cannot be written (nothing is left behind).
+        The source cannot be read, or the file cannot be written (nothing is left behind); a face
+        measured unfaithful when ``refused`` is not given.
     """
     out = check_step_output(out)
     source = check_file(source)
@@ -334,23 +299,96 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     if faces_only:
         return _write_faces_only(source, replacements, old, out, provenance, unit, uncertainty)
 
-    reshape = ShapeBuild_ReShape()
-    new_surfaces = {}
-    to_fix = []
-    for index in sorted(replacements):
-        face, _ = old[index]
-        surface = occ_surface(replacements[index])
-        new_surfaces[index] = surface
-        with quiet_occt():
-            new_face, edges = _replace_surface(face, surface)
-        to_fix.append(edges)
-        reshape.Replace(face, new_face)
+    free = free_edges(shape)
+    allowed = dict(allowed or {})
+    kept_pcurves: set = set()  # faces tried again with their old pcurves
+    first: dict = {}  # their projected attempt: (why it failed, what it measured)
+    while True:  # replace, measure, keep the faces that fail (shared edges: the others are built again)
+        result, model_valid, measured = _replace(shape, faces, replacements, free, out, kept_pcurves)
+        limits = {index: _limit(allowed.get(index), measured[index]) for index in replacements}
+        failed = {index: why for index in replacements
+                  if (why := refusal(measured[index], limits[index], tolerance)) is not None}
+        if not failed:
+            break
+        retry = set(failed) - kept_pcurves
+        if retry:  # the projected pcurves failed: once more with the old ones, before a face is kept
+            kept_pcurves |= retry
+            first.update({index: (failed[index], measured[index]) for index in retry})
+            continue
+        # a face that fails on its own (its distance, BRepCheck) goes first: an edge tolerance may be its
+        # neighbour's doing (a shared edge), so a face failing on that alone is built again without them
+        own = {index for index in failed if not _edges_only(measured[index], limits[index])}
+        for index, why in failed.items():
+            if own and index not in own:
+                continue
+            projected, best = first.get(index, (None, measured[index]))
+            if projected is not None:
+                why = f"with its edges projected onto it: {projected}; with its old pcurves: {why}"
+                if measured[index]["max_distance"] + measured[index]["edge_tolerance"] < \
+                        best["max_distance"] + best["edge_tolerance"]:
+                    best = measured[index]
+            measured[index] = best
+            if refused is None:
+                raise InputError(out, f"face {index}: the advised net cannot be written faithfully: {why}")
+            refusals[index] = why
+            if measurements is not None:
+                measurements[index] = dict(measured[index], allowed_distance=_limit(allowed.get(index),
+                                                                                    measured[index]))
+            del replacements[index]
+        if refused is not None:
+            refused.update(sorted(refusals.items()))
+        if not replacements:
+            return []
+        kept_pcurves, first = set(), {}  # the others are tried afresh without the faces kept
+    new_faces = list(iter_faces(result))
+    names = []
+    if face_name is not None:
+        for (_, before), (_, after) in zip(faces, new_faces):
+            name = face_name(before)
+            if name:
+                names.append((after, name))
+    _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
+           provenance=provenance)
+    return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
+             "allowed_distance": _limit(allowed.get(index), measured[index]),
+             "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid} for index in sorted(replacements)]
+
+
+def _edges_only(record, limit) -> bool:
+    """Whether a face's only failing figure is its edge tolerance (it lies within ``limit`` and BRepCheck passes
+    it as it passed the input)."""
+    return (limit is None or record["max_distance"] <= limit) and (record["valid"] or not record["valid_before"])
+
+
+def _limit(allowed, record):
+    """The distance a written face may lie from the old one: ``allowed`` (t + its ripple) plus the old face's
+    largest edge tolerance (its border is known only to within it: the new trim follows the edges' 3-D curves,
+    the old face's border its pcurves). None when ``allowed`` is."""
+    return None if allowed is None else float(allowed) + record["edge_tolerance_before"]
+
+
+def _replace(shape, faces: list, replacements: dict, free, out: Path, kept_pcurves=frozenset()):
+    """``(result, model valid, {face index: measure(...)})``: a copy of ``shape`` with the replaced faces on their
+    new surfaces, their edges' pcurves rebuilt (kept on the faces of ``kept_pcurves``) and tolerances set
+    (``ShapeFix_Edge.FixSameParameter``)."""
     with quiet_occt():
-        result = reshape.Apply(shape)
+        copier = BRepBuilderAPI_Copy(shape, True, False)  # the edges are updated in place: never the source's
+        model = copier.Shape()
+        copied = list(iter_faces(model))
+        free_copy = TopTools_IndexedMapOfShape()
+        for i in range(1, free.Extent() + 1):
+            free_copy.Add(copier.Modified(free.FindKey(i)).First())
+        reshape = ShapeBuild_ReShape()
+        to_fix = []
+        for index in sorted(replacements):
+            new_face, edges = replace_surface(copied[index][1], occ_surface(replacements[index]), free_copy,
+                                              project=index not in kept_pcurves)
+            to_fix.extend(edges)
+            reshape.Replace(copied[index][1], new_face)
+        result = reshape.Apply(model)
         fix = ShapeFix_Edge()
-        for edges in to_fix:
-            for edge in edges:
-                fix.FixSameParameter(edge)
+        for edge in to_fix:
+            fix.FixSameParameter(edge)
         BRepLib.UpdateTolerances_s(result, False)
         # ShapeFix_Face only on a replaced face BRepCheck rejects: the rest of the model stays as it was read
         context = ShapeBuild_ReShape()
@@ -364,31 +402,12 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         if refixed:
             result = context.Apply(result)
         model_valid = bool(BRepCheck_Analyzer(result).IsValid())
-    new_faces = list(iter_faces(result))
-    if len(new_faces) != len(faces):  # ShapeFix must not split or merge faces: refuse rather than renumber
-        raise InputError(out, f"fixing the model changed its face count ({len(faces)} -> {len(new_faces)}); "
-                         "nothing written")
-    names = []
-    if face_name is not None:
-        for (_, before), (_, after) in zip(faces, new_faces):
-            name = face_name(before)
-            if name:
-                names.append((after, name))
-    _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
-           provenance=provenance)
-    records = []
-    for index in sorted(replacements):
-        face, basis = old[index]
-        written = new_faces[index][1]
-        dmax, dmean = _distance(face, basis, new_surfaces[index])
-        edges = TopTools_IndexedMapOfShape()
-        TopExp.MapShapes_s(written, TopAbs_EDGE, edges)
-        tol = max((BRep_Tool.Tolerance_s(TopoDS.Edge_s(edges.FindKey(i))) for i in range(1, edges.Extent() + 1)),
-                  default=0.0)
-        records.append({"face": index, "name": face_name(face) if face_name else None, "max_distance": dmax,
-                        "mean_distance": dmean, "edge_tolerance": float(tol),
-                        "valid": bool(BRepCheck_Analyzer(written).IsValid()), "model_valid": model_valid})
-    return records
+        new_faces = list(iter_faces(result))
+        if len(new_faces) != len(faces):  # ShapeFix must not split or merge faces: refuse rather than renumber
+            raise InputError(out, f"fixing the model changed its face count ({len(faces)} -> {len(new_faces)}); "
+                             "nothing written")
+        measured = {index: measure(faces[index][1], new_faces[index][1]) for index in replacements}
+    return result, model_valid, measured
 
 
 def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, provenance: dict, unit: str,
@@ -401,10 +420,11 @@ def _write_faces_only(source: Path, replacements: dict, old: dict, out: Path, pr
     write_step(nets, out, provenance={"source": source.name, **provenance}, unit=unit, uncertainty=uncertainty)
     records = []
     for index in sorted(replacements):
-        face, basis = old[index]
+        face, _ = old[index]
         net = replacements[index]
-        dmax, dmean = _distance(face, basis, occ_surface(net))
-        records.append({"face": index, "name": net.origin.name, "max_distance": dmax, "mean_distance": dmean,
-                        "edge_tolerance": None,
-                        "valid": bool(BRepCheck_Analyzer(make_face(net)).IsValid()), "model_valid": None})
+        with quiet_occt():
+            record = measure(face, make_face(net))
+        records.append({"face": index, "name": net.origin.name, **record, "edge_tolerance": None,
+                        "edge_tolerance_before": None, "allowed_distance": None, "pcurves": None,
+                        "model_valid": None})
     return records

@@ -10,7 +10,7 @@ from ..errors import FileFormatError, OptionError
 from ..exchange import formats
 from .records import SCHEMA, analysed_share, json_number
 
-__all__ = ["advise_files", "resampled_nets", "advised_outputs", "write_advised"]
+__all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "write_advised"]
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
@@ -175,6 +175,32 @@ def advised_outputs(kept, out) -> list:
     return [(src, out.with_name(f"{out.stem}_{src.stem}{out.suffix}"), items) for src, items in groups.items()]
 
 
+def allowed_distances(items) -> dict:
+    """Per face of ``(path, net, advice)`` tuples, how far its written face may lie from the old one (model
+    units): the tolerance plus the old face's ripple, the peak the advice read for today's net (the new surface
+    is within ``t`` of the intent, the intent within today's ripple of the old surface)."""
+    out = {}
+    for _, net, adv in items:
+        today = (getattr(adv, "today", None) or {}).get("peak")
+        if today is not None and getattr(adv, "tolerance", None) is not None:
+            out[net.origin.face] = float(adv.tolerance) + float(today)
+    return out
+
+
+def _tolerance(items):
+    """The run's tolerance (every advice of a run has the same)."""
+    return next((float(adv.tolerance) for _, _, adv in items if getattr(adv, "tolerance", None) is not None), None)
+
+
+def _measured(record):
+    """The figures a refused replacement measured (None: refused before it was built)."""
+    if record is None:
+        return None
+    return {key: json_number(record.get(key)) if not isinstance(record.get(key), bool) else record.get(key)
+            for key in ("distance_to_old", "distance_from_old", "max_distance", "allowed_distance",
+                        "edge_tolerance_before", "edge_tolerance", "valid_before", "valid")}
+
+
 def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None) -> dict:
     """Write the advice of ``(path, net, advice)`` tuples: whole models, or the advised faces only.
 
@@ -195,14 +221,18 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
     dict
         The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
         "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
-        "edge_tolerance", "valid", "model_valid"}], "kept": [face indices left as they were],
-        "refused": [{"face", "reason"}], "valid": BRepCheck on the written model or None}], "path", "faces"}``
-        (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
+        "edge_tolerance", "valid", "model_valid", ...}], "kept": [face indices left as they were],
+        "refused": [{"face", "reason", "measured"}], "valid": BRepCheck on the written model or None}], "path",
+        "faces"}`` (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
         faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
-        untouched and are listed in ``kept``. A face whose new net the writer refuses (it does not
-        cover the face's trimmed region, ...) stays as it was and is listed in ``refused`` with the
-        reason; the other faces are written. If every replacement of a file is refused, that file is
-        not written and its ``path`` is null.
+        untouched and are listed in ``kept``. Each replaced face is measured as written
+        (:func:`cadartifact.exchange.model_writer.write_model`): within ``t`` + the old face's ripple (the
+        value the advice read for today's net) + its edge tolerance of the old face by projection both
+        ways, edge tolerances within the input's + ``t``, BRepCheck no worse than the input's. A face whose new net the writer
+        refuses (it does not cover the face's trimmed region, or it measures beyond those bounds) stays
+        as it was and is listed in ``refused`` with the reason and, when measured, what the best
+        replacement measured; the other faces are written. If every replacement of a file is refused,
+        that file is not written and its ``path`` is null.
     """
     from ..exchange.model_writer import check_step_output, write_model
     from ..exchange.step import write_step
@@ -216,6 +246,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         mode = "faces-only" if faces_only or not brep else "model"
         asked: dict = {}
         refused: dict = {}
+        measurements: dict = {}
         if mode == "faces-only" and not brep:
             write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
@@ -228,13 +259,16 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         else:
             asked = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
                      if not getattr(adv, "kept_today", new.shape == net.shape)}
-            faces = write_model(src, asked, target, provenance=provenance, refused=refused)
+            faces = write_model(src, asked, target, provenance=provenance, refused=refused,
+                                allowed=allowed_distances(items), tolerance=_tolerance(items),
+                                measurements=measurements)
             kept_faces = sorted(set(by_face) - set(asked))
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
         # every replacement refused: nothing was written (the model would be today's)
         path = None if asked and len(refused) == len(asked) else str(target)
         files.append({"path": path, "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
-                      "refused": [{"face": i, "reason": why} for i, why in refused.items()],
+                      "refused": [{"face": i, "reason": why, "measured": _measured(measurements.get(i))}
+                                  for i, why in refused.items()],
                       "valid": all(checks) if checks else None})
     modes = {f["mode"] for f in files}
     return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,

@@ -131,3 +131,72 @@ def jointed_face(pieces=2, direction=0, kind="C0", degree=3, spans=4, size=100.0
     if direction == 1:
         net = ControlNet(points=np.swapaxes(P, 0, 1), degrees=(p, p), knots=(tv, tu))
     return net
+
+
+def graded_face(n=(10, 9), degree=3, size=100.0, amplitude=3.0, grade=0.5, seed=0) -> ControlNet:
+    """:func:`smooth_face` with graded (non-uniform) interior knots: span ``k`` of ``m`` grows as ``1 + grade k /
+    m``; the poles sample the same bump at their Greville abscissae, so the surface's parametrisation is not its
+    intent's (the advice's refit is parametrised otherwise: the old pcurves no longer address the trim)."""
+    base = smooth_face(n, degree, size, amplitude, seed)
+    knots = []
+    for m in n:
+        spans = m - degree
+        widths = 1.0 + grade * np.arange(spans) / spans
+        inner = np.cumsum(widths)[:-1] / widths.sum()
+        knots.append(np.r_[[0.0] * (degree + 1), inner, [1.0] * (degree + 1)])
+    return base.replace(knots=tuple(knots))
+
+
+def extended_shell(path, *, pieces=2, sides=("u0", "u1", "v0", "v1"), ext=0.02, mult=None, unit="MM", seed=0,
+                   grade=0.5, circle=False):
+    """A STEP shell of ``pieces`` faces side by side along u, sharing their edges, each on a surface extended
+    ``ext`` past its trim on ``sides`` (:func:`extended_face`, joined at multiplicity ``mult``) over graded knots
+    (:func:`graded_face`); ``circle``: the first face is a disc cut from its surface by a circle of the uv square (a
+    trim that is no iso-line; then it stands alone). Written in ``unit`` (``write.step.unit``). Returns ``path``."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire, \
+        BRepBuilderAPI_Sewing
+    from OCP.BRep import BRep_Builder
+    from OCP.BRepLib import BRepLib
+    from OCP.Geom2d import Geom2d_Circle
+    from OCP.gp import gp_Ax2d, gp_Dir2d, gp_Pnt2d
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from OCP.TopoDS import TopoDS_Compound
+
+    from cadartifact.exchange.occ import net_from_surface, occ_surface, quiet_occt
+    from cadartifact.exchange.step import write_settings
+    from cadartifact.net import NetOrigin
+
+    whole = graded_face(n=(6 * pieces + 4, 9), size=100.0, grade=grade, seed=seed)
+    sewing = BRepBuilderAPI_Sewing(1e-2)  # a join lowered to p - 1 moves the border by up to ~0.006
+    extra = []
+    for k in range(pieces):
+        piece = occ_surface(whole)
+        piece.Segment(k / pieces, (k + 1) / pieces, 0.0, 1.0)
+        net = net_from_surface(piece, origin=NetOrigin(file=None, face=k))
+        tu = (np.asarray(net.knots[0]) - k / pieces) * pieces  # each piece over [0, 1]
+        net = net.replace(knots=(tu, np.asarray(net.knots[1])), uv_bounds=None)
+        net = extended_face(net, sides=sides, ext=ext, mult=mult)
+        surface = occ_surface(net)
+        if circle and k == 0:
+            edge = BRepBuilderAPI_MakeEdge(Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1.0, 0.0)), 0.42),
+                                           surface).Edge()
+            BRepLib.BuildCurves3d_s(edge)
+            face = BRepBuilderAPI_MakeFace(surface, BRepBuilderAPI_MakeWire(edge).Wire()).Face()
+            extra.append(face)
+            continue
+        sewing.Add(BRepBuilderAPI_MakeFace(surface, 0.0, 1.0, 0.0, 1.0, 1e-7).Face())
+    sewing.Perform()
+    compound = TopoDS_Compound()
+    builder = BRep_Builder()
+    builder.MakeCompound(compound)
+    for face in extra:
+        builder.Add(compound, face)
+    builder.Add(compound, sewing.SewedShape())
+    writer = STEPControl_Writer()
+    with quiet_occt(), write_settings(unit, None):
+        if writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone:
+            raise RuntimeError("OCCT could not translate the shell")
+        if writer.Write(str(path)) != IFSelect_RetDone:
+            raise RuntimeError(f"cannot write {path}")
+    return path

@@ -14,7 +14,8 @@ from typing import Literal, NotRequired
 from .face import AdviseFace, Metric, Reading, SummaryCounts
 from .keys import TypedDict
 
-__all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "RefusedFace", "WrittenFile", "Written", "AdviseDocument"]
+__all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "RefusedMeasure", "RefusedFace",
+           "WrittenFile", "Written", "AdviseDocument"]
 
 #: The ``schema`` key of the advise document (and of the gate document, which extends it).
 ADVISE_SCHEMA = "cadartifact.advise/3"
@@ -40,18 +41,50 @@ class AdviseSummary(SummaryCounts, closed=True):
 
 
 class WrittenFace(TypedDict, closed=True):
-    """One face written with its advised net."""
+    """One face written with its advised net, measured as it stands in the written model against the old face
+    (model units, mm for STEP; null: not measured, an OBJ cage's face)."""
 
     face: int
     name: str | None
+    distance_to_old: NotRequired[float | None]
+    """The largest distance of the written face (samples inside its trim) to the old face, by projection."""
+    distance_from_old: NotRequired[float | None]
+    """The largest distance of the old face (samples inside its trim) to the written face, by projection."""
     max_distance: float | None
+    """The larger of the two: the distance of the written face to the old one."""
     mean_distance: float | None
+    """The mean over both directions' samples."""
+    allowed_distance: NotRequired[float | None]
+    """t + the old face's ripple (the peak the advice read for today's net) + the old face's largest edge tolerance
+    (its border is known only to within it): the most ``max_distance`` may be."""
+    edge_tolerance_before: NotRequired[float | None]
+    """The largest tolerance of the face's edges in the input."""
     edge_tolerance: float | None
+    """The largest tolerance of the face's edges as written (at most the input's + t)."""
+    valid_before: NotRequired[bool | None]
+    """BRepCheck's verdict on the face alone in the input."""
     valid: bool | None
+    """BRepCheck's verdict on the written face alone."""
+    pcurves: NotRequired[Literal["projected", "kept"] | None]
+    """How the face's trim was put on its new surface: its edges' 3-D curves projected onto it, or its old pcurves
+    kept (tried when the projected face measured unfaithful). Null: faces only."""
     model_valid: NotRequired[bool | None]
     """A B-rep source: whether the written model checks valid (absent for OBJ sources)."""
     file: NotRequired[str]
     """Several input files: the output file this face was written to."""
+
+
+class RefusedMeasure(TypedDict, closed=True):
+    """What the best replacement of a refused face measured, written (model units)."""
+
+    distance_to_old: float | None
+    distance_from_old: float | None
+    max_distance: float | None
+    allowed_distance: float | None
+    edge_tolerance_before: float | None
+    edge_tolerance: float | None
+    valid_before: bool | None
+    valid: bool | None
 
 
 class RefusedFace(TypedDict, closed=True):
@@ -59,7 +92,11 @@ class RefusedFace(TypedDict, closed=True):
 
     face: int
     reason: str
-    """Why, as the writer's check says it (e.g. the net does not cover the face's trimmed region)."""
+    """Why, as the writer's check says it (the net does not cover the face's trimmed region; written, it lies
+    beyond t + the old face's ripple of the old face, its edges beyond the input's tolerance + t, or BRepCheck
+    rejects it where the input's passed)."""
+    measured: NotRequired[RefusedMeasure | None]
+    """What the replacement measured when it was refused on measured grounds (null: refused before it was built)."""
 
 
 class WrittenFile(TypedDict, closed=True):
