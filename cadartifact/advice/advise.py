@@ -360,9 +360,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         kept, meets = True, meets or today_ok
     shape = (int(a), int(b))
     binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value)
-    exact_note = kept_phrase(fine.kept)
+    exact_note = kept_phrase(fine.kept) if exact_face or not kept else None
     if exact_note:
-        notes.append(exact_note + (": the face is kept as it is" if exact_face or kept else
+        notes.append(exact_note + (": the face is kept as it is" if exact_face else
                                    ": only the other direction is fitted and advised"))
     no_density = None
     if not meets and not hopeless:  # SPEC §5 "an answer or an honest no": the best found, and why none conforms
@@ -483,7 +483,7 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str 
         if val is not None and val > t:
             worse[d] = val
         change = n_new - n_today
-        exact = sc.kept["uv".index(d)]
+        exact = sc.kept["uv".index(d)] if not kept or all(sc.kept) else None
         if exact:
             why = f"kept exactly ({exact}): today's poles, weights and knots"
         elif kept:
