@@ -33,6 +33,7 @@ from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
 from .exact import kept_phrase
 from .honest import unverified_note
+from .verification import unconfirmed
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
@@ -359,7 +360,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         a, b = work.shape
         kept, meets = True, meets or today_ok
     shape = (int(a), int(b))
-    binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value)
+    binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value, margin)
     exact_note = kept_phrase(fine.kept) if exact_face or not kept else None
     if exact_note:
         notes.append(exact_note + (": the face is kept as it is" if exact_face else
@@ -400,7 +401,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         def check():
             try:
-                return verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin)
+                own = None if objective == "ripple" or intent == "net" else (
+                    lambda x, y: _ripple_of(fine, x, y, settings))  # the search's reading (see value())
+                got = verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin, own)
+                unconfirmed(reasons, binding, got)
+                return got
             finally:
                 release(fine.fields)
 
@@ -473,7 +478,7 @@ def _advice_stats(advised, settings: RunSettings, score, known=None) -> dict:
     return stats
 
 
-def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str | None, dict]:
+def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float = 0.0) -> tuple[str | None, dict]:
     """The binding direction and, per direction, why the advised count is what it is."""
     a, b = shape
     out, worse = {}, {}
@@ -491,11 +496,12 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str 
         elif val is None:
             why = f"at the fewest points the degree allows ({lo})"
         elif val > t:
-            why = (f"{n_new - 1} points would give {val:.4g} > {t:g} (binding)" if change >= 0 else
+            with_u = f" (U {margin:.4g} included)" if margin > 0 else ""
+            why = (f"one point fewer would give {val:.4g}{with_u} > {t:g} (binding)" if change >= 0 else
                    f"today's {n_today} points spend {-change} on nothing the tolerance needs; "
-                   f"{n_new - 1} would give {val:.4g} > {t:g}")
+                   f"one fewer would give {val:.4g}{with_u} > {t:g}")
         else:
-            why = f"{n_new - 1} points would also meet ({val:.4g}); the other direction binds"
+            why = f"one point fewer would also meet ({val:.4g}); the other direction binds"
         out[d] = {"today": int(n_today), "advised": int(n_new), "change": int(change),
                   "coarser_value": _f(val), "binding": bool(val is not None and val > t), "reason": why}
     binding = None
