@@ -31,7 +31,9 @@ from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
+from .exact import kept_phrase
 from .honest import unverified_note
+from .verification import unconfirmed
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
@@ -277,6 +279,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     fine = scorers[levels]
     coarse = scorers[min(SEARCH_LEVELS, levels)]
     low, high = _limits(work, fine.degrees, fine.plans)
+    # a direction kept exactly (:mod:`.exact`) has today's count; a face kept in both is not searched
+    low, high = (tuple(work.shape[k] if fine.kept[k] else lim[k] for k in (0, 1)) for lim in (low, high))
+    exact_face = all(fine.kept)
     t = tolerance
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine)
@@ -295,8 +300,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         return max(dev, _ripple_of(sc, a, b, settings) + margin)
 
     trail = {}
-    if hopeless:  # no density can conform (SPEC §5 "an honest no"): no search, today's density stands
-        a, b = work.shape
+    if hopeless or exact_face:  # no density can conform (SPEC §5 "an honest no"), or the face is exact as it is:
+        a, b = work.shape  # no search, today's density stands
     else:
         # a feasible corner by bounded doubling (a direction that stops improving stops growing), then its frontier
         found, reachable, trail = corner(lambda x, y: value(coarse, x, y, own_ripple=False), t, low, high,
@@ -340,7 +345,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     today_decision = decide(today[metric], unc.peak, t)
     today_ok = today_decision == CONFORMS
     kept = False
-    if today_ok and (not meets or a * b > (1.0 - MIN_REDUCTION) * work.shape[0] * work.shape[1]):
+    if exact_face and not hopeless:  # a canonical (or exact both ways) face is never replaced
+        meets = today_ok
+    if exact_face or today_ok and (not meets or a * b > (1.0 - MIN_REDUCTION) * work.shape[0] * work.shape[1]):
         # a face within the tolerance today is never advised more points, nor a net barely smaller
         # (SPEC §5: the advice is a fixed point; a flat frontier would otherwise wander)
         if (a, b) != tuple(work.shape):
@@ -351,9 +358,13 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             notes.append(f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and {why}: "
                          f"today's {work.shape[0]}x{work.shape[1]} is kept")
         a, b = work.shape
-        kept, meets = True, True
+        kept, meets = True, meets or today_ok
     shape = (int(a), int(b))
-    binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value)
+    binding, reasons = _reasons(fine, shape, work, low, t, today, kept, value, margin)
+    exact_note = kept_phrase(fine.kept) if exact_face or not kept else None
+    if exact_note:
+        notes.append(exact_note + (": the face is kept as it is" if exact_face else
+                                   ": only the other direction is fitted and advised"))
     no_density = None
     if not meets and not hopeless:  # SPEC §5 "an answer or an honest no": the best found, and why none conforms
         from .honest import explain
@@ -379,6 +390,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     what = face_kind(work)
     if what and not kept and meets:
         kind = "jointed (its joins kept)" if any(fine.plans) else "uniform"
+        if any(fine.kept):
+            kind += f" in {'uv'[fine.kept.index(None)]} (its {'uv'[fine.kept.index(None) ^ 1]} kept exactly)"
         notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} {kind} "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
@@ -388,7 +401,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         def check():
             try:
-                return verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin)
+                own = None if objective == "ripple" or intent == "net" else (
+                    lambda x, y: _ripple_of(fine, x, y, settings))  # the search's reading (see value())
+                got = verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin, own)
+                unconfirmed(reasons, binding, got)
+                return got
             finally:
                 release(fine.fields)
 
@@ -461,26 +478,30 @@ def _advice_stats(advised, settings: RunSettings, score, known=None) -> dict:
     return stats
 
 
-def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value) -> tuple[str | None, dict]:
+def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float = 0.0) -> tuple[str | None, dict]:
     """The binding direction and, per direction, why the advised count is what it is."""
     a, b = shape
     out, worse = {}, {}
     for d, (n_today, n_new, lo) in zip("uv", zip(work.shape, shape, low)):
         coarser = (a - 1, b) if d == "u" else (a, b - 1)
-        val = value(sc, *coarser) if n_new - 1 >= lo else None
+        val = value(sc, *coarser) if n_new - 1 >= lo and not sc.kept["uv".index(d)] else None
         if val is not None and val > t:
             worse[d] = val
         change = n_new - n_today
-        if kept:
+        exact = sc.kept["uv".index(d)] if not kept or all(sc.kept) else None
+        if exact:
+            why = f"kept exactly ({exact}): today's poles, weights and knots"
+        elif kept:
             why = "today's net meets the tolerance: kept as is"
         elif val is None:
             why = f"at the fewest points the degree allows ({lo})"
         elif val > t:
-            why = (f"{n_new - 1} points would give {val:.4g} > {t:g} (binding)" if change >= 0 else
+            with_u = f" (U {margin:.4g} included)" if margin > 0 else ""
+            why = (f"one point fewer would give {val:.4g}{with_u} > {t:g} (binding)" if change >= 0 else
                    f"today's {n_today} points spend {-change} on nothing the tolerance needs; "
-                   f"{n_new - 1} would give {val:.4g} > {t:g}")
+                   f"one fewer would give {val:.4g}{with_u} > {t:g}")
         else:
-            why = f"{n_new - 1} points would also meet ({val:.4g}); the other direction binds"
+            why = f"one point fewer would also meet ({val:.4g}); the other direction binds"
         out[d] = {"today": int(n_today), "advised": int(n_new), "change": int(change),
                   "coarser_value": _f(val), "binding": bool(val is not None and val > t), "reason": why}
     binding = None

@@ -48,6 +48,10 @@ class JoinPlan:
         A candidate's own spans per piece (found piece by piece, :mod:`.per_piece`): a candidate of that many
         spans in all has exactly these; of another count, its spans in proportion to these. None: in proportion
         to today's (``spans``).
+    demand : tuple of float, optional
+        Per piece, how much its poles bend (:func:`piece_demand`): which piece gets a span that proportions leave
+        to a tie (two equal pieces, an odd count), so that a mirrored or reversed face gets the mirrored candidate
+        (the order of the pieces would give the span to whichever comes first).
     """
 
     joins: tuple
@@ -56,6 +60,7 @@ class JoinPlan:
     lo: float
     hi: float
     fixed: tuple | None = None
+    demand: tuple | None = None
 
     @property
     def extra(self) -> int:
@@ -64,7 +69,7 @@ class JoinPlan:
 
     def per(self, total: int) -> list[int]:
         """A candidate's spans per piece for ``total`` spans in all (``fixed`` or today's in proportion)."""
-        return piece_spans(total, self.fixed if self.fixed is not None else self.spans)
+        return piece_spans(total, self.fixed if self.fixed is not None else self.spans, self.demand)
 
     def min_points(self, degree: int) -> int:
         """Fewest points of a candidate that keeps the joins (one span per piece)."""
@@ -97,7 +102,27 @@ def join_plan(net: ControlNet, axis: int) -> JoinPlan | None:
     spans = tuple(max(1, sum(1 for v, _ in mults if a < v < b) + 1) for a, b in zip(edges[:-1], edges[1:]))
     if 3 * len(spans) > 2 * sum(spans):  # mostly one-span pieces: a chain written piecewise, not a few joins
         return None
-    return JoinPlan(tuple(float(v) for v, _ in joins), min(p, max(m for _, m in joins)), spans, lo, hi)
+    return JoinPlan(tuple(float(v) for v, _ in joins), min(p, max(m for _, m in joins)), spans, lo, hi,
+                    demand=piece_demand(net, axis, edges))
+
+
+def piece_demand(net: ControlNet, axis: int, edges) -> tuple:
+    """Per piece between consecutive ``edges``: the summed length of the second differences of the poles along
+    ``axis`` whose Greville abscissae lie in it, ``sum |P[i-1] - 2 P[i] + P[i+1]|``. The same numbers for the face
+    moved, mirrored, transposed or reversed (the pieces then reversed): a tie-break that follows the geometry, not
+    the order of the pieces."""
+    P = np.moveaxis(np.asarray(net.points, float), axis, 0)
+    bend = np.zeros(len(P))
+    bend[1:-1] = np.linalg.norm(P[:-2] - 2 * P[1:-1] + P[2:], axis=-1).sum(axis=1)
+    g = net.greville()[axis]
+    eps = 1e-9 * (edges[-1] - edges[0])
+    out = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        inside = (g > a + eps) & (g < b - eps)
+        on_edge = (np.abs(g - a) <= eps) | (np.abs(g - b) <= eps)  # a pole on a join: half to either side
+        out.append(float(bend[inside].sum() + 0.5 * bend[on_edge].sum()))
+    scale = max(max(out), 1e-300)
+    return tuple(round(x / scale, 9) for x in out)  # rounded: the reversed face's sums agree to the last digits
 
 
 #: A join is smooth when the unit tangents either side differ by at most this (radians) and the curvature vectors
@@ -147,17 +172,20 @@ def smooth_join(net: ControlNet, axis: int, value: float) -> bool:
     return bool(np.linalg.norm(kL - kR, axis=-1).max() <= 10 * G2_RTOL * scale)
 
 
-def piece_spans(total: int, weights) -> list[int]:
-    """``total`` spans shared among pieces in proportion to ``weights`` (at least one each; largest remainders)."""
+def piece_spans(total: int, weights, demand=None) -> list[int]:
+    """``total`` spans shared among pieces in proportion to ``weights`` (at least one each; largest remainders; a
+    tie goes to the piece of the larger ``demand``, then the first)."""
     w = np.asarray(weights, float)
     k = len(w)
     total = max(int(total), k)
     raw = total * w / w.sum()
+    need = np.zeros(k) if demand is None else np.asarray(demand, float)
     out = np.maximum(1, np.floor(raw)).astype(int)
     while out.sum() > total:  # the ones raised to 1 took spans from the others
-        i = int(np.argmax(np.where(out > 1, out - raw, -np.inf)))
+        over = np.round(np.where(out > 1, out - raw, -np.inf), 9)
+        i = int(np.lexsort((np.arange(k), need, -over))[0])
         out[i] -= 1
-    order = np.argsort(-(raw - np.floor(raw)), kind="stable")
+    order = np.lexsort((np.arange(k), -need, -np.round(raw - np.floor(raw), 9)))
     i = 0
     while out.sum() < total:
         out[order[i % k]] += 1

@@ -34,6 +34,10 @@ def _points(degree: int, plan, per) -> int:
     return int(degree + sum(per) + plan.extra)
 
 
+def _demand(plan) -> tuple:
+    return plan.demand if plan.demand is not None else (0.0,) * len(plan.spans)
+
+
 def per_piece(scorer, ok, shape):
     """The per-piece plan from the proportional answer ``shape``.
 
@@ -79,8 +83,11 @@ def per_piece(scorer, ok, shape):
         return None
     for _ in range(2):
         changed = False
-        for d in sorted(state):
-            for k in np.argsort([-s for s in state[d]], kind="stable"):
+        # directions and pieces in an order the geometry sets (most spans, then most bending: the plan's demand),
+        # not their index: a transposed or reversed face takes the same steps
+        for d in sorted(state, key=lambda d: (-sum(state[d]), -sum(_demand(plans[d])), d)):
+            need = _demand(plans[d])
+            for k in np.lexsort((np.arange(len(state[d])), -np.asarray(need), -np.asarray(state[d]))):
                 s = state[d][k]
                 if s <= 1:
                     continue

@@ -17,6 +17,7 @@ from ..analysis.settings import RunSettings
 from ..net import ControlNet
 from ..numerics.operator_cache import OperatorCache
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
+from .exact import kept_axis, kept_directions
 from .joins import join_plan, jointed_axis
 
 __all__ = ["_Scorer", "_make_scorer", "_ripple_of", "_trimmed", "_real_on"]
@@ -42,8 +43,13 @@ class _Scorer:
         self._borders: dict = {}
         self._planes: dict = {}  # grid -> the target's error_planes (fit_error)
         self._halves = OperatorCache(16, shared=False)  # (side, count, grid, fit) -> a half of the fit
-        # the face's joins, kept by every candidate (a cage, or a face read under another scheme, has none)
-        self.plans = tuple(join_plan(work, k) if work.is_bspline else None
+        # directions kept as today's (exact lines and arcs, one Bezier piece: :mod:`.exact`) under the face's own
+        # degrees; the face's joins, kept by every candidate in the others (a cage, or a face read under another
+        # scheme, has none)
+        own = work.is_bspline and tuple(self.degrees) == tuple(work.degrees) and (
+            scheme.degrees is None or tuple(scheme.degrees) == tuple(work.degrees))
+        self.kept = kept_directions(net, work) if own else (None, None)
+        self.plans = tuple(join_plan(work, k) if work.is_bspline and not self.kept[k] else None
                            for k in (0, 1))
 
     def with_plans(self, plans) -> "_Scorer":
@@ -54,7 +60,7 @@ class _Scorer:
     def with_degrees(self, degrees) -> "_Scorer":
         """This scorer for candidates of other B-spline degrees (a named scheme's uniform B-splines: the scheme
         comparison's best net of a density), with no joins: the intent and the check grids' targets are shared."""
-        return self._variant(degrees=tuple(int(d) for d in degrees), plans=(None, None))
+        return self._variant(degrees=tuple(int(d) for d in degrees), plans=(None, None), kept=(None, None))
 
     def _variant(self, **changes) -> "_Scorer":
         """A copy with other candidates (``changes``: their plans or degrees) sharing the intent and the targets;
@@ -84,10 +90,11 @@ class _Scorer:
         return self._targets[key]
 
     def axes(self, a: int, b: int):
-        """The candidate's two :class:`~cadartifact.analysis.fitting.CandidateAxis` (keeping the face's joins
-        where it has them, :mod:`.joins`)."""
-        return tuple(candidate_axis(f, n, d, self.K) if plan is None else jointed_axis(f, n, d, self.K, plan)
-                     for f, n, d, plan in zip(self.frames, (a, b), self.degrees, self.plans))
+        """The candidate's two :class:`~cadartifact.analysis.fitting.CandidateAxis`: today's where a direction is
+        kept (:mod:`.exact`), else keeping the face's joins where it has them (:mod:`.joins`)."""
+        return tuple(kept_axis(self.work, f, k, n, self.K) if self.kept[k]
+                     else candidate_axis(f, n, d, self.K) if plan is None else jointed_axis(f, n, d, self.K, plan)
+                     for k, (f, n, d, plan) in enumerate(zip(self.frames, (a, b), self.degrees, self.plans)))
 
     def fit(self, a: int, b: int):
         """``(Q, surface, target, normal, keep, axes)`` of the candidate ``a x b`` (:func:`fit_points`)."""

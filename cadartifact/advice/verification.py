@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["complete", "verify_advice", "measure_on_occt"]
+__all__ = ["complete", "verify_advice", "measure_on_occt", "unconfirmed"]
 
 
 def measure_on_occt(scorer, net, x: np.ndarray, y: np.ndarray) -> dict:
@@ -31,6 +31,7 @@ def complete(advice):
     if advice.pending is None:
         return advice
     got = advice.pending()
+    unconfirmed(advice.reasons, advice.binding, got)
     if got.get("meets", True) or not advice.meets_tolerance:
         return replace(advice, verification=got, pending=None)
     # an answer only where it is verified (SPEC §5): OCCT's reading did not confirm it
@@ -43,11 +44,25 @@ def complete(advice):
                    notes=[unverified_note(got, advice.tolerance - u)] + list(advice.notes))
 
 
-def verify_advice(scorer, shape, binding, tolerance: float, advised, target: float | None = None) -> dict:
+def unconfirmed(reasons: dict, binding, verification: dict) -> None:
+    """Where OCCT's surface finds the coarser net within the target after all, the binding direction's reason says
+    so, with the JSON's number (``verification.coarser``): the text never claims what the record contradicts."""
+    c = (verification or {}).get("coarser")
+    if binding is None or not c or not c.get("meets"):
+        return
+    d = reasons[binding]
+    d["reason"] += (f"; not confirmed: on OCCT's surface {c['shape'][0]}x{c['shape'][1]} reads {c['value']:.4g}, "
+                    "within the tolerance less U")
+
+
+def verify_advice(scorer, shape, binding, tolerance: float, advised, target: float | None = None,
+                  own_ripple=None) -> dict:
     """Measure the advised net (and one step coarser in the binding direction) on OCCT's surface.
 
     ``meets`` compares with the tolerance; the coarser net is compared with the search's ``target``
-    (the tolerance less the intent's reserve), which it must exceed.
+    (the tolerance less the intent's reserve), which it must exceed, by the search's own reading: the larger of
+    its deviation on OCCT's surface and, where the search counts it (``own_ripple(a, b)``), its own ripple (so the
+    JSON's ``coarser`` and the explanation's "would give ... (binding)" tell one story).
 
     Returns
     -------
@@ -76,7 +91,8 @@ def verify_advice(scorer, shape, binding, tolerance: float, advised, target: flo
         coarser = (shape[0] - 1, shape[1]) if binding == "u" else (shape[0], shape[1] - 1)
         Q, S, I, normal, keep, (au, av) = scorer.fit(*coarser)
         c = measure_on_occt(scorer, candidate_net(scorer.net, Q, au, av), au.x, av.x)
-        out["coarser"] = {"shape": list(coarser), "value": c[metric], "meets": bool(c[metric] <= target)}
+        value = c[metric] if own_ripple is None else max(c[metric], float(own_ripple(*coarser)))
+        out["coarser"] = {"shape": list(coarser), "value": value, "meets": bool(value <= target)}
     if scorer.reading == "net" and scorer.work.is_bspline and scorer.work is scorer.net:
         out["samples"] = _sample_distance(scorer.net, advised)
     return out

@@ -72,6 +72,11 @@ class CandidateAxis:
         Candidate basis at the check grid.
     pinv : (n, m) float
         The fit: samples -> control points (least squares; open directions keep their end samples).
+    weights : (n,) float or None
+        A direction kept as today's (:mod:`cadartifact.advice.exact`): its weights (``B`` is then its rational
+        basis); None: a non-rational candidate direction.
+    kept : bool
+        The direction is today's (its knots, degree, weights and count).
     """
 
     n: int
@@ -80,6 +85,8 @@ class CandidateAxis:
     x: np.ndarray
     B: np.ndarray
     pinv: np.ndarray
+    weights: np.ndarray | None = None
+    kept: bool = False
 
 
 _CACHE = OperatorCache(512)
@@ -213,13 +220,18 @@ _BLOCK_POINTS = 16384
 
 
 def candidate_net(net: ControlNet, points: np.ndarray, cu: CandidateAxis, cv: CandidateAxis) -> ControlNet:
-    """The candidate as a B-spline :class:`ControlNet` (non-rational; a cage becomes a B-spline net)."""
+    """The candidate as a B-spline :class:`ControlNet` (a cage becomes a B-spline net); non-rational unless a
+    direction is kept as today's (its weights ``a``: ``w_ij = a_i`` for every ``j``, and its ``exact`` kind)."""
     from ..net import NetOrigin
 
     origin = net.origin
     kind = "bspline" if origin.kind in ("array", "quad-chart", "converted") else origin.kind
-    return ControlNet(points=points, degrees=(cu.degree, cv.degree), knots=(cu.knots, cv.knots),
-                      periodic=net.periodic, unit=net.unit, uv_bounds=net.uv_bounds,
+    wu, wv = cu.weights, cv.weights
+    weights = None if wu is None and wv is None else np.outer(np.ones(cu.n) if wu is None else wu,
+                                                              np.ones(cv.n) if wv is None else wv)
+    exact = tuple(e if axis.kept and e in ("line", "circle") else None for e, axis in zip(net.exact, (cu, cv)))
+    return ControlNet(points=points, weights=weights, degrees=(cu.degree, cv.degree), knots=(cu.knots, cv.knots),
+                      periodic=net.periodic, unit=net.unit, uv_bounds=net.uv_bounds, exact=exact,
                       origin=NetOrigin(file=origin.file, face=origin.face, name=origin.name, kind=kind))
 
 

@@ -327,7 +327,8 @@ class PiecewiseIntent:
         return self.frames[0].levels
 
     def _assign(self, k: int, x: np.ndarray):
-        """Per piece range along direction ``k``: the parameters of ``x`` there, and which samples."""
+        """Per piece range along direction ``k``: the parameters of ``x`` there, which piece reads each sample, and
+        for a sample on a join the piece on its other side (else -1)."""
         frame = self.frames[k]
         u = frame.param(x)
         keys = sorted({p.index[k] for p in self.pieces})
@@ -338,20 +339,46 @@ class PiecewiseIntent:
             start = ranges[keys[0]][0]
             u = start + np.mod(u - start, frame.h * frame.spans)
         which = np.full(len(u), keys[-1])
-        for key in reversed(keys):
-            which = np.where(u <= ranges[key][1] + 1e-12 * max(1.0, abs(ranges[key][1])), key, which)
-        return u, which
+        other = np.full(len(u), -1)
+        for key, nxt in zip(reversed(keys), [None] + list(reversed(keys))[:-1]):
+            end = ranges[key][1] + 1e-12 * max(1.0, abs(ranges[key][1]))
+            which = np.where(u <= end, key, which)
+            if nxt is not None:
+                on = np.abs(u - ranges[key][1]) <= 1e-12 * max(1.0, abs(ranges[key][1]))
+                other = np.where(on, nxt, other)
+        return u, which, other
 
-    def _evaluate(self, x, y, one) -> np.ndarray:
-        x, y = np.asarray(x, float), np.asarray(y, float)
-        (u, wu), (v, wv) = self._assign(0, x), self._assign(1, y)
-        out = np.zeros((len(x), len(y), 3))
+    def _fill(self, u, wu, v, wv, one) -> np.ndarray:
+        out = np.zeros((len(u), len(v), 3))
         for i, (p, (pu, pv)) in enumerate(zip(self.pieces, self.piece_frames)):
             ru, rv = np.flatnonzero(wu == p.index[0]), np.flatnonzero(wv == p.index[1])
             if ru.size == 0 or rv.size == 0:
                 continue
             xl, yl = (u[ru] - pu.u0) / pu.h, (v[rv] - pv.u0) / pv.h
             out[np.ix_(ru, rv)] = one(i, p, xl, yl)
+        return out
+
+    def _evaluate(self, x, y, one) -> np.ndarray:
+        """Each sample read by its piece; a sample on a join by both pieces, their mean: the order of the pieces
+        must not choose (a reversed face would read the other piece there)."""
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        (u, wu, au), (v, wv, av) = self._assign(0, x), self._assign(1, y)
+        out = self._fill(u, wu, v, wv, one)
+        ju, jv = np.flatnonzero(au >= 0), np.flatnonzero(av >= 0)
+        if ju.size:
+            rows = self._fill(u[ju], au[ju], v, wv, one)
+        if jv.size:
+            cols = self._fill(u, wu, v[jv], av[jv], one)
+        if ju.size and jv.size:
+            both = self._fill(u[ju], au[ju], v[jv], av[jv], one)
+            corner = (out[np.ix_(ju, jv)] + rows[:, jv] + cols[ju] + both) / 4.0
+        if ju.size:
+            out[ju] = (out[ju] + rows) / 2.0
+        if jv.size:
+            out[:, jv] = (out[:, jv] + cols) / 2.0 if not ju.size else np.where(
+                np.isin(np.arange(len(u)), ju)[:, None, None], out[:, jv], (out[:, jv] + cols) / 2.0)
+        if ju.size and jv.size:
+            out[np.ix_(ju, jv)] = corner
         return out
 
     def surface_reading(self, x, y) -> np.ndarray:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # the records the tables read (runs/documents: docs/schema.md
     from .documents.advise import AdviseDocument
     from .documents.face import FaceRecord, Shares
 
-__all__ = ["WIDE_COLUMNS", "canonical_lines", "face_cell", "worst_direction", "wraps_nothing", "print_table", "render",
+__all__ = ["WIDE_COLUMNS", "canonical_lines", "direction_reason", "face_cell", "worst_direction", "wraps_nothing", "print_table", "render",
            "RichProgress", "LineProgress"]
 
 
@@ -97,6 +97,15 @@ def print_table(console, table, heading: str | None = None) -> None:
         if need > console.width:
             table.width = need
     console.print(table)
+
+
+def direction_reason(record: FaceRecord, reasons: dict, d: str) -> str:
+    """``"u 5->4: <reason>"`` from the record's own values; counts of the spans a trim uses (the advice reads only
+    those) say so beside the face's whole count, which the table's net column shows."""
+    x = reasons[d]
+    whole = record["net"]["uv".index(d)]
+    inside = "" if x["today"] == whole else f" (inside the trim: {x['today']} of the face's {whole})"
+    return f"{d} {x['today']}->{x['advised']}{inside}: {x['reason']}"
 
 
 def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
@@ -179,8 +188,7 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
         for r in rows:  # why each direction of a changed net has its count
             reasons = (r.get("advice") or {}).get("reasons") or {}
             if reasons and not (r.get("advice") or {}).get("kept_today", True):
-                why = "; ".join(f"{d} {reasons[d]['today']}->{reasons[d]['advised']}: {reasons[d]['reason']}"
-                                for d in ("u", "v") if d in reasons)
+                why = "; ".join(direction_reason(r, reasons, d) for d in ("u", "v") if d in reasons)
                 console.print(f"  face {r['face']}: {why}", markup=False, highlight=False)
         skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
         share = f.get("analysed_share")
