@@ -66,7 +66,8 @@ def main(argv=None) -> int:
             low = [x for x in c if x["info"]["f"] <= 0.3]
             share_low = float(np.mean([x["claim"] for x in low])) if low else float("nan")
             ok &= beyond == 0 and (share_low >= 0.85 or not low)
-            claims = f" {len(claimed)} / {len(c)} | {beyond} | {share_low:.0%} of {len(low)} |"
+            said = f"{share_low:.0%} of {len(low)}" if low else "no case"
+            claims = f" {len(claimed)} / {len(c)} | {beyond} | {said} |"
         else:
             claims = " | | |"
         intent = float(np.mean(error_ratios(rows, key="intent_error") <= 1.0))
