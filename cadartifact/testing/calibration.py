@@ -91,3 +91,94 @@ def not_refused(rows) -> tuple[list, float]:
     """The eligible rows (an independent fit at the advised density meets t/2) and the share claimed among them."""
     eligible = [r for r in rows if r["eligible"]]
     return eligible, float(np.mean([r["claim"] for r in eligible])) if eligible else 0.0
+
+
+# --- the sharper U of the ``net`` reading (issue 39 item 1): the reading's error against its U ---------------
+
+#: Samples per span of the grid the advised net's truth is read on (twice the default check grid).
+TRUTH_PER_SPAN = 16
+
+
+def normal_distance(S: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """``|(S - T) . n_T|`` on a grid: ``S``, ``T`` ``(a, b, 3)`` at the same parameters, ``n_T`` the unit normal of
+    ``T`` by central differences (``numpy.gradient``) -> ``(a, b)``."""
+    Tu, Tv = np.gradient(T, axis=0), np.gradient(T, axis=1)
+    n = np.cross(Tu, Tv)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    return np.abs(np.sum((S - T) * n, axis=-1))
+
+
+def net_reading_rows(cases) -> list:
+    """One row per ``(net, truth, info)`` case: what the ``net`` reading reports of today's net and what the
+    known shape says of it.
+
+    Per case, through the tool's own path (:func:`~cadartifact.analysis.budget.budget_for`, then
+    :func:`~cadartifact.advice.decision.face_uncertainty`, as a gate run): the reported ``value`` (the
+    deviation's peak), ``U`` and the alternates' ``spread`` (``U / (k * SPREAD_SCALE)``); from the known shape,
+    on the value's own check grid (``2**levels`` per span: the value is the peak on that grid, SPEC §4, and
+    a finer truth would add the grid's reading of the peak, about 0.5 % of a value far above any tolerance,
+    which is no part of the intent's U) with scipy's B-spline basis: the ``true`` error (the surface's largest
+    distance from the shape along the shape's normal), ``error = true - value`` (what U must cover) and the
+    intent's own error ``intent_error`` (its largest distance from the shape).
+    """
+    from cadartifact.advice.decision import face_uncertainty
+    from cadartifact.analysis.budget import budget_for
+    from cadartifact.analysis.settings import RunSettings
+    from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, SPREAD_SCALE
+
+    rows = []
+    for net, truth, info in cases:
+        t = info["tolerance"]
+        settings = RunSettings(tolerance=t, intent="net", include_signal_error=True)
+        b = budget_for(net, settings, keep_fields=True)
+        unc = face_uncertainty(net, settings, b)
+        value = float(b.stats["deviation"].get("peak"))
+        it = design_intent(net, bspline(*net.degrees), settings.levels)
+        fu, fv = it.frames
+        u, v = fu.param(fu.x), fv.param(fv.x)
+        T = truth(u, v)
+        true = float(normal_distance(scipy_surface(net, u, v), T).max())
+        intent_error = float(normal_distance(it.evaluate(fu.x, fv.x), T).max())
+        rows.append({"info": info, "t": t, "value": value, "U": unc.peak,
+                     "spread": unc.peak / (COVERAGE_FACTOR * SPREAD_SCALE), "true": true,
+                     "error": true - value, "intent_error": intent_error})
+    return rows
+
+
+def error_ratios(rows, scale: float | None = None, key: str = "error") -> np.ndarray:
+    """``|error| / U`` per row (``key="intent_error"``: the intent's own error); with ``scale``: ``U`` as
+    ``k * scale * spread`` (another calibration of the same spread). A row whose error is rounding (below 1e-9
+    of the amplitude) reads 0."""
+    from cadartifact.analysis.uncertainty import COVERAGE_FACTOR
+
+    out = []
+    for r in rows:
+        U = r["U"] if scale is None else COVERAGE_FACTOR * scale * r["spread"]
+        e = abs(r[key])
+        out.append(0.0 if e <= 1e-9 else (e / U if U > 0 else np.inf))
+    return np.array(out)
+
+
+def calibrated_scale(rows, coverage: float = 0.975, key: str = "intent_error") -> float:
+    """The ``SPREAD_SCALE`` whose ``U = k * scale * spread`` covers ``key`` (default: the intent's own error,
+    which bounds every value's) on exactly the ``coverage`` share of ``rows``: the empirical quantile of
+    ``|key| / spread``, over ``k``."""
+    from cadartifact.analysis.uncertainty import COVERAGE_FACTOR
+
+    return float(np.quantile(error_ratios(rows, 1.0 / COVERAGE_FACTOR, key), coverage)) / COVERAGE_FACTOR
+
+
+def net_reading_claims(cases) -> list:
+    """One row per case: the ``net`` reading's advice (``advise(net, t, intent="net")``, the default check
+    grid) and the advised net's ``true`` error (its largest distance from the known shape along the shape's
+    normal, scipy's basis, :data:`TRUTH_PER_SPAN` per span): ``claim`` (conformance claimed: value + U <= t).
+    """
+    rows = []
+    for net, truth, info in cases:
+        t = info["tolerance"]
+        a = advise(net, t, intent="net", compare=False, verify=False)
+        res = a.resampled()
+        u, v = (np.linspace(0, 1, TRUTH_PER_SPAN * max(n - 1, 1) + 1) for n in res.shape)
+        true = float(normal_distance(scipy_surface(res, u, v), truth(u, v)).max())
+        rows.append({"info": info, "t": t, "claim": bool(a.meets_tolerance), "true": true, "U": a.uncertainty.peak})
+    return rows

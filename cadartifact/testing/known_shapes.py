@@ -109,3 +109,33 @@ def calibration_family(seed: int, count: int, *, nmin=6, nmax=40, fmin=0.05, fma
                 "text": f"{kind} f={f:.3f} {dname} degrees=({p},{q}) net={nu}x{nv} t={t:.4g}"}
         out.append((net, truth, info))
     return out
+
+
+def net_reading_family(seed: int, count: int, *, nets=(10, 28), degrees=(2, 3, 5), band=(0.1, 0.4),
+                       directions=("u", "v", "diagonal"), kinds=("cosine", "sum", "bump"),
+                       tolerances=(0.01, 0.05)):
+    """``count`` random known faces of issue 39's ``net`` reading family: nets of ``nets`` points per
+    direction (inclusive), degrees drawn from ``degrees``, content ``band`` cycles per point in one of
+    ``directions``, random phases, shapes of ``kinds``, a tolerance drawn from ``tolerances`` (amplitude 1).
+    Families held out of a calibration change one of these (other degrees, sizes, directions or kinds).
+
+    Returns
+    -------
+    list of (net, truth, info)
+        As :func:`calibration_family`.
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        p, q = (int(rng.choice(degrees)) for _ in range(2))
+        nu, nv = (int(rng.integers(max(nets[0], d + 2), nets[1] + 1)) for d in (p, q))
+        f = float(rng.uniform(*band))
+        dname = str(rng.choice(list(directions)))
+        kind = str(rng.choice(list(kinds)))
+        g = shape_function(kind, f, DIRECTIONS[dname], float(rng.uniform(0, 2 * np.pi)), (nu - p, nv - q), rng)
+        net, truth = known_face((p, q), (nu, nv), g)
+        t = float(rng.choice(tolerances))
+        info = {"kind": kind, "f": f, "direction": dname, "degrees": (p, q), "shape": (nu, nv), "tolerance": t,
+                "text": f"{kind} f={f:.3f} {dname} degrees=({p},{q}) net={nu}x{nv} t={t:.4g}"}
+        out.append((net, truth, info))
+    return out

@@ -15,7 +15,7 @@ import pytest
 from cadartifact.advice.advise import advise
 from cadartifact.advice.decision import CONFORMS, NONCONFORMING, UNDECIDED, decide, unverifiable_note
 from cadartifact.analysis.intent import design_intent
-from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, intent_uncertainty
+from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, SPREAD_SCALE, intent_uncertainty
 from cadartifact.testing.calibration import SEED, calibration, false_claims, not_refused, summary
 from cadartifact.testing.known_shapes import calibration_family, known_face, shape_function
 from cadartifact.testing.paths import SAMPLES
@@ -107,7 +107,7 @@ def _direct_U(it) -> tuple[float, float, float]:
                 diff = from_homogeneous(sandwich(alt[0], P, alt[1])) - base
                 Dd = np.maximum(Dd, np.linalg.norm(diff, axis=-1))
         D.append(Dd)
-    k = COVERAGE_FACTOR
+    k = COVERAGE_FACTOR * SPREAD_SCALE
     return k * float(np.sqrt(D[0] ** 2 + D[1] ** 2).max()), k * float(D[0].max()), k * float(D[1].max())
 
 
