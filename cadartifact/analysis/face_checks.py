@@ -166,8 +166,10 @@ def across_knots(face) -> dict:
         ok = (norm > 1e-10 * lu * lv) & (lu > 1e-6 * typical[0]) & (lv > 1e-6 * typical[1])
         with np.errstate(invalid="ignore", divide="ignore"):
             nrm = cross / norm[..., None]
-            cos = np.clip(np.einsum("lmk,lmk->lm", nrm[:, 0], nrm[:, 1]), -1.0, 1.0)
-        angle = np.where(ok[:, 0] & ok[:, 1], np.degrees(np.arccos(cos)), np.nan)
+            # atan2 of sine and cosine: arccos alone would read rounding as 1e-6 degrees near 0
+            sin = np.linalg.norm(np.cross(nrm[:, 0], nrm[:, 1]), axis=-1)
+            cos = np.einsum("lmk,lmk->lm", nrm[:, 0], nrm[:, 1])
+        angle = np.where(ok[:, 0] & ok[:, 1], np.degrees(np.arctan2(sin, cos)), np.nan)
         out["lines"] += [("uv"[k], x0, mult) for x0, mult in lines]
         St = Su if k == 0 else Sv  # each side carried to the knot itself: S(t -/+ h) +/- h S_t
         out["gap"].append(np.linalg.norm((S[:, 0] + h * St[:, 0]) - (S[:, 1] - h * St[:, 1]), axis=-1))

@@ -206,15 +206,17 @@ class FaceView:
     @cached_property
     def near_collapsed(self) -> np.ndarray:
         """(a, b) bool: samples within the ``collapsed`` criterion's warn length of a collapsed edge of the trim
-        box (an edge shorter than it): there the curvature is the degenerate parametrisation's."""
+        box (shorter than that length and than half its opposite edge; a narrow face is not collapsed): there the
+        curvature is the degenerate parametrisation's."""
         lim = self.profile.limit("collapsed")
         fs = self.samples
         out = np.zeros(fs.S.shape[:2], bool)
         short = None if lim is None else (lim.warn if lim.warn is not None else lim.fail)
         if short is None:
             return out
-        for name, length, end in face_checks.boundary_edges(self):
-            if length < short:
+        edges = face_checks.boundary_edges(self)
+        for e, (name, length, end) in enumerate(edges):
+            if length < short and length < 0.5 * edges[e ^ 1][1]:  # shorter than its opposite: collapsed, not narrow
                 edge = fs.S[:, end] if name.startswith("v") else fs.S[end, :]
                 edge = edge[np.unique(np.linspace(0, len(edge) - 1, 9).round().astype(int))]  # all within `short`
                 d = np.linalg.norm(fs.S[:, :, None, :] - edge[None, None, :, :], axis=-1).min(axis=-1)
