@@ -309,8 +309,18 @@ def _area(face: FaceView) -> Measured:
     """Area ``int int |S_u x S_v| du dv``, placed at the middle sample."""
     fs = face.samples
     jac = np.linalg.norm(np.cross(fs.Su, fs.Sv), axis=-1)
-    area = float(fs.wu @ jac @ fs.wv)
-    return Measured(area, *face.at(len(fs.u) // 2, len(fs.v) // 2), detail=f"area {area:.4g} over the trim box")
+    box = float(fs.wu @ jac @ fs.wv)
+    i, j = len(fs.u) // 2, len(fs.v) // 2
+    if not face.net.trim_loops:
+        return Measured(box, *face.at(i, j), detail=f"area {box:.4g} over the trim box (no trim loops read)")
+    from .trim_area import inside, trimmed_area
+
+    area, _ = trimmed_area(face.net, fs)
+    on = np.argwhere(inside(face.net.trim_loops, fs.u, fs.v))
+    if len(on):  # placed at the sample of the face nearest the box's middle
+        i, j = on[np.argmin(np.abs(on - [i, j]).sum(axis=1))]
+    return Measured(area, *face.at(i, j), detail=f"area {area:.4g} of the trimmed face ({len(face.net.trim_loops)} "
+                                                 f"trim loop(s)); {box:.4g} over its uv box")
 
 
 def _width(face: FaceView) -> Measured:
