@@ -38,6 +38,7 @@ import numpy as np
 from ..errors import OptionError
 from . import face_checks
 from .face_checks import distinct_spans as _spans
+from .self_distance import self_distance
 from .face_samples import (FaceSamples, Measured, NotEvaluated, curvatures, direction_range, inflections,
                            sample_face, trim_box)
 
@@ -482,6 +483,12 @@ CRITERIA: dict = {
         ("CA124", "pdq-degenerate-corner", "G-SU-DP: the face's surface has a corner angle near 0 or 180 "
                                            "degrees"),
         Limit(warn=None, fail=2.0), face_checks.corner_angle),
+    "self_distance": CriterionSpec(
+        "G-SU-IS", "smallest distance between two parts of the face far apart on it (0: self-intersecting)",
+        "model units", "below",
+        ("CA125", "pdq-self-intersecting", "G-SU-IS: the face intersects itself or comes closer to itself than "
+                                           "the profile's limit"),
+        Limit(warn=0.02, fail=0.01), self_distance),
 }
 
 

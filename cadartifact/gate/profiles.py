@@ -2,7 +2,7 @@
 
 A profile holds the thresholds of the product-data-quality criteria of :mod:`cadartifact.analysis.quality`
 (waviness, degree, control points, indistinct knots, unused patches, area, width, curvature radius, patch gap and
-angle inside the face, collapsed edge, corner angle). ``default``
+angle inside the face, collapsed edge, corner angle, distance from itself). ``default``
 is built in (docs/quality-criteria.md justifies its figures); ``none`` turns the criteria off (the gate's
 verdicts are then the ripple's alone, as before profiles existed); any other value is a TOML file whose tables
 change the default profile's thresholds, criterion by criterion::
@@ -25,7 +25,7 @@ change the default profile's thresholds, criterion by criterion::
 
 Criteria whose bad side is above the threshold (``waviness``, ``degree``, ``points``, ``points_total``,
 ``unused``, ``patch_gap``, ``patch_angle``) need ``warn <= fail``; those whose bad side is below it (``knots``,
-``area``, ``width``, ``radius``, ``collapsed``, ``corner``) need ``warn >= fail``. A bad file, table, key or value is a usage error (exit 2) of one line naming the file,
+``area``, ``width``, ``radius``, ``collapsed``, ``corner``, ``self_distance``) need ``warn >= fail``. A bad file, table, key or value is a usage error (exit 2) of one line naming the file,
 the key, what was expected and what was received.
 """
 
