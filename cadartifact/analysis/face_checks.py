@@ -170,11 +170,17 @@ def across_knots(face) -> dict:
             sin = np.linalg.norm(np.cross(nrm[:, 0], nrm[:, 1]), axis=-1)
             cos = np.einsum("lmk,lmk->lm", nrm[:, 0], nrm[:, 1])
         angle = np.where(ok[:, 0] & ok[:, 1], np.degrees(np.arctan2(sin, cos)), np.nan)
-        out["lines"] += [("uv"[k], x0, mult) for x0, mult in lines]
         St = Su if k == 0 else Sv  # each side carried to the knot itself: S(t -/+ h) +/- h S_t
-        out["gap"].append(np.linalg.norm((S[:, 0] + h * St[:, 0]) - (S[:, 1] - h * St[:, 1]), axis=-1))
-        out["angle"].append(angle)
+        gap = np.linalg.norm((S[:, 0] + h * St[:, 0]) - (S[:, 1] - h * St[:, 1]), axis=-1)
         knot = np.array([x0 for x0, _ in lines])
+        if net.trim_loops:  # only where the knot line runs on the face
+            from .trim_area import inside
+
+            on = inside(net.trim_loops, knot, other) if k == 0 else inside(net.trim_loops, other, knot).T
+            gap, angle = np.where(on, gap, np.nan), np.where(on, angle, np.nan)
+        out["lines"] += [("uv"[k], x0, mult) for x0, mult in lines]
+        out["gap"].append(gap)
+        out["angle"].append(angle)
         uv = (np.stack(np.broadcast_arrays(knot[:, None], other[None, :]), -1) if k == 0 else
               np.stack(np.broadcast_arrays(other[None, :], knot[:, None]), -1))
         out["at"].append(uv)
@@ -184,6 +190,7 @@ def across_knots(face) -> dict:
 
 def _worst(face, key: str, unit: str, what: str) -> Measured:
     c = face.across_knots
+    where = "the trim" if face.net.trim_loops else "the trim box"
     if not c["lines"]:
         return Measured(0.0, detail="no interior knot of multiplicity >= the degree inside the trim box (the face "
                                     "is tangent-continuous inside)")
@@ -197,12 +204,12 @@ def _worst(face, key: str, unit: str, what: str) -> Measured:
         offset += arr.shape[0]
     n = len(c["lines"])
     if best[1] is None:
-        return Measured(0.0, detail=f"{n} knot line(s) of multiplicity >= the degree; the normal is undefined on "
-                                    "both sides everywhere")
+        return Measured(0.0, detail=f"{n} knot line(s) of multiplicity >= the degree inside the trim box; none "
+                                    f"runs inside {where} with a normal on both sides")
     value, (line, uv, xyz) = best
     d, knot, mult = c["lines"][line]
     return Measured(value, uv, xyz, detail=f"{n} knot line(s) of multiplicity >= the degree inside the trim box; "
-                                           f"the largest {what} {value:.4g} {unit} across {d} = {knot:.9g} "
+                                           f"within {where}, the largest {what} {value:.4g} {unit} across {d} = {knot:.9g} "
                                            f"(multiplicity {mult})")
 
 

@@ -6,7 +6,7 @@ over the region ``D`` the trim loops enclose, not over the ``uv_bounds`` box (bo
 each of the Gauss-Legendre nodes ``u_i`` of the box (6 per piece, each knot span cut into pieces, 16 pieces at
 least: where the loops bound it the inner integral is no polynomial of u) the
 vertical line meets the loops' segments at crossings that pair, by the even-odd rule, into the intervals of ``v``
-on the face; each interval is cut at the knots of ``v`` (past 48 knots, into 48 equal pieces) and gets ``m``
+on the face; each interval is cut at the knots of ``v`` (past 24 knots, into 24 equal pieces) and gets ``m``
 Gauss-Legendre nodes per piece, so the inner integral is exact to the quadrature's order on each polynomial piece and only the loops' polylines (the
 reader's 64 points per curved edge) and the outer rule limit it (the tests: 1 % from OCCT's ``BRepGProp`` on
 trimmed faces with holes).
@@ -102,9 +102,10 @@ def trimmed_area(net, fs) -> tuple[float, int]:
                 shifted = np.concatenate([breaks + k * period for k in range(int(np.floor((lo - a) / period)) - 1,
                                                                           int(np.ceil((hi - a) / period)) + 2)])
                 inner = np.unique(shifted[(shifted > lo) & (shifted < hi)])
-            # cut at the knots (the integrand's kinks); past 48 pieces, 48 equal ones (the cost stays bounded)
-            edges = np.concatenate([[lo], inner, [hi]]) if len(inner) < 48 else np.linspace(lo, hi, 49)
-            g, w = _GAUSS[min(6, max(2, 240 // (len(edges) - 1)))]
+            # cut at the knots (the integrand's kinks); past 24 pieces, 24 equal ones of 4 nodes (the cost stays
+            # bounded: the dense basis of a 286-pole direction at every node is what costs)
+            edges = np.concatenate([[lo], inner, [hi]]) if len(inner) < 24 else np.linspace(lo, hi, 25)
+            g, w = _GAUSS[min(6, max(2, 96 // (len(edges) - 1)))]
             e0, e1 = edges[:-1, None], edges[1:, None]
             pts_v.append((e0 + (e1 - e0) * (g + 1) / 2).ravel())
             pts_w.append(((e1 - e0) / 2 * w * wus[c]).ravel())

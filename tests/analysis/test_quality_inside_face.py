@@ -115,6 +115,10 @@ def test_a_crease_at_a_knot_of_multiplicity_p(angle, degree):
     # the same knot with the poles on one plane: no crease
     flat = net.replace(points=pts * np.array([1, 1, 0]))
     assert by_key(flat)["patch_angle"].value < 1e-6
+    # trimmed short of the crease (a loop over u < t0 - 0.05 only): within the trim the face is smooth
+    loop = np.array([[0, 0], [t0 - 0.05, 0], [t0 - 0.05, 1], [0, 1.0]])
+    trimmed = by_key(net.replace(trim_loops=(loop,)))["patch_angle"]
+    assert trimmed.value == 0 and trimmed.verdict == "pass" and "none runs inside the trim" in trimmed.detail
 
 
 def test_a_gap_across_a_knot_of_multiplicity_p_plus_one():
