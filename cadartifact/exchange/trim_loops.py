@@ -27,7 +27,15 @@ PER_EDGE = 64
 
 
 def face_loops(face) -> tuple:
-    """The face's wires as closed uv polylines ``((k, 2) float, ...)``; ``()`` when a pcurve is missing."""
+    """The face's wires as closed uv polylines ``((k, 2) float, ...)``; ``()`` when a pcurve is missing or OCCT
+    cannot walk a wire (the face then keeps its uv box, as before trim loops were read)."""
+    try:
+        return _loops(face)
+    except Exception:  # noqa: BLE001 - OCCT's Standard_Failure and kin: the box, never a lost face
+        return ()
+
+
+def _loops(face) -> tuple:
     loops = []
     wires = TopExp_Explorer(face, TopAbs_WIRE)
     while wires.More():
@@ -36,10 +44,7 @@ def face_loops(face) -> tuple:
         edges = BRepTools_WireExplorer(wire, face)
         while edges.More():
             edge = edges.Current()  # oriented as it runs in the face's wire (a seam's two pcurves differ by it)
-            try:
-                curve = BRepAdaptor_Curve2d(edge, face)
-            except Exception:  # noqa: BLE001 - an edge without a pcurve: the face keeps its box
-                return ()
+            curve = BRepAdaptor_Curve2d(edge, face)
             a, b = curve.FirstParameter(), curve.LastParameter()
             if not (np.isfinite(a) and np.isfinite(b)):
                 return ()
