@@ -280,6 +280,10 @@ class ControlNet:
         What the net is, one of :data:`NET_FORMS`: ``"bspline"`` (a face with degrees and knots) or ``"cage"``
         (a subdivision cage, neither). Settled from ``degrees`` when not given; code asks
         :attr:`is_bspline`, never whether ``knots`` or ``degrees`` is None.
+    trim_loops : tuple of (k, 2) float
+        The trimmed face's boundary in the surface's parameters: one closed polyline per wire (outer and holes,
+        the last point not repeated), as the reader samples the edges' pcurves; a point is on the face when a
+        ray from it crosses the loops an odd number of times. Empty: the face is its ``uv_bounds`` box.
 
     Notes
     -----
@@ -300,6 +304,7 @@ class ControlNet:
     exact: tuple = (None, None)
     trim_gaps: tuple = ()
     form: str | None = None
+    trim_loops: tuple = ()
 
     def __post_init__(self):
         where = self.origin.label()
@@ -326,6 +331,12 @@ class ControlNet:
             raise InvalidNetError(f"{where}: degenerate net, all control points coincide")
         object.__setattr__(self, "points", pts)
         object.__setattr__(self, "trim_gaps", tuple((int(a), float(lo), float(hi)) for a, lo, hi in self.trim_gaps))
+        loops = tuple(frozen_array(np.asarray(loop, float)) for loop in self.trim_loops)
+        for loop in loops:
+            if loop.ndim != 2 or loop.shape[1] != 2 or len(loop) < 3 or not np.all(np.isfinite(loop)):
+                raise InvalidNetError(f"{where}: a trim loop must be (k >= 3, 2) finite uv points, received "
+                                      f"shape {loop.shape}")
+        object.__setattr__(self, "trim_loops", loops)
 
         if self.weights is not None:
             w = frozen_array(self.weights)
@@ -429,6 +440,7 @@ class ControlNet:
             names = [f.name for f in dataclasses.fields(self) if f.name in state]
             state = dict(vars(ControlNet(**{name: state[name] for name in names})))
         self.__dict__.update(state)
+        self.__dict__.setdefault("trim_loops", ())  # pickled before nets carried their trim loops
 
     # ------------------------------------------------------------------ derived
     @property

@@ -15,10 +15,29 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["FaceSamples", "trim_box", "sample_face", "curvatures", "inflections", "direction_range"]
+__all__ = ["FaceSamples", "Measured", "NotEvaluated", "trim_box", "sample_face", "curvatures", "inflections",
+           "direction_range"]
+
+
+class Measured(NamedTuple):
+    """What a measure found: the value, where the face is worst (or None), one line of supporting numbers, and a
+    verdict when the measure decides it rather than the thresholds (None: judged against the profile)."""
+
+    value: float
+    uv: tuple | None = None
+    xyz: tuple | None = None
+    detail: str = ""
+    verdict: str | None = None
+
+
+class NotEvaluated(NamedTuple):
+    """A measure that cannot be taken on this face, and why."""
+
+    reason: str
 
 
 @dataclass(frozen=True)

@@ -36,16 +36,19 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from ..errors import OptionError
-from .face_samples import FaceSamples, curvatures, direction_range, inflections, sample_face, trim_box
+from . import face_checks
+from .face_checks import distinct_spans as _spans
+from .self_distance import self_distance
+from .face_samples import (FaceSamples, Measured, NotEvaluated, curvatures, direction_range, inflections,
+                           sample_face, trim_box)
 
 __all__ = ["CRITERIA", "CriterionSpec", "Measured", "NotEvaluated", "FaceView", "Limit", "Profile", "Criterion",
            "DEFAULT_PROFILE", "default_profile", "criteria", "judge", "sample_face", "curvatures", "inflections",
            "trim_box"]
 
-#: Curvature below 1 / flat radius counts as no sign (a flat stretch, or numerical noise on a plane).
-DEFAULT_FLAT_RADIUS = 1.0e5
-#: Neighbouring knots closer than this share of the parameter range are close in parameter (G-SU-IK).
-DEFAULT_KNOT_PARAMETER = 1.0e-3
+#: Curvature below 1 / (flat ratio * the face's size) counts as no sign: a bend of radius over this many face
+#: sizes (a sagitta under 1/800 of the face) is flat for the face, whatever its unit or scale.
+DEFAULT_FLAT_RATIO = 100.0
 
 
 @dataclass(frozen=True)
@@ -78,27 +81,33 @@ class Profile:
         The file it was read from (None: built in).
     limits : tuple of (str, Limit or None)
         In the order of :data:`CRITERIA`.
-    flat_radius : float
-        Waviness: curvature ``|k| <= 1 / flat_radius`` has no sign (model units).
-    knot_parameter : float
-        Indistinct knots: spans shorter than this share of their direction's parameter range are close in
-        parameter; they are indistinct when also shorter than the ``knots`` limit in model units.
+    flat_ratio : float
+        Waviness: curvature ``|k| <= 1 / (flat_ratio * size)`` has no sign, ``size`` the diagonal of the face's
+        bounding box (a radius over ``flat_ratio`` face sizes is flat for the face).
+    flat_radius : float or None
+        Waviness: an absolute flat radius in model units instead (``|k| <= 1 / flat_radius``); None: relative.
+    knot_parameter : float or None
+        Indistinct knots: None (the checkers' definition) judges a span by its length on the surface alone; a
+        share asks it also to be shorter than that share of its direction's parameter range.
     """
 
     name: str
     source: str | None = None
     limits: tuple = ()
-    flat_radius: float = DEFAULT_FLAT_RADIUS
-    knot_parameter: float = DEFAULT_KNOT_PARAMETER
+    flat_ratio: float = DEFAULT_FLAT_RATIO
+    flat_radius: float | None = None
+    knot_parameter: float | None = None
 
     def __post_init__(self):
         keys = [k for k, _ in self.limits]
         if keys != list(CRITERIA):
             raise OptionError("limits", f"one entry per criterion in the order {', '.join(CRITERIA)}", keys)
-        if not (self.flat_radius > 0 and math.isfinite(self.flat_radius)):
-            raise OptionError("flat_radius", "a positive number of model units", self.flat_radius)
-        if not (0 < self.knot_parameter < 1):
-            raise OptionError("knot_parameter", "a share with 0 < s < 1", self.knot_parameter)
+        if not (self.flat_ratio > 0 and math.isfinite(self.flat_ratio)):
+            raise OptionError("flat_ratio", "a positive number of face sizes", self.flat_ratio)
+        if self.flat_radius is not None and not (self.flat_radius > 0 and math.isfinite(self.flat_radius)):
+            raise OptionError("flat_radius", "a positive number of model units or None", self.flat_radius)
+        if self.knot_parameter is not None and not (0 < self.knot_parameter < 1):
+            raise OptionError("knot_parameter", "a share with 0 < s < 1 or None", self.knot_parameter)
 
     def limit(self, key: str) -> Limit | None:  # noqa: D102
         return dict(self.limits)[key]
@@ -166,23 +175,6 @@ def _points(net, u, v) -> np.ndarray:
 
 
 # ---------------------------------------------------------------- the measures
-class Measured(NamedTuple):
-    """What a measure found: the value, where the face is worst (or None), one line of supporting numbers, and a
-    verdict when the measure decides it rather than the thresholds (None: judged against the profile)."""
-
-    value: float
-    uv: tuple | None = None
-    xyz: tuple | None = None
-    detail: str = ""
-    verdict: str | None = None
-
-
-class NotEvaluated(NamedTuple):
-    """A measure that cannot be taken on this face, and why."""
-
-    reason: str
-
-
 class FaceView:
     """One face as the measures read it: the net, the profile, and its samples and curvatures (computed once, on
     first use, for every measure that reads them)."""
@@ -200,6 +192,37 @@ class FaceView:
     def curvatures(self) -> dict:
         """:func:`~cadartifact.analysis.face_samples.curvatures` of the samples."""
         return curvatures(self.samples)
+
+    @cached_property
+    def across_knots(self) -> dict:
+        """Both sides of the knot lines where the face may break (:func:`.face_checks.across_knots`)."""
+        return face_checks.across_knots(self)
+
+    @cached_property
+    def size(self) -> float:
+        """The diagonal of the bounding box of the face's samples (model units)."""
+        S = self.samples.S.reshape(-1, 3)
+        return float(np.linalg.norm(S.max(axis=0) - S.min(axis=0)))
+
+    @cached_property
+    def near_collapsed(self) -> np.ndarray:
+        """(a, b) bool: samples within the ``collapsed`` criterion's warn length of a collapsed edge of the trim
+        box (shorter than that length and than half its opposite edge; a narrow face is not collapsed): there the
+        curvature is the degenerate parametrisation's."""
+        lim = self.profile.limit("collapsed")
+        fs = self.samples
+        out = np.zeros(fs.S.shape[:2], bool)
+        short = None if lim is None else (lim.warn if lim.warn is not None else lim.fail)
+        if short is None:
+            return out
+        edges = face_checks.boundary_edges(self)
+        for e, (name, length, end) in enumerate(edges):
+            if length < short and length < 0.5 * edges[e ^ 1][1]:  # shorter than its opposite: collapsed, not narrow
+                edge = fs.S[:, end] if name.startswith("v") else fs.S[end, :]
+                edge = edge[np.unique(np.linspace(0, len(edge) - 1, 9).round().astype(int))]  # all within `short`
+                d = np.linalg.norm(fs.S[:, :, None, :] - edge[None, None, :, :], axis=-1).min(axis=-1)
+                out |= d <= short
+        return out
 
     def at(self, i: int, j: int) -> tuple:
         """``(uv, xyz)`` of the sample ``(i, j)``."""
@@ -239,9 +262,14 @@ def _radius(face: FaceView):
     if _no_normal(face):
         return _no_normal(face)
     cv = face.curvatures
-    kmax = cv["kmax"]
+    near = face.near_collapsed
+    kmax = np.where(near, np.nan, cv["kmax"])
+    if not np.isfinite(kmax).any():
+        return NotEvaluated("every sample with a normal is next to a collapsed edge (see the degenerate boundary)")
     i, j = np.unravel_index(int(np.nanargmax(kmax)), kmax.shape)
     note = _undefined_note(cv)
+    if near.any():
+        note += f"; {int(near.sum())} samples next to a collapsed edge left out (see collapsed)"
     radius = 1.0 / kmax[i, j] if kmax[i, j] > 0 else math.inf
     if math.isfinite(radius):
         return Measured(radius, *face.at(i, j), detail=f"max |principal curvature| {kmax[i, j]:.4g}{note}")
@@ -254,7 +282,8 @@ def _waviness(face: FaceView):
     if _no_normal(face):
         return _no_normal(face)
     cv = face.curvatures
-    floor = 1.0 / face.profile.flat_radius
+    pr = face.profile
+    floor = 1.0 / pr.flat_radius if pr.flat_radius is not None else 1.0 / (pr.flat_ratio * max(face.size, 1e-300))
     best = (0, 0.0, 0, 0, "u")  # count, amplitude, i, j, along
     ku, kv = cv["ku"], cv["kv"]
     with np.errstate(invalid="ignore"):  # only lines with both signs can inflect
@@ -281,8 +310,18 @@ def _area(face: FaceView) -> Measured:
     """Area ``int int |S_u x S_v| du dv``, placed at the middle sample."""
     fs = face.samples
     jac = np.linalg.norm(np.cross(fs.Su, fs.Sv), axis=-1)
-    area = float(fs.wu @ jac @ fs.wv)
-    return Measured(area, *face.at(len(fs.u) // 2, len(fs.v) // 2), detail=f"area {area:.4g} over the trim box")
+    box = float(fs.wu @ jac @ fs.wv)
+    i, j = len(fs.u) // 2, len(fs.v) // 2
+    if not face.net.trim_loops:
+        return Measured(box, *face.at(i, j), detail=f"area {box:.4g} over the trim box (no trim loops read)")
+    from .trim_area import inside, trimmed_area
+
+    area, _ = trimmed_area(face.net, fs)
+    on = np.argwhere(inside(face.net.trim_loops, fs.u, fs.v))
+    if len(on):  # placed at the sample of the face nearest the box's middle
+        i, j = on[np.argmin(np.abs(on - [i, j]).sum(axis=1))]
+    return Measured(area, *face.at(i, j), detail=f"area {area:.4g} of the trimmed face ({len(face.net.trim_loops)} "
+                                                 f"trim loop(s)); {box:.4g} over its uv box")
 
 
 def _width(face: FaceView) -> Measured:
@@ -297,15 +336,6 @@ def _width(face: FaceView) -> Measured:
     if wu_ <= wv_:  # narrow across u: the widest u line, at its middle
         return Measured(wu_, *face.at(a // 2, ju), detail=detail)
     return Measured(wv_, *face.at(iv, b // 2), detail=detail)
-
-
-def _spans(t: np.ndarray, p: int, n: int, periodic: bool) -> np.ndarray:
-    """Distinct-knot spans ``(k, 2)`` of one direction's knot range (one period)."""
-    a, b = direction_range(t, p, n, periodic)
-    d = np.unique(t[(t >= a) & (t <= b)])
-    keep = np.concatenate([[True], np.diff(d) > 1e-12 * max(1.0, abs(b - a))])
-    d = d[keep]
-    return np.stack([d[:-1], d[1:]], axis=1)
 
 
 def _overlaps(spans: np.ndarray, lo: float, hi: float, periodic: bool, period: float) -> np.ndarray:
@@ -341,53 +371,6 @@ def _unused(face: FaceView) -> Measured:
         xyz = _points(net, np.array([uv[0]]), np.array([uv[1]]))[0, 0]
         return Measured(share, uv, xyz, detail=detail)
     return Measured(0.0, detail=detail)
-
-
-def _knots(face: FaceView):
-    """Spans close in parameter (``< knot_parameter`` of the range) and their length on the surface."""
-    net, fs, profile = face.net, face.samples, face.profile
-    found = []  # (length, relative, direction, span)
-    shortest = None
-    for k, (t, p, n, per) in enumerate(zip(net.knots, net.degrees, net.shape, net.periodic)):
-        t = np.asarray(t, float)
-        a, b = direction_range(t, p, n, per)
-        spans = _spans(t, p, n, per)
-        rel = (spans[:, 1] - spans[:, 0]) / (b - a)
-        order = np.argsort(rel)
-        for s in order[: max(1, int((rel < profile.knot_parameter).sum()))]:
-            length, uv, xyz = _span_length(net, fs, k, spans[s])
-            item = (length, float(rel[s]), "uv"[k], spans[s], uv, xyz)
-            if rel[s] < profile.knot_parameter:
-                found.append(item)
-            if shortest is None or rel[s] < shortest[1]:
-                shortest = item
-    if shortest is None:
-        return NotEvaluated("no knot span")
-    if found:
-        length, rel, d, span, uv, xyz = min(found, key=lambda f: f[0])
-        return Measured(length, uv, xyz, detail=f"{len(found)} span(s) under {profile.knot_parameter:g} of the "
-                                                f"parameter range; the shortest on the surface: {d} knots "
-                                                f"{span[0]:.9g} and {span[1]:.9g} ({rel:.2g} of the range), "
-                                                f"{length:.4g} long")
-    length, rel, d, span, uv, xyz = shortest
-    # not close in parameter: distinct whatever its length (G-SU-IK needs both)
-    return Measured(length, uv, xyz, verdict="pass",
-                    detail=f"no span under {profile.knot_parameter:g} of the parameter range (the shortest: {d} "
-                           f"knots {span[0]:.9g} and {span[1]:.9g}, {rel:.2g} of the range, {length:.4g} long): "
-                           "distinct")
-
-
-def _span_length(net, fs: FaceSamples, k: int, span) -> tuple[float, tuple, np.ndarray]:
-    """Longest polyline length (5 points) of a knot span across the face's other direction's samples."""
-    x = np.linspace(span[0], span[1], 5)
-    other = fs.v if k == 0 else fs.u
-    if len(other) > 25:
-        other = other[np.linspace(0, len(other) - 1, 25).round().astype(int)]
-    S = _points(net, x, other) if k == 0 else np.swapaxes(_points(net, other, x), 0, 1)  # (5, m, 3)
-    lengths = np.linalg.norm(np.diff(S, axis=0), axis=-1).sum(axis=0)
-    j = int(np.argmax(lengths))
-    uv = (x[2], other[j]) if k == 0 else (other[j], x[2])
-    return float(lengths[j]), uv, S[2, j]
 
 
 # ---------------------------------------------------------------- the registry
@@ -444,7 +427,8 @@ CRITERIA: dict = {
         ("CA101", "pdq-wavy-surface", "G-SU-WV: too many inflections of the normal curvature along an "
                                       "isoparametric line"),
         Limit(warn=1, fail=3), _waviness,
-        settings=(Setting("flat_radius", "flat_radius", "a positive number", lambda x: x > 0),)),
+        settings=(Setting("flat_ratio", "flat_ratio", "a positive number", lambda x: x > 0),
+                  Setting("flat_radius", "flat_radius", "a positive number", lambda x: x > 0))),
     "degree": CriterionSpec(
         "G-SU-HD", "highest polynomial degree", "degree", "above",
         ("CA102", "pdq-high-degree", "G-SU-HD: the face's polynomial degree is above the profile's limit"),
@@ -458,11 +442,10 @@ CRITERIA: dict = {
         ("CA104", "pdq-control-points-total", "Too many control points in total"),
         Limit(warn=5000, fail=50000), _points_total, needs="net"),
     "knots": CriterionSpec(
-        "G-SU-IK", "shortest knot span in model units among spans also shorter than the parameter threshold",
-        "model units", "below",
-        ("CA105", "pdq-indistinct-knots", "G-SU-IK: neighbouring knots closer than the profile's limit in "
-                                          "parameter and in model units"),
-        Limit(warn=0.02, fail=0.01), _knots,
+        "G-SU-IK", "shortest knot span, its length on the surface", "model units", "below",
+        ("CA105", "pdq-indistinct-knots", "G-SU-IK: neighbouring knots closer on the surface than the profile's "
+                                          "limit"),
+        Limit(warn=0.02, fail=0.01), face_checks.indistinct_knots,
         settings=(Setting("parameter", "knot_parameter", "a share with 0 < s < 1", lambda x: 0 < x < 1),)),
     "unused": CriterionSpec(
         "unused patches", "share of the surface's knot-span patches wholly outside the trimmed face", "share",
@@ -483,6 +466,29 @@ CRITERIA: dict = {
         ("CA109", "pdq-tiny-curvature-radius", "The face's smallest principal curvature radius is below the "
                                                "profile's limit"),
         Limit(warn=None, fail=0.5), _radius),
+    "patch_gap": CriterionSpec(
+        "G-SU-LG", "largest position gap across a knot line inside the face", "model units", "above",
+        ("CA121", "pdq-large-patch-gap", "G-SU-LG: the face's patches are apart across a knot line"),
+        Limit(warn=0.01, fail=0.02), face_checks.patch_gap),
+    "patch_angle": CriterionSpec(
+        "G-SU-NT", "largest normal angle across a knot line inside the face", "degrees", "above",
+        ("CA122", "pdq-non-tangent-patches", "G-SU-NT: the face creases or folds across a knot line"),
+        Limit(warn=2.0, fail=3.0), face_checks.patch_angle),
+    "collapsed": CriterionSpec(
+        "G-SU-DC", "shortest edge of the trim box on the surface", "model units", "below",
+        ("CA123", "pdq-degenerate-boundary", "G-SU-DC: an edge of the face's surface is collapsed"),
+        Limit(warn=0.02, fail=0.01), face_checks.collapsed_edge),
+    "corner": CriterionSpec(
+        "G-SU-DP", "smallest angle between S_u and S_v at a corner of the trim box", "degrees", "below",
+        ("CA124", "pdq-degenerate-corner", "G-SU-DP: the face's surface has a corner angle near 0 or 180 "
+                                           "degrees"),
+        Limit(warn=None, fail=2.0), face_checks.corner_angle),
+    "self_distance": CriterionSpec(
+        "G-SU-IS", "smallest distance between two parts of the face far apart on it (0: self-intersecting)",
+        "model units", "below",
+        ("CA125", "pdq-self-intersecting", "G-SU-IS: the face intersects itself or comes closer to itself than "
+                                           "the profile's limit"),
+        Limit(warn=0.02, fail=0.01), self_distance),
 }
 
 

@@ -194,7 +194,7 @@ def _read_knots(surface, direction: str, degree: int, n: int, periodic: bool) ->
 
 
 def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None, canonical: str | None = None,
-                     exact=(None, None)) -> ControlNet:
+                     exact=(None, None), trim_loops: tuple = ()) -> ControlNet:
     """Build a :class:`ControlNet` from a ``Geom_BSplineSurface`` or ``Geom_BezierSurface``.
 
     Parameters
@@ -206,6 +206,8 @@ def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None, canonical: s
         The face's parameter bounds.
     canonical, exact
         What the face exactly is (:func:`cadartifact.exchange.canonical.recognise`), stored on the net.
+    trim_loops : tuple of (k, 2) float
+        The face's wires in the surface's parameters (:func:`cadartifact.exchange.trim_loops.face_loops`).
 
     Returns
     -------
@@ -233,7 +235,8 @@ def net_from_surface(surface, *, origin: NetOrigin, uv_bounds=None, canonical: s
         periodic = (bool(surface.IsUPeriodic()), bool(surface.IsVPeriodic()))
         knots = (_read_knots(surface, "U", p, nu, periodic[0]), _read_knots(surface, "V", q, nv, periodic[1]))
     return ControlNet(points=points, weights=weights, degrees=(p, q), knots=knots, periodic=periodic,
-                      uv_bounds=uv_bounds, unit="mm", origin=origin, canonical=canonical, exact=exact)
+                      uv_bounds=uv_bounds, unit="mm", origin=origin, canonical=canonical, exact=exact,
+                      trim_loops=trim_loops)
 
 
 def _convert(surface, face) -> Geom_BSplineSurface:
@@ -287,6 +290,7 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
     messages: list[str] = []
     where = file or "<shape>"
     from .canonical import recognise as recognise_face
+    from .trim_loops import face_loops
     total = 0
     for index, face in iter_faces(shape):
         total += 1
@@ -304,8 +308,10 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
                 continue
             uv = basis.Bounds()
             kind = "converted"
+            loops = ()  # the converted surface's parameters are not the pcurves'
         else:
             uv = BRepTools.UVBounds_s(face)
+            loops = face_loops(face)
         name = face_name(face) if face_name is not None else None
         entity_of = getattr(face_name, "entity", None)  # STEP: the face's #id in the file
         entity = entity_of(face) if entity_of is not None else None
@@ -313,7 +319,7 @@ def nets_from_shape(shape: TopoDS_Shape, *, file: str | None = None, convert: bo
         try:
             nets.append(net_from_surface(basis, origin=NetOrigin(file=file, face=index, name=name, kind=kind,
                                                                  entity=entity),
-                                         uv_bounds=uv, canonical=canonical, exact=exact))
+                                         uv_bounds=uv, canonical=canonical, exact=exact, trim_loops=loops))
         except InvalidNetError as exc:
             skipped["degenerate"] = skipped.get("degenerate", 0) + 1
             messages.append(f"skipped face: {exc}")

@@ -1,7 +1,8 @@
 """PDQ profiles for the gate (``cadartifact gate --profile NAME|FILE``, policy key ``profile``).
 
 A profile holds the thresholds of the product-data-quality criteria of :mod:`cadartifact.analysis.quality`
-(waviness, degree, control points, indistinct knots, unused patches, area, width, curvature radius). ``default``
+(waviness, degree, control points, indistinct knots, unused patches, area, width, curvature radius, patch gap and
+angle inside the face, collapsed edge, corner angle, distance from itself). ``default``
 is built in (docs/quality-criteria.md justifies its figures); ``none`` turns the criteria off (the gate's
 verdicts are then the ripple's alone, as before profiles existed); any other value is a TOML file whose tables
 change the default profile's thresholds, criterion by criterion::
@@ -9,12 +10,12 @@ change the default profile's thresholds, criterion by criterion::
     [waviness]            # inflections of the normal curvature along one isoparametric line
     warn = 1              # more than 1: warn
     fail = 3              # more than 3: fail
-    flat_radius = 1e5     # |curvature| <= 1 / flat_radius has no sign (model units)
+    flat_ratio = 100      # |curvature| <= 1 / (flat_ratio * the face's size) has no sign
 
-    [knots]               # indistinct knots (G-SU-IK): spans short in parameter AND on the surface
+    [knots]               # indistinct knots (G-SU-IK): spans short on the surface
     warn = 0.02           # model units: shorter warns
     fail = 0.01
-    parameter = 1e-3      # share of the parameter range under which a span is short in parameter
+    parameter = 1e-3      # optional: also short in parameter (under this share of the range)
 
     [radius]
     warn = "off"          # a level that is "off" is not judged
@@ -23,8 +24,8 @@ change the default profile's thresholds, criterion by criterion::
     unused = false        # the criterion is off (reported as off, never silently missing)
 
 Criteria whose bad side is above the threshold (``waviness``, ``degree``, ``points``, ``points_total``,
-``unused``) need ``warn <= fail``; those whose bad side is below it (``knots``, ``area``, ``width``, ``radius``)
-need ``warn >= fail``. A bad file, table, key or value is a usage error (exit 2) of one line naming the file,
+``unused``, ``patch_gap``, ``patch_angle``) need ``warn <= fail``; those whose bad side is below it (``knots``,
+``area``, ``width``, ``radius``, ``collapsed``, ``corner``, ``self_distance``) need ``warn >= fail``. A bad file, table, key or value is a usage error (exit 2) of one line naming the file,
 the key, what was expected and what was received.
 """
 
@@ -51,14 +52,14 @@ EXTRA = LiveMapping(lambda: {k: tuple(s.key for s in spec.settings) for k, spec 
 
 
 def profile_dict(profile: Profile | None) -> dict | None:
-    """A profile as JSON data: ``{"name", "source", <criterion>: {"warn", "fail", "sense"} | null, "flat_radius",
-    "knot_parameter"}``."""
+    """A profile as JSON data: ``{"name", "source", <criterion>: {"warn", "fail", "sense"} | null, "flat_ratio",
+    "flat_radius", "knot_parameter"}`` (the last two null unless the profile sets them)."""
     if profile is None:
         return None
     out = {"name": profile.name, "source": profile.source}
     for key, lim in profile.limits:
         out[key] = None if lim is None else {"warn": lim.warn, "fail": lim.fail, "sense": CRITERIA[key][3]}
-    out.update(flat_radius=profile.flat_radius, knot_parameter=profile.knot_parameter)
+    out.update(flat_ratio=profile.flat_ratio, flat_radius=profile.flat_radius, knot_parameter=profile.knot_parameter)
     return out
 
 

@@ -87,8 +87,12 @@ class ProfileRecord(TypedDict, extra_items=Threshold | None):  # type: ignore[ca
     name: str
     source: str | None
     """The profile file (null: built in)."""
-    flat_radius: float
-    knot_parameter: float
+    flat_ratio: float
+    """Waviness: curvature under 1 / (flat_ratio * the face's size) has no sign."""
+    flat_radius: float | None
+    """Waviness: an absolute flat radius instead (null: relative to the face)."""
+    knot_parameter: float | None
+    """Indistinct knots: also under this share of the parameter range (null: the length alone decides)."""
 
 
 class PolicyRecord(TypedDict, closed=True):
