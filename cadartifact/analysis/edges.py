@@ -141,7 +141,7 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
     Returns
     -------
     dict
-        ``{"edges": [record], "counted": {"shared", "free", "seam", "degenerate", "non-manifold"}}``; a record is
+        ``{"edges": [record], "counted": {"shared", "free", "seam", "degenerate", "non_manifold"}}``; a record is
         ``{"edge": index in OCCT's edge map (1-based), "entity", "line", "faces": [i, j] (face indices),
         "face_entities", "length", "samples", "orientation": "consistent" | "inconsistent",
         "gap": {"value", "at"}, "angle": {"value", "min", "at"}, "curvature": {"jump", "jump_at", "relative", "k", "at"} | None}``,
@@ -159,7 +159,7 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
     faces, where = _faces(shape)
     ancestors = TopTools_IndexedDataMapOfShapeListOfShape()
     TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, ancestors)
-    counted = {"shared": 0, "free": 0, "seam": 0, "degenerate": 0, "non-manifold": 0}
+    counted = {"shared": 0, "free": 0, "seam": 0, "degenerate": 0, "non_manifold": 0}
     records = []
     for k in range(1, ancestors.Extent() + 1):
         edge = TopoDS.Edge_s(ancestors.FindKey(k))
@@ -172,11 +172,11 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
             if not any(f.IsSame(g) for g in distinct):
                 distinct.append(f)
         n_own = sum(1 for _ in ancestors.FindFromIndex(k))
-        if len(distinct) == 1:
+        if len(distinct) <= 1:  # a free boundary, a seam, or an edge of no face (a wire: annotations)
             counted["seam" if n_own > 1 else "free"] += 1
             continue
         if len(distinct) > 2:
-            counted["non-manifold"] += 1
+            counted["non_manifold"] += 1
             continue
         counted["shared"] += 1
         f1, f2 = distinct
@@ -284,3 +284,79 @@ def _normal_and_across(D: np.ndarray, T: np.ndarray, sign: float) -> tuple[np.nd
 def _num(x):
     x = float(x)
     return round(x, 9) if math.isfinite(x) else None
+
+
+# ---------------------------------------------------------------- judging
+def judge_edges(records: list, profile, ignore_faces=()) -> list:
+    """The edge records with their verdicts against a profile's ``edge_gap``, ``edge_angle`` and
+    ``edge_curvature`` limits.
+
+    Parameters
+    ----------
+    records : list of dict
+        :func:`shape_edges`'s ``edges``.
+    profile : Profile
+    ignore_faces : collection of int
+        Edges of these faces are left out.
+
+    Returns
+    -------
+    list of dict
+        Each record plus ``sharp`` (a crease all along the edge: the smallest angle >= ``profile.sharp_angle``;
+        then G1 and G2 are not judged), ``verdict`` (the worst of its criteria's) and ``criteria``: one per edge
+        criterion, ``{"criterion", "code", "evaluated", "value", "unit", "verdict", "threshold", "at", "detail",
+        "reason"}`` as a face's criteria, ``at = {"t", "xyz"}``.
+    """
+    from .quality import CRITERIA, judge
+
+    out = []
+    for rec in records:
+        if set(rec["faces"]) & set(ignore_faces):
+            continue
+        angle, curv = rec["angle"], rec["curvature"]
+        sharp = angle is not None and angle["min"] is not None and angle["min"] >= profile.sharp_angle
+        found = {"edge_gap": (rec["gap"]["value"], rec["gap"]["at"], f"largest distance between the faces along the "
+                                                                      f"edge ({rec['samples']} samples)")}
+        if sharp:
+            why = f"sharp by design: a crease of {angle['min']:.4g} to {angle['value']:.4g} degrees all along the edge"
+            found["edge_angle"] = found["edge_curvature"] = why
+        elif angle is None:
+            found["edge_angle"] = found["edge_curvature"] = "no sample has a normal on both faces"
+        else:
+            found["edge_angle"] = (angle["value"], angle["at"], f"normal angle {angle['min']:.4g} to "
+                                                                f"{angle['value']:.4g} degrees along the edge")
+            found["edge_curvature"] = (
+                (curv["relative"], curv["at"], f"normal curvature across the edge {curv['k'][0]:.4g} and "
+                                               f"{curv['k'][1]:.4g}; largest absolute jump {curv['jump']:.4g}")
+                if curv is not None else "no sample has a curvature on both faces")
+        crit = []
+        for key in EDGE_CRITERIA:
+            spec, lim, got = CRITERIA[key], profile.limit(key), found[key]
+            item = {"criterion": key, "code": spec.code, "evaluated": False, "value": None, "unit": spec.unit,
+                    "verdict": None, "threshold": None if lim is None else {"warn": lim.warn, "fail": lim.fail,
+                                                                            "sense": spec.sense},
+                    "at": None, "detail": "", "reason": None}
+            if lim is None:
+                item["reason"] = "off in this profile"
+            elif isinstance(got, str):
+                item["reason"] = got
+            elif got[0] is None:
+                item["reason"] = "not finite"
+            else:
+                item.update(evaluated=True, value=got[0], verdict=judge(got[0], lim, spec.sense), at=got[1],
+                            detail=got[2])
+            crit.append(item)
+        verdicts = [c["verdict"] for c in crit if c["evaluated"]]
+        verdict = "fail" if "fail" in verdicts else "warn" if "warn" in verdicts else "pass"
+        out.append({**rec, "sharp": sharp, "verdict": verdict, "criteria": crit})
+    return out
+
+
+#: The edge criteria of :data:`cadartifact.analysis.quality.CRITERIA`, in report order.
+EDGE_CRITERIA = ("edge_gap", "edge_angle", "edge_curvature")
+
+
+def edge_summary(edges: list) -> dict:
+    """``{"edges", "sharp", "warn", "fail"}`` counts of judged edge records."""
+    return {"edges": len(edges), "sharp": sum(e["sharp"] for e in edges),
+            "warn": sum(e["verdict"] == "warn" for e in edges), "fail": sum(e["verdict"] == "fail" for e in edges)}

@@ -18,7 +18,8 @@ pytest.importorskip("OCP")
 
 from typer.testing import CliRunner  # noqa: E402
 
-from cadartifact.analysis.quality import CRITERIA, DEFAULT_PROFILE, criteria  # noqa: E402
+from cadartifact.analysis.quality import DEFAULT_PROFILE, criteria  # noqa: E402
+from cadartifact.analysis.quality import FACE_CRITERIA as CRITERIA  # noqa: E402  # the faces' own criteria
 from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.exchange.load import read, write_step  # noqa: E402
 from cadartifact.gate.profiles import load_profile  # noqa: E402
@@ -214,7 +215,8 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
     gate(*args, "--format", "sarif", "--output", tmp_path / "r.sarif")
     log = json.loads((tmp_path / "r.sarif").read_text())
     rules = [r["id"] for r in log["runs"][0]["tool"]["driver"]["rules"]]
-    assert [f"CA1{k:02d}" for k in range(1, 11)] == [r for r in rules if r.startswith("CA1")]
+    assert [f"CA1{k:02d}" for k in range(1, 11)] == [r for r in rules if r.startswith("CA10") or r == "CA110"]
+    assert ["CA121", "CA122", "CA123"] == [r for r in rules if r.startswith("CA12")]  # the edges' (between faces)
     res = [r for r in log["runs"][0]["results"] if r["ruleId"] == "CA101"]
     assert len(res) == 1 and res[0]["level"] == "error" and res[0]["properties"]["threshold"]["fail"] == 3
     assert res[0]["properties"]["at"]["uv"] and res[0]["locations"][0]["logicalLocations"]
