@@ -43,7 +43,7 @@ EDGE_SAMPLES = 41
 EDGES_FUNCTION = f"{__name__}:file_edges"
 #: Curvature at most this (1 / model units: a 100 m radius in mm) counts as flat for the relative G2 jump.
 FLAT_CURVATURE = 1e-5
-#: A sample where ``|S_u x S_v| <= NORMAL_FLOOR |S_u||S_v|`` has no normal (a pole, a collapsed edge).
+#: A sample where ``|S_u x S_v| <= NORMAL_FLOOR max(|S_u|, |S_v|)^2`` has no normal (a pole, a collapsed edge).
 NORMAL_FLOOR = 1e-10
 
 
@@ -266,7 +266,9 @@ def _normal_and_across(D: np.ndarray, T: np.ndarray, sign: float) -> tuple[np.nd
     Su, Sv, Suu, Suv, Svv = (D[:, i] for i in range(5))
     c = np.cross(Su, Sv)
     size = np.linalg.norm(c, axis=1)
-    ok = size > NORMAL_FLOOR * np.linalg.norm(Su, axis=1) * np.linalg.norm(Sv, axis=1)
+    # relative to the larger derivative: at a collapsed edge (a sphere's pole) one derivative vanishes and the
+    # direction of what is left of it is noise
+    ok = size > NORMAL_FLOOR * np.fmax(np.linalg.norm(Su, axis=1), np.linalg.norm(Sv, axis=1)) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
         n = sign * c / size[:, None]
         n[~ok] = np.nan

@@ -229,7 +229,8 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
 
 # ---------------------------------------------------------------- real files, read in place
 @pytest.mark.realdata
-@pytest.mark.parametrize("name,exit_code", [("boxed_sphere.step", 1), ("nist_ftc_07_asme1_rd.stp", 0)])
+# nist_ftc_07 fails since continuity between faces is gated: 6 shared edges open 0.028 mm (edge_gap > 0.02)
+@pytest.mark.parametrize("name,exit_code", [("boxed_sphere.step", 1), ("nist_ftc_07_asme1_rd.stp", 1)])
 def test_real_files_criteria_equal_each_faces_own(name, exit_code):
     """Every face's criteria equal those computed on its own net (repeated faces reuse their first face's
     analysis, moved rigidly); places: a first face's equal its own computation, and a repeat's moved place is on
