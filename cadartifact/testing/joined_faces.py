@@ -5,12 +5,13 @@ polynomials, each one Bezier patch (exact). They are sewn (``BRepBuilderAPI_Sewi
 edge ``x = 0``. With ``w(y) = 4 y (1 - y)`` (1 at ``y = 0.5``, 0 at the ends):
 
 * ``smooth``: one cubic across both faces (G-infinity by construction);
-* ``g1``: B is ``z = tan(size) x w(y)`` over a plane A: the normal angle is ``atan(tan(size) w(y))`` degrees... in
-  radians ``size``, largest (``size``) at ``y = 0.5``;
+* ``g1``: B is ``z = tan(size) x w(y)`` over a plane A: the normal angle is ``atan(tan(size) w(y))`` (``size`` in
+  radians), largest (``size``) at ``y = 0.5``;
 * ``g1_constant``: B is ``z = tan(size) x``: a crease of ``size`` radians all along the edge;
 * ``g2``: A is ``z = a x^2 / 2`` and B ``z = b x^2 / 2`` (``size = (a, b)``): G1, the normal curvature across the
   edge jumps from ``a`` to ``b`` (relative ``|a - b| / max(|a|, |b|)``) all along it;
-* ``g0``: B is shifted by ``size w(y)`` in z: a gap of ``size`` at ``y = 0.5``, none at the ends.
+* ``g0``: B is shifted by ``size w(y)`` in z: a gap of ``size`` at ``y = 0.5``, none at the ends;
+* ``g1_curved``: ``g1`` over a curved base shape common to both faces (docs/images/reflection-g1-break.png).
 """
 
 from __future__ import annotations
@@ -71,6 +72,9 @@ def joined(kind: str, size=0.0):
     elif kind == "g2":
         a, b = size
         fa, fb = (lambda x, y: a * x * x / 2), (lambda x, y: b * x * x / 2)
+    elif kind == "g1_curved":
+        fa = lambda x, y: 0.5 * (y - 0.5) ** 2 + 0.3 * x * x + 0.2 * x * y  # noqa: E731
+        fb = lambda x, y: fa(x, y) + math.tan(size) * x * w(y)  # noqa: E731
     elif kind == "g0":
         fb = lambda x, y: size * w(y)  # noqa: E731
         tol = 2 * size

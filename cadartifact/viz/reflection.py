@@ -1,19 +1,18 @@
 """Reflection lines (zebra stripes) of faces, seen from the camera of the ripple heatmap.
 
-A surface lit by a tunnel of parallel light lines shows their reflections; engineers read G0, G1 and G2 from them
-(Klass, 1980): a gap or a crease (G1 break) *breaks* the stripes, a curvature jump (G2 break) *kinks* them, ripple
-makes them *wave*. Here the light tunnel is infinitely far (an environment map): at a surface point with unit
-normal ``n`` seen along ``v`` (from the eye towards the surface) the reflected ray is ``r = v - 2 (v . n) n``,
-and the reflection function is its angle around the tunnel's axis ``a``:
+A surface lit by parallel light bars shows their reflections; engineers read G0, G1 and G2 from them (Klass,
+1980): a gap or a crease (G1 break) *breaks* the stripes, a curvature jump (G2 break) *kinks* them, ripple makes
+them *wave*. Here the bars are infinitely far (an environment map) and parallel to the picture's up ``a``: at a
+surface point with unit normal ``n`` seen along ``v`` (from the eye towards the surface) the reflected ray is
+``r = v - 2 (v . n) n``, and the reflection function is its elevation out of the plane of the bars and the eye:
 
-    phase = atan2(r . c, r . b),     (b, c) an orthonormal pair perpendicular to a,
+    phase = asin(r . c),     c = a x (-v) normalised (the picture's horizontal),
 
-which depends on the normal alone, so that it jumps where the normal jumps (by twice a crease's angle seen across
-the axis), kinks where the curvature jumps and oscillates with the ripple. Stripes are ``floor(k phase / 2 pi)``
-mod 2 for ``k`` stripes per turn (chosen per picture so that its faces show about :data:`WANTED` stripes; the
+which depends on the normal alone, so that it jumps where the normal jumps (by about twice a crease's angle seen
+across the bars), kinks where the curvature jumps and oscillates with the ripple. Stripes are ``floor(k phase / 2 pi)``
+mod 2 for ``k`` stripes per turn of the reflected ray (chosen per picture so that its faces show about :data:`WANTED` stripes; the
 colours are interpolated in the stripe coordinate before they are mapped, so stripes are crisp inside cells). The camera (:func:`cadartifact.viz.view.camera`) is the heatmap's (:mod:`cadartifact.viz.view`): a
-single face seen along its mean normal, several isometrically; the tunnel's axis is the camera's up direction, so
-the stripes run across the picture.
+single face seen along its mean normal, several isometrically.
 
 Normals come from the drawn fine grid (``FaceMap.points``, second-order central differences), so the stripes
 show the surface the heatmap shows.
@@ -52,23 +51,22 @@ def grid_normals(points: np.ndarray) -> np.ndarray:
 
 
 def reflection_phase(normals: np.ndarray, towards: np.ndarray, axis: np.ndarray) -> np.ndarray:
-    """The reflection function (radians, in (-pi, pi]) of unit normals ``(..., 3)`` seen from ``towards`` (the unit
-    direction to the camera) in a light tunnel along ``axis``.
+    """The reflection function (radians, in [-pi/2, pi/2]) of unit normals ``(..., 3)`` seen from ``towards`` (the
+    unit direction to the camera) under light bars parallel to ``axis`` (the picture's up).
 
-    ``r = v - 2 (v . n) n`` with ``v = -towards``; ``phase = atan2(r . c, r . b)`` where ``b`` is ``towards``
-    made perpendicular to ``axis`` and ``c = axis x b``.
+    ``r = v - 2 (v . n) n`` with ``v = -towards``; ``phase = asin(r . c)`` with ``c = axis x towards`` normalised
+    (the picture's horizontal): the reflected ray's elevation out of the plane of the bars and the eye, which has
+    no seam and no pole (an angle around the axis would crowd its stripes where ``r`` nears the axis).
     """
     t = np.asarray(towards, float) / np.linalg.norm(towards)
-    a = np.asarray(axis, float) / np.linalg.norm(axis)
-    b = t - (t @ a) * a
-    if np.linalg.norm(b) < 1e-9:  # looking along the axis: any perpendicular will do
-        b = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
-    b /= np.linalg.norm(b)
-    c = np.cross(a, b)
+    c = np.cross(np.asarray(axis, float), t)
+    if np.linalg.norm(c) < 1e-9:  # looking along the bars: any horizontal will do
+        c = np.cross([1.0, 0.0, 0.0] if abs(t[0]) < 0.9 else [0.0, 1.0, 0.0], t)
+    c /= np.linalg.norm(c)
     n = np.asarray(normals, float)
     v = -t
     r = v - 2.0 * (n @ v)[..., None] * n
-    return np.arctan2(r @ c, r @ b)
+    return np.arcsin(np.clip(r @ c, -1.0, 1.0))
 
 
 def face_phase(m, towards: np.ndarray, up: np.ndarray) -> np.ndarray:

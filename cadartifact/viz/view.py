@@ -179,6 +179,7 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, 
                 plotter.view_isometric()
             if len(maps) > 1:  # the whole-model view: an axis triad and a scale bar along the longest side
                 plotter.add_axes()
+            if len(maps) > 1 and not reflection:  # (the stripes read better without the bar across them)
                 pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
                 lo, hi = pts.min(axis=0), pts.max(axis=0)
                 k = int(np.argmax(hi - lo))
