@@ -141,10 +141,12 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
     Returns
     -------
     dict
-        ``{"edges": [record], "counted": {"shared", "free", "seam", "degenerate", "non_manifold"}}``; a record is
+        ``{"edges": [record], "counted": {"shared", "free", "seam", "degenerate", "non_manifold", "failed"}}``
+        (``shared``: measured; ``failed``: shared by two faces but OCCT could not evaluate it); a record is
         ``{"edge": index in OCCT's edge map (1-based), "entity", "line", "faces": [i, j] (face indices),
         "face_entities", "length", "samples", "orientation": "consistent" | "inconsistent",
-        "gap": {"value", "at"}, "angle": {"value", "min", "at"}, "curvature": {"jump", "jump_at", "relative", "k", "at"} | None}``,
+        "gap": {"value", "at"}, "angle": {"value", "min", "at"},
+        "curvature": {"jump", "jump_at", "relative", "k", "at"} | None}``,
         ``at = {"t": share of the edge's range, "xyz"}``; angles in degrees, curvatures in 1 / model units;
         ``relative``, ``k`` (both faces') and ``at`` are the largest relative jump's, ``jump_at`` the largest
         absolute jump's place.
@@ -159,7 +161,7 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
     faces, where = _faces(shape)
     ancestors = TopTools_IndexedDataMapOfShapeListOfShape()
     TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, ancestors)
-    counted = {"shared": 0, "free": 0, "seam": 0, "degenerate": 0, "non_manifold": 0}
+    counted = {"shared": 0, "free": 0, "seam": 0, "degenerate": 0, "non_manifold": 0, "failed": 0}
     records = []
     for k in range(1, ancestors.Extent() + 1):
         edge = TopoDS.Edge_s(ancestors.FindKey(k))
@@ -178,9 +180,13 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
         if len(distinct) > 2:
             counted["non_manifold"] += 1
             continue
-        counted["shared"] += 1
         f1, f2 = distinct
-        record = _edge_record(edge, f1, f2, samples, flat_curvature)
+        try:
+            record = _edge_record(edge, f1, f2, samples, flat_curvature)
+        except Exception:  # noqa: BLE001 - OCCT cannot evaluate this edge on a face (no pcurve): counted, not measured
+            counted["failed"] += 1
+            continue
+        counted["shared"] += 1
         ident, line = edge_entity(edge) if edge_entity is not None else (None, None)
         i1, i2 = _index_of(f1, faces, where), _index_of(f2, faces, where)
         record.update(edge=k, entity=ident, line=line, faces=[i1, i2],

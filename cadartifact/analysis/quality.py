@@ -39,7 +39,8 @@ from ..errors import OptionError
 from ..registry import LiveMapping
 from .face_samples import FaceSamples, curvatures, direction_range, inflections, sample_face, trim_box
 
-__all__ = ["CRITERIA", "FACE_CRITERIA", "CriterionSpec", "Measured", "NotEvaluated", "FaceView", "Limit", "Profile", "Criterion",
+__all__ = ["CRITERIA", "FACE_CRITERIA", "CriterionSpec", "Measured", "NotEvaluated", "FaceView", "Limit", "Profile",
+           "Criterion",
            "DEFAULT_PROFILE", "default_profile", "criteria", "judge", "sample_face", "curvatures", "inflections",
            "trim_box"]
 
@@ -495,19 +496,22 @@ CRITERIA: dict = {
         Limit(warn=None, fail=0.5), _radius),
     # continuity between faces (cadartifact.analysis.edges): judged per shared edge, not per face
     "edge_gap": CriterionSpec(
-        "G-SH-LG", "G0: largest distance between the two faces along their shared edge", "model units", "above",
+        "large face gap (G0)", "G0: largest distance between the two faces along their shared edge", "model units",
+        "above",
         ("CA121", "pdq-edge-gap", "G0: the faces of a shared edge are further apart than the profile's limit"),
         Limit(warn=0.01, fail=0.02), None, needs="edges"),
     "edge_angle": CriterionSpec(
-        "G-SH-NT", "G1: largest angle between the two faces' normals along their shared edge", "degrees", "above",
+        "non-tangent faces (G1)", "G1: largest angle between the two faces' normals along their shared edge",
+        "degrees", "above",
         ("CA122", "pdq-edge-angle", "G1: the faces of a shared edge meet at an angle above the profile's limit "
                                     "(and are not sharp by design)"),
         Limit(warn=0.5, fail=1.0), None, needs="edges",
         settings=(Setting("sharp_angle", "sharp_angle", "an angle in degrees with 0 < a <= 180",
                           lambda x: 0 < x <= 180),)),
     "edge_curvature": CriterionSpec(
-        "G2", "G2: largest relative jump |k1 - k2| / max(|k1|, |k2|) of the normal curvature across a shared edge",
-        "share", "above",
+        "non-smooth faces (G2)",
+        "G2: largest relative jump |k1 - k2| / max(|k1|, |k2|) of the normal curvature across a shared edge", "share",
+        "above",
         ("CA123", "pdq-edge-curvature", "G2: the normal curvature jumps across a shared edge by more than the "
                                         "profile's share"),
         None, None, needs="edges"),

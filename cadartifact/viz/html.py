@@ -83,7 +83,8 @@ margin-right:6px;overflow:hidden}
 .error{background:#fdecea;color:#8a1c17;border-radius:6px;padding:8px 12px;margin:6px 0}
 .note{color:#6b5200;font-size:12px;margin:2px 0}
 figure{margin:14px 0 4px}.pair{display:flex;gap:10px;flex-wrap:wrap}.pair img{max-width:100%}
-.pair figure{flex:1 1 420px;margin:6px 0}figure img{max-width:100%;height:auto;border:1px solid #e6e9ee;border-radius:6px}
+.pair figure{flex:1 1 420px;margin:6px 0}
+figure img{max-width:100%;height:auto;border:1px solid #e6e9ee;border-radius:6px}
 figcaption{font-size:12px;color:#5b6575;margin-top:4px}
 footer{color:#8a93a3;font-size:12px;padding:0 28px 24px}
 nav.toc{background:#fff;border-radius:8px;padding:8px 16px;margin:0 0 16px;box-shadow:0 1px 2px rgba(0,0,0,.08)}

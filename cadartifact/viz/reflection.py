@@ -9,9 +9,10 @@ surface point with unit normal ``n`` seen along ``v`` (from the eye towards the 
     phase = asin(r . c),     c = a x (-v) normalised (the picture's horizontal),
 
 which depends on the normal alone, so that it jumps where the normal jumps (by about twice a crease's angle seen
-across the bars), kinks where the curvature jumps and oscillates with the ripple. Stripes are ``floor(k phase / 2 pi)``
-mod 2 for ``k`` stripes per turn of the reflected ray (chosen per picture so that its faces show about :data:`WANTED` stripes; the
-colours are interpolated in the stripe coordinate before they are mapped, so stripes are crisp inside cells). The camera (:func:`cadartifact.viz.view.camera`) is the heatmap's (:mod:`cadartifact.viz.view`): a
+across the bars), kinks where the curvature jumps and oscillates with the ripple. Stripes are
+``floor(k phase / 2 pi)`` mod 2 for ``k`` stripes per turn of the reflected ray (chosen per picture so that its
+faces show about :data:`WANTED` stripes; the colours are interpolated in the stripe coordinate before they are
+mapped, so stripes are crisp inside cells). The camera (:func:`cadartifact.viz.view.camera`) is the heatmap's: a
 single face seen along its mean normal, several isometrically.
 
 Normals come from the drawn fine grid (``FaceMap.points``, second-order central differences), so the stripes
@@ -26,8 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["STRIPES", "MOST_STRIPES", "grid_normals", "reflection_phase", "face_phase", "stripes", "centred", "stripe_count",
-           "stripe_values"]
+__all__ = ["STRIPES", "MOST_STRIPES", "grid_normals", "reflection_phase", "face_phase", "stripes", "centred",
+           "stripe_count", "stripe_values"]
 
 #: Stripes per turn of the reflected ray around the tunnel's axis (black and white pairs: STRIPES / 2), at least.
 STRIPES = 24

@@ -130,7 +130,7 @@ def test_box_edges_are_sharp_by_design():
     cq = pytest.importorskip("cadquery")
     box = cq.Workplane().box(10, 20, 30).val().wrapped
     out = shape_edges(box)
-    assert out["counted"] == {"shared": 12, "free": 0, "seam": 0, "degenerate": 0, "non_manifold": 0}
+    assert out["counted"] == {"shared": 12, "free": 0, "seam": 0, "degenerate": 0, "non_manifold": 0, "failed": 0}
     judged = judge_edges(out["edges"], DEFAULT_PROFILE)
     assert all(e["sharp"] and e["verdict"] == "pass" for e in judged)
     assert all(e["angle"]["value"] == pytest.approx(90) and e["angle"]["min"] == pytest.approx(90) for e in judged)

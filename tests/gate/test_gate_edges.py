@@ -51,7 +51,7 @@ def test_a_g1_break_fails_the_file_at_the_edges_step_record(files):
     entry = doc["files"][0]
     assert all(f["verdict"] == "pass" for f in entry["faces"]) and entry["verdict"] == "fail"
     (edge,) = entry["edges"]
-    assert entry["edges_counted"] == {"shared": 1, "free": 6, "seam": 0, "degenerate": 0, "non_manifold": 0}
+    assert entry["edges_counted"] == {"shared": 1, "free": 6, "seam": 0, "degenerate": 0, "non_manifold": 0, "failed": 0}
     assert edge["verdict"] == "fail" and not edge["sharp"]
     assert edge["angle"]["value"] == pytest.approx(2.0, rel=0.05) and edge["angle"]["at"]["t"] == pytest.approx(0.5)
     text = open(files["g1"], encoding="latin-1").read().splitlines()
@@ -67,7 +67,8 @@ def test_a_g1_break_fails_the_file_at_the_edges_step_record(files):
 
     body = gate(files["g1"], "--tol", "1", "--profile", "default").stdout
     assert "edges: 1 shared edge(s) measured: 0 sharp by design, 0 warn, 1 fail" in body
-    assert f"edge #{edge['entity']} (line {edge['line']})" in body and "G-SH-NT: edge_angle 2 degrees" in body
+    assert f"edge #{edge['entity']} (line {edge['line']})" in body
+    assert "non-tangent faces (G1): edge_angle 2 degrees" in body
 
 
 def test_box_edges_are_sharp_by_design_and_pass(files):

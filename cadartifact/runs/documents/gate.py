@@ -13,8 +13,8 @@ from .face import AdviceRecord, FaceRecord, Metric, Reading, SummaryCounts
 from .keys import Pair, Triple, TypedDict
 
 __all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "CriterionAt", "CriterionRecord",
-           "GateFace", "EdgeAt", "EdgeGap", "EdgeAngle", "EdgeCurvature", "EdgeCriterion", "GateEdge", "EdgeCounts", "EdgeSummary",
-           "ProfileRecord", "PolicyRecord", "GateFile", "CriterionCounts", "FaceCounts", "FileCounts",
+           "GateFace", "EdgeAt", "EdgeGap", "EdgeAngle", "EdgeCurvature", "EdgeCriterion", "GateEdge", "EdgeCounts",
+           "EdgeSummary", "ProfileRecord", "PolicyRecord", "GateFile", "CriterionCounts", "FaceCounts", "FileCounts",
            "VerdictCounts", "GateSummary", "GateDocument"]
 
 #: The ``gate`` key of the gate document.
@@ -193,13 +193,15 @@ class GateEdge(TypedDict, closed=True):
 
 
 class EdgeCounts(TypedDict, closed=True):
-    """The file's edges by kind: shared by two faces (measured), free, seams, degenerate, non-manifold."""
+    """The file's edges by kind: shared by two faces (measured), free, seams, degenerate, non-manifold, failed."""
 
     shared: int
     free: int
     seam: int
     degenerate: int
     non_manifold: int
+    failed: int
+    """Shared by two faces, but OCCT could not evaluate the edge on them (no curve on a face): not measured."""
 
 
 class GateFile(TypedDict, closed=True):
