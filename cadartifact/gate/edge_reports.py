@@ -4,7 +4,8 @@ Text: one ``edges`` line per file (shared edges measured, sharp by design, warni
 by kind), then one line per edge that warns or fails with its STEP record and line, both faces, the values and
 where along the edge. SARIF: per criterion that warns or fails on an edge, a result of that criterion's rule
 (``edge_gap`` CA121, ``edge_angle`` CA122, ``edge_curvature`` CA123) located at the edge's ``EDGE_CURVE`` line
-(line 1 without one), with the edge as the logical location.
+(line 1 without one), with the edge as the logical location. JUnit: a testcase per edge that warns (its
+``system-out``) or fails (a ``<failure>`` of the first failing criterion's rule).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from ..runs.documents.gate import EdgeAt, GateEdge, GateFile
 
-__all__ = ["edge_label", "edge_text", "edge_lines", "edge_results"]
+__all__ = ["edge_label", "edge_text", "edge_lines", "edge_results", "edge_junit"]
 
 
 def edge_label(path: str, edge: GateEdge) -> str:
@@ -83,3 +84,27 @@ def edge_results(entry: GateFile, uri: str, index: dict, fingerprint) -> list[di
                                        "entity": None if e.get("entity") is None else f"#{e['entity']}",
                                        "entity_line": e.get("line")}})
     return out
+
+
+def edge_junit(suite, entry: GateFile, counts: dict) -> None:
+    """Add a JUnit testcase to ``suite`` per shared edge of ``entry`` that warns or fails (``counts`` updated)."""
+    import xml.etree.ElementTree as ET
+
+    from ..analysis.quality import CRITERIA
+
+    for e in entry.get("edges") or []:
+        if e["verdict"] not in ("warn", "fail"):
+            continue
+        label = edge_label(entry["path"], e)
+        case = ET.SubElement(suite, "testcase", name=label, classname="cadartifact.gate.edges")
+        bad = [c for c in e["criteria"] if c["evaluated"] and c["verdict"] in ("warn", "fail")]
+        text = "; ".join(f"{c['code']}: {edge_text(c, 'mm')}" for c in bad)
+        counts["tests"] += 1
+        if e["verdict"] == "fail":
+            c = next(c for c in bad if c["verdict"] == "fail")
+            rule = CRITERIA[c["criterion"]].rule
+            fail = ET.SubElement(case, "failure", message=f"{label}: {text}", type=f"{rule[0]} {rule[1]}")
+            fail.text = text
+            counts["failures"] += 1
+        else:
+            ET.SubElement(case, "system-out").text = "warning: " + text

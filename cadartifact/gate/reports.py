@@ -22,8 +22,8 @@ What goes where:
   JUnit: a ``pdq.<criterion>`` property each, a failing criterion is the testcase's ``<failure>`` when the
   ripple passes; SARIF: one rule per criterion, CA101-CA109, a result per criterion that warns or fails, and a
   CA110 note per face naming the criteria that could not be evaluated).
-- Continuity between faces (with a profile): :mod:`cadartifact.gate.edge_reports` (text lines per edge that warns
-  or fails, SARIF results CA121-CA123 at the edge's ``EDGE_CURVE`` line).
+- Continuity between faces (with a profile): :mod:`cadartifact.gate.edge_reports` (text lines and a JUnit testcase
+  per edge that warns or fails, SARIF results CA121-CA123 at the edge's ``EDGE_CURVE`` line).
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ from ..errors import InputError
 from ..registry import LiveMapping, LiveTuple
 from ..runs.face_instances import NOTE as REPEAT_NOTE
 from ..runs.records import plural, unit_name
-from .edge_reports import edge_lines, edge_results
+from .edge_reports import edge_junit, edge_lines, edge_results
 
 if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.md)
     from ..runs.documents.face import AdviceRecord
@@ -435,6 +435,7 @@ def to_junit(doc: GateDocument) -> str:
                 counts["failures"] += 1
             elif f["verdict"] == "warn":
                 ET.SubElement(case, "system-out").text = "warning: " + numbers
+        edge_junit(suite, entry, counts)
         for k, v in counts.items():
             suite.set(k, str(v))
             totals[k] += v

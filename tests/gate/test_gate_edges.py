@@ -65,6 +65,12 @@ def test_a_g1_break_fails_the_file_at_the_edges_step_record(files):
     assert res["level"] == "error" and res["locations"][0]["physicalLocation"]["region"]["startLine"] == edge["line"]
     assert res["properties"]["value"] == edge["angle"]["value"] and res["properties"]["faces"] == edge["faces"]
 
+    import xml.etree.ElementTree as ET
+
+    junit = ET.fromstring(gate(files["g1"], "--tol", "1", "--profile", "default", "--format", "junit").stdout)
+    (case,) = [c for c in junit.iter("testcase") if " edge #" in c.get("name")]
+    assert case.find("failure").get("type") == "CA122 pdq-edge-angle" and junit.get("failures") == "1"
+
     body = gate(files["g1"], "--tol", "1", "--profile", "default").stdout
     assert "edges: 1 shared edge(s) measured: 0 sharp by design, 0 warn, 1 fail" in body
     assert f"edge #{edge['entity']} (line {edge['line']})" in body
