@@ -36,19 +36,23 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from ..errors import OptionError
+from ..registry import LiveMapping
 from . import face_checks
 from .face_checks import distinct_spans as _spans
 from .self_distance import self_distance
 from .face_samples import (FaceSamples, Measured, NotEvaluated, curvatures, direction_range, inflections,
                            sample_face, trim_box)
 
-__all__ = ["CRITERIA", "CriterionSpec", "Measured", "NotEvaluated", "FaceView", "Limit", "Profile", "Criterion",
+__all__ = ["CRITERIA", "FACE_CRITERIA", "CriterionSpec", "Measured", "NotEvaluated", "FaceView", "Limit", "Profile",
+           "Criterion",
            "DEFAULT_PROFILE", "default_profile", "criteria", "judge", "sample_face", "curvatures", "inflections",
            "trim_box"]
 
 #: Curvature below 1 / (flat ratio * the face's size) counts as no sign: a bend of radius over this many face
 #: sizes (a sagitta under 1/800 of the face) is flat for the face, whatever its unit or scale.
 DEFAULT_FLAT_RATIO = 100.0
+#: Two faces meeting at a crease of at least this many degrees all along their edge are sharp by design.
+DEFAULT_SHARP_ANGLE = 10.0
 
 
 @dataclass(frozen=True)
@@ -89,6 +93,9 @@ class Profile:
     knot_parameter : float or None
         Indistinct knots: None (the checkers' definition) judges a span by its length on the surface alone; a
         share asks it also to be shorter than that share of its direction's parameter range.
+    sharp_angle : float
+        Continuity between faces: an edge whose faces meet at a crease of at least this many degrees all along
+        it is sharp by design (not judged on G1 or G2; :mod:`cadartifact.analysis.edges`).
     """
 
     name: str
@@ -97,6 +104,7 @@ class Profile:
     flat_ratio: float = DEFAULT_FLAT_RATIO
     flat_radius: float | None = None
     knot_parameter: float | None = None
+    sharp_angle: float = DEFAULT_SHARP_ANGLE
 
     def __post_init__(self):
         keys = [k for k, _ in self.limits]
@@ -108,6 +116,8 @@ class Profile:
             raise OptionError("flat_radius", "a positive number of model units or None", self.flat_radius)
         if self.knot_parameter is not None and not (0 < self.knot_parameter < 1):
             raise OptionError("knot_parameter", "a share with 0 < s < 1 or None", self.knot_parameter)
+        if not (0 < self.sharp_angle <= 180):
+            raise OptionError("sharp_angle", "an angle in degrees with 0 < a <= 180", self.sharp_angle)
 
     def limit(self, key: str) -> Limit | None:  # noqa: D102
         return dict(self.limits)[key]
@@ -402,9 +412,10 @@ class CriterionSpec(NamedTuple):
     default : Limit or None
         The thresholds of the built-in ``default`` profile (None: off there).
     measure : callable ``(FaceView) -> Measured | NotEvaluated``
-    needs : {"net", "knots", "trim"}
+    needs : {"net", "knots", "trim", "edges"}
         What the face must have to be measured: any net (a subdivision cage too), knots and degrees, or also
-        a non-empty trim box.
+        a non-empty trim box; ``"edges"``: not a face's criterion but one of the edges two faces share
+        (:mod:`cadartifact.analysis.edges`, judged per edge by the gate; ``measure`` is then unused).
     settings : tuple of Setting
         Extra keys of its table in a profile file.
     """
@@ -489,7 +500,31 @@ CRITERIA: dict = {
         ("CA125", "pdq-self-intersecting", "G-SU-IS: the face intersects itself or comes closer to itself than "
                                            "the profile's limit"),
         Limit(warn=0.02, fail=0.01), self_distance),
+    # continuity between faces (cadartifact.analysis.edges): judged per shared edge, not per face
+    "edge_gap": CriterionSpec(
+        "large face gap (G0)", "G0: largest distance between the two faces along their shared edge", "model units",
+        "above",
+        ("CA131", "pdq-edge-gap", "G0: the faces of a shared edge are further apart than the profile's limit"),
+        Limit(warn=0.01, fail=0.02), None, needs="edges"),
+    "edge_angle": CriterionSpec(
+        "non-tangent faces (G1)", "G1: largest angle between the two faces' normals along their shared edge",
+        "degrees", "above",
+        ("CA132", "pdq-edge-angle", "G1: the faces of a shared edge meet at an angle above the profile's limit "
+                                    "(and are not sharp by design)"),
+        Limit(warn=0.5, fail=1.0), None, needs="edges",
+        settings=(Setting("sharp_angle", "sharp_angle", "an angle in degrees with 0 < a <= 180",
+                          lambda x: 0 < x <= 180),)),
+    "edge_curvature": CriterionSpec(
+        "non-smooth faces (G2)",
+        "G2: largest relative jump |k1 - k2| / max(|k1|, |k2|) of the normal curvature across a shared edge", "share",
+        "above",
+        ("CA133", "pdq-edge-curvature", "G2: the normal curvature jumps across a shared edge by more than the "
+                                        "profile's share"),
+        None, None, needs="edges"),
 }
+
+#: The criteria of one face (:data:`CRITERIA` less those of the edges between faces), live.
+FACE_CRITERIA = LiveMapping(lambda: {k: s for k, s in CRITERIA.items() if s.needs != "edges"})
 
 
 def default_profile() -> Profile:
@@ -504,7 +539,7 @@ DEFAULT_PROFILE = default_profile()
 
 # ---------------------------------------------------------------- the criteria
 def criteria(net, profile: Profile | None = None) -> list[Criterion]:
-    """Every criterion of :data:`CRITERIA` on one face, in that order.
+    """Every face criterion of :data:`CRITERIA` on one face, in that order (:data:`FACE_CRITERIA`).
 
     Parameters
     ----------
@@ -522,7 +557,8 @@ def criteria(net, profile: Profile | None = None) -> list[Criterion]:
     out = {}
     off = {k for k, lim in profile.limits if lim is None}
     for k in off:
-        out[k] = Criterion(k, False, reason="off in this profile")
+        if CRITERIA[k].needs != "edges":
+            out[k] = Criterion(k, False, reason="off in this profile")
     why = {}  # what the face lacks, by the spec's needs
     if not net.is_bspline:
         why["knots"] = why["trim"] = ("a subdivision cage has no knots, degree or trim (its limit surface is not "
@@ -533,7 +569,7 @@ def criteria(net, profile: Profile | None = None) -> list[Criterion]:
             why["trim"] = f"the trim box ({u0:g}..{u1:g}) x ({v0:g}..{v1:g}) is empty inside the knot range"
     face = FaceView(net, profile)
     for key, spec in CRITERIA.items():
-        if key in off:
+        if key in off or spec.needs == "edges":
             continue
         lim = profile.limit(key)
         got = NotEvaluated(why[spec.needs]) if spec.needs in why else spec.measure(face)
@@ -544,4 +580,4 @@ def criteria(net, profile: Profile | None = None) -> list[Criterion]:
         out[key] = Criterion(key, True, value=value, verdict=got.verdict or judge(value, lim, spec.sense),
                              limit=lim, uv=None if got.uv is None else tuple(float(t) for t in got.uv),
                              xyz=None if got.xyz is None else tuple(float(c) for c in got.xyz), detail=got.detail)
-    return [out[k] for k in CRITERIA]
+    return [out[k] for k in CRITERIA if k in out]

@@ -122,8 +122,11 @@ def view_cmd(
     scheme: Optional[str] = typer.Option(None, "--scheme", "-s", help="Scheme (default: each face's own degrees)."),
     size: str = typer.Option("1200x900", "--size", help="Picture size WIDTHxHEIGHT in pixels."),
     layout: str = typer.Option("auto", "--layout", help="auto, model (faces in place) or tiles (one view per face)."),
+    reflection: bool = typer.Option(False, "--reflection", help="Also write the reflection lines (zebra stripes) "
+                                    "from the same camera: <png stem>_reflection.png."),
 ):
-    """Render each face coloured by its ripple (off screen) with the control net on top; optionally export glb."""
+    """Render each face coloured by its ripple (off screen) with the control net on top; optionally export glb and
+    the reflection lines."""
     from ..dependencies import require
     from ..viz.view import view
 
@@ -144,12 +147,15 @@ def view_cmd(
                                         soft_wrap=True)
     with status:
         res = view(file, direction=direction, tol=tol, out=out, glb=glb, faces=face, scheme=scheme,
-                   window_size=(width, height), layout=layout, progress=say)  # cli_errors names the options
+                   window_size=(width, height), layout=layout, progress=say,
+                   reflection=reflection)  # cli_errors names the options
     con = _console()
     from ..runs.records import plural, unit_name
 
     con.print(f"wrote {escape(res.png)} ({plural(len(res.faces), 'face')}, {res.direction} peak {res.peak:.4g} "
               f"{unit_name(getattr(res, 'unit', None) or _unit_of(file))})", soft_wrap=True)
+    if res.reflection is not None:
+        con.print(f"wrote {escape(res.reflection)} (reflection lines)", soft_wrap=True)
     if res.glb is not None:
         con.print(f"wrote {escape(res.glb)}", soft_wrap=True)
 

@@ -53,13 +53,15 @@ EXTRA = LiveMapping(lambda: {k: tuple(s.key for s in spec.settings) for k, spec 
 
 def profile_dict(profile: Profile | None) -> dict | None:
     """A profile as JSON data: ``{"name", "source", <criterion>: {"warn", "fail", "sense"} | null, "flat_ratio",
-    "flat_radius", "knot_parameter"}`` (the last two null unless the profile sets them)."""
+    "flat_radius", "knot_parameter", "sharp_angle"}`` (flat_radius and knot_parameter null unless the profile sets
+    them)."""
     if profile is None:
         return None
     out = {"name": profile.name, "source": profile.source}
     for key, lim in profile.limits:
         out[key] = None if lim is None else {"warn": lim.warn, "fail": lim.fail, "sense": CRITERIA[key][3]}
-    out.update(flat_ratio=profile.flat_ratio, flat_radius=profile.flat_radius, knot_parameter=profile.knot_parameter)
+    out.update(flat_ratio=profile.flat_ratio, flat_radius=profile.flat_radius, knot_parameter=profile.knot_parameter,
+               sharp_angle=profile.sharp_angle)
     return out
 
 

@@ -22,6 +22,8 @@ What goes where:
   JUnit: a ``pdq.<criterion>`` property each, a failing criterion is the testcase's ``<failure>`` when the
   ripple passes; SARIF: one rule per criterion, CA101-CA109, a result per criterion that warns or fails, and a
   CA110 note per face naming the criteria that could not be evaluated).
+- Continuity between faces (with a profile): :mod:`cadartifact.gate.edge_reports` (text lines and a JUnit testcase
+  per edge that warns or fails, SARIF results CA131-CA133 at the edge's ``EDGE_CURVE`` line).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from ..errors import InputError
 from ..registry import LiveMapping, LiveTuple
 from ..runs.face_instances import NOTE as REPEAT_NOTE
 from ..runs.records import plural, unit_name
+from .edge_reports import edge_junit, edge_lines, edge_results
 
 if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.md)
     from ..runs.documents.face import AdviceRecord
@@ -296,7 +299,7 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
                 console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
                               + (f"; {where}" if where else ""), soft_wrap=True, markup=False, highlight=False)
-        for line in criteria_lines(entry, units):
+        for line in criteria_lines(entry, units) + edge_lines(entry, units):
             console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         repeats = 0
         for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
@@ -332,6 +335,9 @@ def summary_line(doc: GateDocument) -> str:
         text += f" ({s['undecided']} undecided: value +/- U straddles the tolerance, policy undecided = " \
                 f"{doc.get('undecided', 'warn')!r})"
     crit = {k: n for k, n in (s.get("criteria") or {}).items() if n["warn"] or n["fail"]}
+    if s.get("edges"):
+        e = s["edges"]
+        text += f"; {e['edges']} shared edge(s): {e['sharp']} sharp, {e['warn']} warn, {e['fail']} fail"
     if crit:
         text += "; PDQ: " + ", ".join(f"{k} " + " ".join(f"{n[v]} {v}" for v in ("fail", "warn") if n[v])
                                       for k, n in crit.items())
@@ -429,6 +435,7 @@ def to_junit(doc: GateDocument) -> str:
                 counts["failures"] += 1
             elif f["verdict"] == "warn":
                 ET.SubElement(case, "system-out").text = "warning: " + numbers
+        edge_junit(suite, entry, counts)
         for k, v in counts.items():
             suite.set(k, str(v))
             totals[k] += v
@@ -486,9 +493,10 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
         if entry.get("share_failure"):
             add("CA005", "error", f"{path}: {entry['share_failure']}", path, None,
                 {"verdict": "fail", "analysed_share": entry.get("analysed_share")})
-        if not entry["faces"]:
+        if not entry["faces"] and not entry.get("edges"):
             add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
                 {"verdict": entry["verdict"]})
+        results.extend(edge_results(entry, _uri(path, cwd), index, _fingerprint))
         for f in entry["faces"]:
             _criteria_results(add, f, path, file_units(doc, entry))
             ripple = f.get("ripple_verdict", f["verdict"])

@@ -43,10 +43,11 @@ def _child_imports() -> tuple:
 
 
 def file_verdict(entry: dict) -> str:
-    """The worst face verdict; ``error`` for an entry with an error; ``pass`` without faces."""
+    """The worst verdict of the faces and the shared edges; ``error`` for an entry with an error; ``pass`` without
+    faces."""
     if entry.get("error"):
         return "error"
-    return worst_verdict(f["verdict"] for f in entry["faces"])
+    return worst_verdict([f["verdict"] for f in entry["faces"]] + [e["verdict"] for e in entry.get("edges") or []])
 
 
 # ---------------------------------------------------------------- analysis (one file, any process)
@@ -198,7 +199,9 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
     from ..runs.records import kind_count
 
     notes = entry["notes"]
-    if not entry["faces"]:
+    if getattr(settings, "profile", None) is not None:
+        entry["edges"], entry["edges_counted"] = _edges(entry["path"], settings, notes)
+    if not entry["faces"] and not entry.get("edges"):
         notes.append("no analysable face (nothing to gate): pass")
     entry["verdict"] = file_verdict(entry)
     if share is not None:
@@ -211,6 +214,35 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
         elif share < 1:
             notes.append(text)
     return entry
+
+
+def _edges(path: str, settings: FileSettings, notes: list) -> tuple:
+    """The judged edges two faces of a B-rep file share and the file's edges by kind
+    (:mod:`cadartifact.analysis.edges`, measured where OCCT reads: the reader child); ``(None, None)`` for other
+    formats, or with a note when OCCT fails on them (the faces' verdicts stand)."""
+    from ..analysis.edges import EDGES_FUNCTION, file_edges, judge_edges
+    from ..exchange import formats
+
+    record = formats.format_of(path)
+    if not record.brep:
+        return None, None
+    from ..execution import child
+    from ..exchange.reader_start import PRELOAD
+
+    try:
+        if child.enabled() and not child.serving():
+            found = child.call(EDGES_FUNCTION, (path, record.name), path=path, what="OCCT",
+                               actor="OCCT's continuity between faces", preload=PRELOAD)
+        else:
+            found = file_edges(path, record.name)
+    except Exception as exc:  # noqa: BLE001 - said in the notes, never silent
+        notes.append(one_line(f"continuity between faces not measured ({type(exc).__name__}: {exc})"))
+        return None, None
+    edges = judge_edges(found["edges"], settings.profile, settings.ignore_faces)
+    for e in edges:  # the file's own unit in each criterion
+        for c in e["criteria"]:
+            c["unit"] = c["unit"].replace("model units", "mm")
+    return edges, found["counted"]
 
 
 def _gate_task(task: tuple, reuse: bool = True) -> dict:
@@ -378,6 +410,9 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
                     elif c["verdict"] in ("warn", "fail"):
                         n[c["verdict"]] += 1
         summary["criteria"] = crit
+        from ..analysis.edges import edge_summary
+
+        summary["edges"] = edge_summary([d for e in entries for d in e.get("edges") or []])
     summary["errors"] = file_counts["error"]
     summary["verdicts"] = {"files": file_counts, "faces": face_counts}
     verdict = worst_verdict(e["verdict"] for e in entries)

@@ -76,7 +76,7 @@ def add_criteria(rec: dict, net, settings) -> dict:
     profile); ``verdict`` becomes the worst of the ripple's and the evaluated criteria's, and when a criterion
     makes it worse the reason says which (``; PDQ criteria: fail on waviness 5 > 3 inflections``).
     """
-    from ..analysis.quality import CRITERIA, criteria
+    from ..analysis.quality import CRITERIA, FACE_CRITERIA, criteria
     from .records import unit_name
 
     rec["ripple_verdict"] = rec["verdict"]
@@ -91,7 +91,8 @@ def add_criteria(rec: dict, net, settings) -> dict:
             from ..errors import one_line
 
             why = one_line(f"the criteria could not be computed ({type(exc).__name__}: {exc})")
-            rec["criteria"] = [Criterion(k, False, limit=profile.limit(k), reason=why).to_dict() for k in CRITERIA]
+            rec["criteria"] = [Criterion(k, False, limit=profile.limit(k), reason=why).to_dict()
+                               for k in FACE_CRITERIA]
     if not rec["criteria"]:
         return rec
     for c in rec["criteria"]:  # the face's own unit

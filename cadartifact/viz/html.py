@@ -48,6 +48,8 @@ HEATMAP_FILES = 24
 #: Schemes whose response maps are drawn (most used first).
 MAP_SCHEMES = 4
 HEATMAP_SIZE = (1000, 620)
+#: Each drawn face's heatmap and reflection lines, side by side.
+PAIR_SIZE = (560, 420)
 
 _DIRECTIONS = (("x1", "X1 (u)"), ("x2", "X2 (v)"), ("diagonal", "diagonal"), ("lateral", "lateral"))
 
@@ -80,7 +82,9 @@ margin-right:6px;overflow:hidden}
 .small{font-size:11px;color:#5b6575;white-space:normal}
 .error{background:#fdecea;color:#8a1c17;border-radius:6px;padding:8px 12px;margin:6px 0}
 .note{color:#6b5200;font-size:12px;margin:2px 0}
-figure{margin:14px 0 4px}figure img{max-width:100%;height:auto;border:1px solid #e6e9ee;border-radius:6px}
+figure{margin:14px 0 4px}.pair{display:flex;gap:10px;flex-wrap:wrap}.pair img{max-width:100%}
+.pair figure{flex:1 1 420px;margin:6px 0}
+figure img{max-width:100%;height:auto;border:1px solid #e6e9ee;border-radius:6px}
 figcaption{font-size:12px;color:#5b6575;margin-top:4px}
 footer{color:#8a93a3;font-size:12px;padding:0 28px 24px}
 nav.toc{background:#fff;border-radius:8px;padding:8px 16px;margin:0 0 16px;box-shadow:0 1px 2px rgba(0,0,0,.08)}
@@ -214,7 +218,32 @@ def _heatmap(entry: FileEntry, doc: Document, tol: float, unit: str) -> str:
         return f'<p class="note">No heatmap: rendering failed ({_e(type(exc).__name__)}: {_e(exc)})</p>'
     caption = (f"|{direction.replace('_', ' ')}| on the limit surface, 0 to the tolerance {tol:g} {_e(unit)}; reds: "
                "beyond it, darkest at the peak (magenta dot). Thin lines: the control net.")
-    return f"<figure>{_img(png_bytes(image), title, 'heatmap')}<figcaption>{caption}</figcaption></figure>"
+    return (f"<figure>{_img(png_bytes(image), title, 'heatmap')}<figcaption>{caption}</figcaption></figure>"
+            + _reflection_pairs(maps, direction, tol))
+
+
+def _reflection_pairs(maps, direction: str, tol: float) -> str:
+    """Per drawn face, its heatmap and its reflection lines side by side, from one camera
+    (:mod:`cadartifact.viz.reflection`): a crease or a break to a neighbour breaks the stripes, ripple waves them."""
+    from .view import png_bytes, render_image
+
+    out = []
+    try:
+        for m in maps:
+            face = m.net.origin.face
+            heat = render_image([m], direction=direction, tol=tol, title=f"face {face}: ripple",
+                                window_size=PAIR_SIZE, layout="model")
+            zebra = render_image([m], direction=direction, title=f"face {face}: reflection lines",
+                                 window_size=PAIR_SIZE, layout="model", reflection=True)
+            out.append(f'<div class="pair"><figure>{_img(png_bytes(heat), f"face {face} ripple", "face-heatmap")}'
+                       f"</figure><figure>{_img(png_bytes(zebra), f'face {face} reflection lines', 'reflection')}"
+                       "</figure></div>")
+    except Exception as exc:  # a picture must not cost the report
+        return f'<p class="note">No reflection lines: rendering failed ({_e(type(exc).__name__)}: {_e(exc)})</p>'
+    caption = ("Each face's ripple (left) and reflection lines (right) from the same camera: stripes of a light "
+               "tunnel reflected by the face; a crease or a break to a neighbour breaks them, a curvature jump "
+               "kinks them, ripple makes them wave.")
+    return "".join(out) + f'<p class="small">{caption}</p>'
 
 
 def _response_maps(doc: Document) -> str:

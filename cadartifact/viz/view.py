@@ -61,6 +61,7 @@ class ViewResult:
     direction: str
     peak: float
     faces: tuple
+    reflection: Path | None = None
 
 
 @contextlib.contextmanager
@@ -104,9 +105,34 @@ def choose_layout(maps, layout: str = "auto") -> str:
     return "tiles" if scene > 0 and np.median(sizes) < TILE_SPREAD * scene else "model"
 
 
-def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) -> np.ndarray:
-    """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background."""
+def camera(maps) -> tuple[np.ndarray, np.ndarray]:
+    """``(towards, up)``: the unit direction from the scene to the camera and the camera's up vector of the scene of
+    ``maps``: one face seen along its mean normal, several faces (or a face curved all round) isometrically."""
+    normal = mean_normal(maps[0]) if len(maps) == 1 else None
+    if normal is None:  # pyvista's isometric view
+        return np.ones(3) / np.sqrt(3.0), np.array([0.0, 0.0, 1.0])
+    up = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    return np.asarray(normal, float), up
+
+
+def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, reflection: bool = False
+           ) -> np.ndarray:
+    """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background; with ``reflection``
+    the faces carry their reflection lines (:mod:`cadartifact.viz.reflection`) instead of the heatmap, from the
+    same camera."""
     pv = require("pyvista", "3-D heatmaps")
+    towards, up = camera(maps)
+    if reflection:
+        from .reflection import centred, face_phase, stripe_count, stripe_values
+
+        phases = centred([face_phase(m, towards, up) for m in maps])
+        count = stripe_count(phases)
+        zebra = [stripe_values(p, count) for p in phases]
+        lo = math.floor(min((np.nanmin(z) for z in zebra if np.isfinite(z).any()), default=0.0))
+        hi = max(lo + 1, math.ceil(max((np.nanmax(z) for z in zebra if np.isfinite(z).any()), default=1.0)))
+        from matplotlib.colors import ListedColormap
+
+        bands = ListedColormap([(0.97, 0.97, 0.97) if k % 2 == 0 else (0.05, 0.05, 0.05) for k in range(lo, hi)])
     with _quiet_vtk():
         plotter = pv.Plotter(off_screen=True, window_size=size)
         try:
@@ -114,14 +140,18 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
             extra = {"above_color": ABOVE_COLOUR} if tol is not None else {}
             floor = noise_floor(maps)
             top = upper_limit(maps, tol)
-            for m in maps:
+            for k, m in enumerate(maps):
                 pts, vals, quads = cells(m)
                 if len(quads) == 0:
                     continue
                 mesh = pv.PolyData(pts, np.hstack([np.full((len(quads), 1), 4), quads]).ravel())
                 # rounding noise (1e-13 mm on a clean panel) is drawn as the zero it is
                 shown = np.where(np.nan_to_num(vals, nan=0.0) < floor, 0.0, np.nan_to_num(vals, nan=0.0))
-                if top is not None:  # two segments: the colours are computed here, drawn as they are
+                if reflection:
+                    mesh.point_data["stripe"] = np.nan_to_num(zebra[k].ravel(), nan=lo)
+                    plotter.add_mesh(mesh, scalars="stripe", cmap=bands, clim=(lo, hi), n_colors=hi - lo,
+                                     interpolate_before_map=True, lighting=False, show_scalar_bar=False)
+                elif top is not None:  # two segments: the colours are computed here, drawn as they are
                     mesh.point_data["rgb"] = vertex_colours(np.where(np.isfinite(vals), shown, np.nan), clim,
                                                             cmap, top)[:, :3]
                     plotter.add_mesh(mesh, scalars="rgb", rgb=True, smooth_shading=True, show_scalar_bar=False)
@@ -129,12 +159,12 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
                     mesh.point_data["value"] = shown
                     plotter.add_mesh(mesh, scalars="value", cmap=cmap, clim=clim, smooth_shading=True,
                                      show_scalar_bar=False, **extra)
-                if show_net:
+                if show_net and not reflection:
                     nu, nv = m.net.shape
                     cage = pv.PolyData(np.asarray(m.net.points, float).reshape(-1, 3), lines=_net_lines(nu, nv))
                     # lighter when many faces share the view, so the colours stay readable
                     plotter.add_mesh(cage, color="black", line_width=1, opacity=0.5 if len(maps) <= 4 else 0.2)
-                if m.peak > floor:  # a marker at the peak
+                if m.peak > floor and not reflection:  # a marker at the peak
                     k = int(np.nanargmax(m.values))
                     plotter.add_points(m.points.reshape(-1, 3)[k][None, :], color="magenta", point_size=12,
                                        render_points_as_spheres=True)
@@ -143,14 +173,13 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
                 centres = np.array([_centre(m) for m in worst])
                 plotter.add_point_labels(centres, [str(m.net.origin.face) for m in worst], font_size=14,
                                          point_size=1, shape_opacity=0.5, always_visible=True)
-            normal = mean_normal(maps[0]) if len(maps) == 1 else None
-            if normal is not None:  # a face seen along its mean normal, not edge-on
-                up = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
-                plotter.view_vector(normal, viewup=up)
+            if len(maps) == 1 and mean_normal(maps[0]) is not None:  # a face seen along its mean normal
+                plotter.view_vector(towards, viewup=up)
             else:
                 plotter.view_isometric()
             if len(maps) > 1:  # the whole-model view: an axis triad and a scale bar along the longest side
                 plotter.add_axes()
+            if len(maps) > 1 and not reflection:  # (the stripes read better without the bar across them)
                 pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
                 lo, hi = pts.min(axis=0), pts.max(axis=0)
                 k = int(np.argmax(hi - lo))
@@ -227,7 +256,7 @@ def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
 
 def render_image(maps, *, direction: str = "total", tol: float | None = None, title: str | None = None,
                  window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
-                 cmap: str = CMAP) -> np.ndarray:
+                 cmap: str = CMAP, reflection: bool = False) -> np.ndarray:
     """Render faces off screen and return the picture: heatmap(s), colour bar, title.
 
     Parameters
@@ -246,6 +275,9 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     layout : {"auto", "model", "tiles"}
         See :func:`choose_layout`. ``model`` labels faces with their index when there are several;
         each tile is titled with its face index and peak.
+    reflection : bool
+        Draw the faces' reflection lines (:mod:`cadartifact.viz.reflection`) instead of the heatmap, from the
+        same camera and layout (no net, no colour bar).
 
     Returns
     -------
@@ -280,7 +312,7 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     top = 0.93 if title else 0.98
     bar_left = 1.0 - 110 / width
     if layout == "model":
-        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap))
+        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap, reflection))
         ax = fig.add_axes([0.01, 0.02, bar_left - 0.03, top - 0.03])
         ax.imshow(img)
         ax.set_axis_off()
@@ -293,14 +325,17 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
         for k, m in enumerate(maps):
             r, c = divmod(k, cols)
             ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
-            ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap)))
+            ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap, reflection)))
             ax.set_axis_off()
             why = little_surface_reason(m)
             why = f"\n({why})" if why else ""
             ax.set_title(f"face {m.net.origin.face}: peak {number(m.peak)} {unit_text(unit)}{why}", fontsize=9, pad=2)
-    cax = fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
-    top = upper_limit(maps, tol)
-    if top is not None:  # two segments: 0..tolerance (colormap), tolerance..peak (reds), broken at the tolerance
+    cax = None if reflection else fig.add_axes([bar_left + 12 / width, 0.1, 18 / width, top - 0.2])
+    top = None if reflection else upper_limit(maps, tol)
+    if reflection:  # no colour scale: the stripes are the reflections of a light tunnel
+        fig.text(bar_left + 4 / width, 0.5, "reflection\nlines",
+                 fontsize=9, va="center")
+    elif top is not None:  # two segments: 0..tolerance (colormap), tolerance..peak (reds), broken at the tolerance
         from matplotlib.colors import LinearSegmentedColormap, ListedColormap, TwoSlopeNorm
 
         reds = LinearSegmentedColormap.from_list("over", [ABOVE_COLOUR, PEAK_COLOUR])
@@ -316,8 +351,9 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
         colours = mpl.colormaps[cmap].with_extremes(over=ABOVE_COLOUR)
         sm = mpl.cm.ScalarMappable(norm=Normalize(*clim), cmap=colours)
         bar = fig.colorbar(sm, cax=cax, extend="max" if tol is not None else "neither")
-    bar.set_label(label(direction, unit_text(unit)), fontsize=11)
-    bar.ax.tick_params(labelsize=9)
+    if not reflection:
+        bar.set_label(label(direction, unit_text(unit)), fontsize=11)
+        bar.ax.tick_params(labelsize=9)
     if title:
         fig.text(0.01, 0.985, title, ha="left", va="top", fontsize=12)
     fig.canvas.draw()
@@ -372,7 +408,7 @@ def _check_out(option: str, path, suffix: str) -> Path:
 
 def view(path, *, direction: str = "total", tol: float | None = None, out=None, glb=None, faces=None,
          scheme=None, window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
-         progress=None) -> ViewResult:
+         progress=None, reflection: bool = False) -> ViewResult:
     """Heatmap picture (and optionally a glb) of a file's faces.
 
     Parameters
@@ -394,6 +430,10 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         As :func:`render_image`.
     progress : callable, optional
         ``progress(message)`` at each stage: the file read, each face's fields, the picture, the glb.
+    reflection : bool
+        Also write the faces' reflection lines (zebra stripes, :mod:`cadartifact.viz.reflection`) from the
+        heatmap's camera and layout, beside the heatmap: ``<png stem>_reflection.png`` (with ``out=False``:
+        ``<file stem>_reflection.png``).
 
     Returns
     -------
@@ -452,8 +492,16 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         say(f"rendering {png}")
         write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
                   layout=layout)
+    zebra = None
+    if reflection:
+        zebra = (png.with_name(f"{png.stem}_reflection.png") if png is not None
+                 else Path(f"{src.stem}_reflection.png"))
+        what = f"face {nets[0].origin.face}" if len(nets) == 1 else f"{len(nets)} faces"
+        say(f"rendering {zebra}")
+        write_png(maps, zebra, direction=direction, title=f"{src.name}  ({what}): reflection lines", layout=layout,
+                  window_size=window_size, reflection=True)
     if glb_path is not None:
         say(f"writing {glb_path}")
         export_glb(maps, glb_path, tol=tol, direction=direction)
     return ViewResult(png=png, glb=glb_path, direction=direction, peak=peak,
-                      faces=tuple(n.origin.face for n in nets))
+                      faces=tuple(n.origin.face for n in nets), reflection=zebra)

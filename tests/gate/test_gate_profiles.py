@@ -18,7 +18,9 @@ pytest.importorskip("OCP")
 
 from typer.testing import CliRunner  # noqa: E402
 
-from cadartifact.analysis.quality import CRITERIA, DEFAULT_PROFILE, criteria  # noqa: E402
+from cadartifact.analysis.quality import DEFAULT_PROFILE, criteria  # noqa: E402
+from cadartifact.analysis.quality import CRITERIA as ALL_CRITERIA  # noqa: E402
+from cadartifact.analysis.quality import FACE_CRITERIA as CRITERIA  # noqa: E402  # the faces' own criteria
 from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.exchange.load import read, write_step  # noqa: E402
 from cadartifact.gate.profiles import load_profile  # noqa: E402
@@ -217,8 +219,9 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
     gate(*args, "--format", "sarif", "--output", tmp_path / "r.sarif")
     log = json.loads((tmp_path / "r.sarif").read_text())
     rules = [r["id"] for r in log["runs"][0]["tool"]["driver"]["rules"]]
-    assert [spec.rule[0] for spec in CRITERIA.values()] + ["CA110"] == [r for r in rules if r.startswith("CA1")]
+    assert [spec.rule[0] for spec in ALL_CRITERIA.values()] + ["CA110"] == [r for r in rules if r.startswith("CA1")]
     assert [f"CA1{k:02d}" for k in range(1, 10)] == [r for r in rules if r.startswith("CA1")][:9]
+    assert ["CA131", "CA132", "CA133"] == [r for r in rules if r.startswith("CA13")]  # the edges' (between faces)
     res = [r for r in log["runs"][0]["results"] if r["ruleId"] == "CA101"]
     assert len(res) == 1 and res[0]["level"] == "error" and res[0]["properties"]["threshold"]["fail"] == 3
     assert res[0]["properties"]["at"]["uv"] and res[0]["locations"][0]["logicalLocations"]
@@ -231,7 +234,8 @@ def test_every_report_format_lists_the_criteria(files, tmp_path):
 
 # ---------------------------------------------------------------- real files, read in place
 @pytest.mark.realdata
-@pytest.mark.parametrize("name,exit_code", [("boxed_sphere.step", 1), ("nist_ftc_07_asme1_rd.stp", 0)])
+# nist_ftc_07 fails since continuity between faces is gated: 6 shared edges open 0.028 mm (edge_gap > 0.02)
+@pytest.mark.parametrize("name,exit_code", [("boxed_sphere.step", 1), ("nist_ftc_07_asme1_rd.stp", 1)])
 def test_real_files_criteria_equal_each_faces_own(name, exit_code):
     """Every face's criteria equal those computed on its own net (repeated faces reuse their first face's
     analysis, moved rigidly); places: a first face's equal its own computation, and a repeat's moved place is on

@@ -153,7 +153,7 @@ def test_a_registered_criterion_reaches_the_profiles(dummy_criterion, tmp_path):
 
     net = read_dummy(_dome(tmp_path)).nets[0]
     found = {c.key: c for c in quality.criteria(net)}
-    assert list(found) == list(quality.CRITERIA) and found["patches"].value == 20
+    assert list(found) == list(quality.FACE_CRITERIA) and found["patches"].value == 20
     assert found["patches"].verdict == "warn" and found["patches"].to_dict()["code"] == "DUMMY-PA"
     assert BUILT_IN["default"].limit("patches") == quality.Limit(warn=10, fail=100)
     (tmp_path / "p.toml").write_text("[patches]\nwarn = 30\n")

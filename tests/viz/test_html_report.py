@@ -98,7 +98,12 @@ def test_structure_is_self_contained(doc, tmp_path):
     assert len(page.tables) == 2  # one per file with faces
     heat = [i for i in page.imgs if i.get("class") == "heatmap"]
     maps = [i for i in page.imgs if i.get("class") == "maps"]
-    assert len(heat) == 2 and len(maps) == 1 and len(page.imgs) == 3
+    pairs = [i for i in page.imgs if i.get("class") in ("face-heatmap", "reflection")]
+    drawn = sum(min(H.HEATMAP_FACES, len(e["faces"])) for e in doc["files"] if e["faces"])
+    # the file's tiled heatmap, then per drawn face its heatmap and reflection lines side by side
+    assert len(heat) == 2 and len(maps) == 1 and len(page.imgs) == 3 + len(pairs)
+    assert [i["class"] for i in pairs] == ["face-heatmap", "reflection"] * drawn
+    assert all(i["alt"].endswith("reflection lines") for i in pairs if i["class"] == "reflection")
     for img in page.imgs:
         assert img["src"].startswith("data:image/png;base64,")
         assert base64.b64decode(img["src"].split(",", 1)[1])[:8] == b"\x89PNG\r\n\x1a\n"
@@ -164,7 +169,7 @@ def test_advise_report_option(files, tmp_path):
     assert result.exit_code == 0, result.output
     assert f"wrote {out}" in result.stdout.replace("\n", "")
     page, _ = parse(out)
-    assert len(page.tables) == 1 and len(page.imgs) == 2
+    assert len(page.tables) == 1 and len(page.imgs) == 2 + 2  # heatmap, maps, the face's ripple and reflection lines
 
 
 def test_advise_report_bad_folder_is_a_usage_error(files, tmp_path):

@@ -13,7 +13,8 @@ from .face import AdviceRecord, FaceRecord, Metric, Reading, SummaryCounts
 from .keys import Pair, Triple, TypedDict
 
 __all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "CriterionAt", "CriterionRecord",
-           "GateFace", "ProfileRecord", "PolicyRecord", "GateFile", "CriterionCounts", "FaceCounts", "FileCounts",
+           "GateFace", "EdgeAt", "EdgeGap", "EdgeAngle", "EdgeCurvature", "EdgeCriterion", "GateEdge", "EdgeCounts",
+           "EdgeSummary", "ProfileRecord", "PolicyRecord", "GateFile", "CriterionCounts", "FaceCounts", "FileCounts",
            "VerdictCounts", "GateSummary", "GateDocument"]
 
 #: The ``gate`` key of the gate document.
@@ -93,6 +94,8 @@ class ProfileRecord(TypedDict, extra_items=Threshold | None):  # type: ignore[ca
     """Waviness: an absolute flat radius instead (null: relative to the face)."""
     knot_parameter: float | None
     """Indistinct knots: also under this share of the parameter range (null: the length alone decides)."""
+    sharp_angle: float
+    """Continuity between faces: a crease of at least this many degrees all along an edge is sharp by design."""
 
 
 class PolicyRecord(TypedDict, closed=True):
@@ -112,6 +115,97 @@ class PolicyRecord(TypedDict, closed=True):
     advise: Literal["failing", "all", "none"]
     ignore_faces: list[int]
     profile: ProfileRecord | None
+
+
+class EdgeAt(TypedDict, closed=True):
+    """A place along an edge."""
+
+    t: float
+    """Share of the edge's parameter range (0 at its start, 1 at its end)."""
+    xyz: Annotated[list[float | None], Triple]
+    """The midpoint of the two faces' points there."""
+
+
+class EdgeGap(TypedDict, closed=True):
+    """G0: the largest distance between the faces along the edge (model units)."""
+
+    value: float | None
+    at: EdgeAt
+
+
+class EdgeAngle(TypedDict, closed=True):
+    """G1: the angle between the faces' oriented normals along the edge (degrees)."""
+
+    value: float | None
+    """The largest."""
+    min: float | None
+    """The smallest (a crease all along the edge: sharp by design when at least the profile's sharp_angle)."""
+    at: EdgeAt
+
+
+class EdgeCurvature(TypedDict, closed=True):
+    """G2: the jump of the normal curvature across the edge (1 / model units)."""
+
+    jump: float | None
+    """The largest absolute jump ``|k1 - k2|``."""
+    jump_at: EdgeAt
+    relative: float | None
+    """The largest relative jump ``|k1 - k2| / max(|k1|, |k2|)`` (0 where both faces are flat)."""
+    k: Annotated[list[float | None], Pair]
+    """Both faces' normal curvatures across the edge where the relative jump is largest."""
+    at: EdgeAt
+
+
+class EdgeCriterion(TypedDict, closed=True):
+    """One criterion of continuity between faces on one edge."""
+
+    criterion: str
+    code: str
+    evaluated: bool
+    value: float | None
+    unit: str
+    verdict: FaceVerdict | None
+    threshold: Threshold | None
+    at: EdgeAt | None
+    detail: str
+    reason: str | None
+
+
+class GateEdge(TypedDict, closed=True):
+    """An edge two faces share, its continuity and verdict (:mod:`cadartifact.analysis.edges`)."""
+
+    edge: int
+    """Index in OCCT's map of the shape's edges (1-based)."""
+    entity: int | None
+    """The STEP ``EDGE_CURVE`` record's id (null: not STEP, or unknown)."""
+    line: int | None
+    """The line of that record."""
+    faces: Annotated[list[int], Pair]
+    """The two faces' indices (``face`` of the face records)."""
+    face_entities: Annotated[list[int | None], Pair]
+    length: float | None
+    samples: int
+    orientation: Literal["consistent", "inconsistent"]
+    """Whether the shell's orientation agrees across the edge (inconsistent: one normal was reversed to compare)."""
+    gap: EdgeGap
+    angle: EdgeAngle | None
+    curvature: EdgeCurvature | None
+    sharp: bool
+    """Sharp by design (a crease all along the edge): G1 and G2 not judged."""
+    verdict: FaceVerdict
+    criteria: list[EdgeCriterion]
+
+
+class EdgeCounts(TypedDict, closed=True):
+    """The file's edges by kind: shared by two faces (measured), free, seams, degenerate, non-manifold, failed."""
+
+    shared: int
+    free: int
+    seam: int
+    degenerate: int
+    non_manifold: int
+    failed: int
+    """Shared by two faces, but OCCT could not evaluate the edge on them (no curve on a face): not measured."""
 
 
 class GateFile(TypedDict, closed=True):
@@ -134,6 +228,10 @@ class GateFile(TypedDict, closed=True):
     """Why the file could not be read or analysed (verdict ``error``)."""
     share_failure: NotRequired[str]
     """An OBJ cage whose analysed share is below the policy's ``min_analysed_share`` (it fails)."""
+    edges: NotRequired[list[GateEdge] | None]
+    """With a PDQ profile: the edges two faces share, judged (null: not a B-rep file); absent without one."""
+    edges_counted: NotRequired[EdgeCounts | None]
+    """With a PDQ profile: the file's edges by kind (null: not a B-rep file)."""
 
 
 class CriterionCounts(TypedDict, closed=True):
@@ -158,11 +256,22 @@ class VerdictCounts(TypedDict, closed=True):
     faces: FaceCounts
 
 
+class EdgeSummary(TypedDict, closed=True):
+    """The shared edges measured over every file: all, sharp by design, warning, failing."""
+
+    edges: int
+    sharp: int
+    warn: int
+    fail: int
+
+
 class GateSummary(SummaryCounts, closed=True):
     """Counts over every file."""
 
     criteria: NotRequired[dict[str, CriterionCounts]]
     """Per PDQ criterion (only with a profile)."""
+    edges: NotRequired[EdgeSummary]
+    """Continuity between faces (only with a profile)."""
     errors: int
     """Files that could not be read or analysed."""
     verdicts: VerdictCounts
