@@ -26,7 +26,7 @@ class Stage(str, Enum):
 def schemes_cmd(
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
 ):
-    """List the scheme catalogue: arrows, mask size, interpolation, reproduction degree."""
+    """List the scheme catalogue: arrows, mask size, interpolation, generation degree."""
     from ..theory.catalogue import scheme, schemes
 
     rows = []
@@ -37,7 +37,7 @@ def schemes_cmd(
             "arrows": list(s.arrows) if s.arrows is not None else None,
             "mask": list(s.mask.shape),
             "interpolating": s.interpolating,
-            "reproduction_degree": s.reproduction_degree,
+            "generation_degree": s.generation_degree,
             "limit_stencil": list(s.limit_stencil.shape),
         })
     if json_out:
@@ -50,12 +50,12 @@ def schemes_cmd(
     from ..runs.terminal import print_table
 
     table = Table(title="cadartifact schemes", header_style="bold")
-    for col in ("name", "arrows X1,X2,X1+X2,X1-X2", "mask", "limit stencil", "interpolating", "reproduces degree"):
+    for col in ("name", "arrows X1,X2,X1+X2,X1-X2", "mask", "limit stencil", "interpolating", "generates degree"):
         table.add_column(col)
     for r in rows:
         arrows = ",".join(map(str, r["arrows"])) if r["arrows"] else "kernel"
         table.add_row(r["name"], arrows, "x".join(map(str, r["mask"])), "x".join(map(str, r["limit_stencil"])),
-                      "yes" if r["interpolating"] else "no", str(r["reproduction_degree"]))
+                      "yes" if r["interpolating"] else "no", str(r["generation_degree"]))
     print_table(_console(), table)
     _console().print("Also: bspline(p,q) for any degrees >= 1, box(n1,n2,n3,n4), or Scheme.from_mask(array).")
 

@@ -57,7 +57,14 @@ def design_cmd(
     attenuation_weight: float = typer.Option(0.0, "--attenuation-weight",
                                              help="Weight of the signal loss over the band (0: artifact only)."),
     attenuation_band: float = typer.Option(0.25, "--attenuation-band",
-                                           help="Band of the signal loss, cycles per point."),
+                                           help="Band of the signal bound and of the signal loss, cycles per "
+                                                "point."),
+    min_signal: float = typer.Option(0.2, "--min-signal",
+                                     help="The signal response stays at least this (0 < s <= 1) on the band: "
+                                          "positive, its attenuation bounded."),
+    normalisation: str = typer.Option("signal", "--normalisation",
+                                      help="signal (the artifact as a share of the signal, the paper's percent "
+                                           "of the signal) or absolute."),
     name: str = typer.Option("designed", "--name", help="The scheme's label and the output files' stem."),
     out: Path = typer.Option(Path("."), "--out", "-o", help="Folder for NAME.json, NAME.npy and NAME-maps.png."),
     maps: bool = typer.Option(True, "--maps/--no-maps",
@@ -80,7 +87,8 @@ def design_cmd(
     result = design(support=_support(support), symmetry=symmetry, degree=degree, objective=objective,
                     stage=stage_name, region=region, zeros=[_zero(z) for z in (zero or [])],
                     continuity=int(continuity.upper()[1]), attenuation_weight=attenuation_weight,
-                    attenuation_band=attenuation_band, name=stem_name)
+                    attenuation_band=attenuation_band, min_signal=min_signal, normalisation=normalisation,
+                    name=stem_name)
     js, npy = result.save(out / stem_name)
     picture = None
     if maps:
@@ -115,7 +123,10 @@ def _print(result, js, npy, picture):
               f"step(s); Sobolev exponent >= {p.sobolev:.4f}, Holder >= {p.holder:.4f})")
     for (wx, wy), v in zip(spec.zeros, result.zeros):
         con.print(f"artifact at ({wx:g}, {wy:g}): {v:.3g}")
-    table = Table(title=f"RMS {spec.objective} artifact over |w| <= {spec.region:g}", header_style="bold")
+    con.print(f"signal response >= {result.min_signal:.4g} on |w| <= {spec.attenuation_band:g} (bound "
+              f"{spec.min_signal:g}); generation degree {result.scheme.generation_degree}")
+    share = " / signal" if spec.normalisation == "signal" else ""
+    table = Table(title=f"RMS {spec.objective} artifact{share} over |w| <= {spec.region:g}", header_style="bold")
     for col in ("scheme", "artifact RMS", "objective"):
         table.add_column(col)
     rows = [(result.scheme.name, result.artifact, result.objective)] + [

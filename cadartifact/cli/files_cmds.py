@@ -101,8 +101,11 @@ def inspect_cmd(
                       (mesh["triangles"], "triangle", "triangles"), (mesh["ngons"], "n-gon", "n-gons"),
                       (len(mesh["extraordinary"]), "extraordinary vertex", "extraordinary vertices"),
                       (mesh["crease_edges"], "crease edge", "crease edges"))
+            level0 = sum(1 for c in mesh["charts"] if c.get("level", 0) == 0)
+            level1 = len(mesh["charts"]) - level0
             con.print("  mesh: " + ", ".join(f"{n} {one if n == 1 else many}" for n, one, many in counts)
-                      + f", {plural(mesh['regular_faces'], 'regular face')} in {plural(len(mesh['charts']), 'chart')}",
+                      + f", {plural(mesh['regular_faces'], 'regular face')} in {plural(level0, 'chart')}"
+                      + (f", {plural(level1, 'chart')} after one subdivision step (the other faces)" if level1 else ""),
                       soft_wrap=True)
         for w in doc["warnings"]:
             _console(stderr=True).print(f"[yellow]warning:[/] {escape(w)}", soft_wrap=True)

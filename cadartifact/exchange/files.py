@@ -40,7 +40,11 @@ class LoadResult:
     mesh : QuadMesh or None
         OBJ only: the polygon mesh with its regularity analysis.
     charts : list of Chart
-        OBJ only: ``charts[i]`` is the grid behind ``nets[i]`` (``nets[i].origin.face == i``).
+        OBJ only: ``charts[i]`` is the grid behind ``nets[i]`` (``nets[i].origin.face == i``), on the mesh of
+        its ``level``.
+    refined : Refined or None
+        OBJ only: the cage after one Catmull-Clark step (:mod:`cadartifact.exchange.subdivision`), when some
+        face of the cage as read is outside its level-0 charts; level-1 charts refer to its mesh.
     """
 
     path: Path
@@ -50,6 +54,7 @@ class LoadResult:
     warnings: list = field(default_factory=list)
     mesh: QuadMesh | None = None
     charts: list = field(default_factory=list)
+    refined: object = None
 
     @property
     def analysable(self) -> int:

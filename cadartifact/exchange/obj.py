@@ -164,9 +164,12 @@ def read_obj(path):
     Returns
     -------
     LoadResult
-        ``nets[i]`` is chart ``i`` (``degrees None``, kind ``"quad-chart"``, ``origin.face == i``);
-        ``faces_total`` counts polygons; ``skipped`` counts triangles, n-gons and quads
-        touching an irregular vertex (see :mod:`cadartifact.exchange.quadmesh`).
+        ``nets[i]`` is chart ``i`` (``degrees None``, kind ``"quad-chart"``, ``origin.face == i``): first the
+        charts of the cage as read (level 0), then those of the faces left over (triangles, n-gons, quads at an
+        irregular vertex) after one Catmull-Clark step (level 1, ``refined``), where every face is a quad and the
+        irregular region shrinks to the children touching an extraordinary vertex;
+        ``faces_total`` counts polygons; ``skipped`` counts the polygons of which no part is analysed, by kind
+        (see :mod:`cadartifact.exchange.quadmesh`).
 
     Raises
     ------
@@ -180,6 +183,7 @@ def read_obj(path):
     from .files import LoadResult
     from .messages import warn
     from .quadmesh import Chart, build_quadmesh, find_charts
+    from .subdivision import refine_cage
     from .files import check_file
 
     path = check_file(path)
@@ -193,23 +197,47 @@ def read_obj(path):
     messages: list[str] = []
     nets, charts = [], []
     degenerate = 0
-    for candidate, chart in enumerate(find_charts(mesh, topology)):
-        origin = NetOrigin(file=str(path), face=len(charts), kind="quad-chart")
-        try:
-            net = ControlNet(points=mesh.vertices[chart.vertex_ids], degrees=None, origin=origin, unit="model")
-        except InvalidNetError as exc:
-            # charts are numbered by the nets kept: name a skipped one by its grid and its first mesh face
-            problem = str(exc).removeprefix(origin.label() + ": ")
-            nu, nv = chart.vertex_ids.shape
-            messages.append(f"skipped chart: {path}: grid {candidate} ({nu}x{nv} points, mesh faces from "
-                            f"{int(chart.face_ids.flat[0])}, line {data.face_lines[int(chart.face_ids.flat[0])]}): "
-                            f"{problem}")
-            degenerate += 1
-            continue
-        charts.append(Chart(index=len(charts), vertex_ids=chart.vertex_ids, face_ids=chart.face_ids))
-        nets.append(net)
-    irregular_quads = int(((mesh.face_sizes == 4) & ~mesh.regular_faces).sum())
-    skipped = {k: n for k, n in (("triangle", mesh.n_triangles), ("n-gon", mesh.n_ngons),
+
+    def add_charts(found, grid_mesh, level):
+        nonlocal degenerate
+        for candidate, chart in enumerate(found):
+            origin = NetOrigin(file=str(path), face=len(charts), kind="quad-chart")
+            try:
+                net = ControlNet(points=grid_mesh.vertices[chart.vertex_ids], degrees=None, origin=origin,
+                                 unit="model")
+            except InvalidNetError as exc:
+                # charts are numbered by the nets kept: name a skipped one by its grid and its first mesh face
+                problem = str(exc).removeprefix(origin.label() + ": ")
+                nu, nv = chart.vertex_ids.shape
+                first = int(chart.face_ids.flat[0])
+                line = data.face_lines[first if level == 0 else int(refined.parent[first])]
+                at = f"level {level} " if level else ""
+                messages.append(f"skipped chart: {path}: {at}grid {candidate} ({nu}x{nv} points, mesh faces from "
+                                f"{first}, line {line}): {problem}")
+                degenerate += 1
+                continue
+            charts.append(Chart(index=len(charts), vertex_ids=chart.vertex_ids, face_ids=chart.face_ids,
+                                level=level))
+            nets.append(net)
+
+    add_charts(find_charts(mesh, topology), mesh, 0)
+    # triangles, n-gons and irregular quads: after the scheme's first step every face is a quad, and the
+    # regular ones among their children are charted on that level
+    charted = np.zeros(mesh.n_faces, bool)
+    for chart in charts:
+        charted[chart.face_ids.ravel()] = True
+    refined = None
+    if not charted.all():
+        refined = refine_cage(path, mesh)
+        add_charts(find_charts(refined.mesh, refined.topology, analysed=~charted[refined.parent]),
+                   refined.mesh, 1)
+        for chart in charts:
+            if chart.level == 1:
+                charted[refined.parent[chart.face_ids.ravel()]] = True
+    idle = ~charted
+    irregular_quads = int(np.count_nonzero(idle & (mesh.face_sizes == 4) & ~mesh.regular_faces))
+    skipped = {k: n for k, n in (("triangle", int(np.count_nonzero(idle & (mesh.face_sizes == 3)))),
+                                 ("n-gon", int(np.count_nonzero(idle & (mesh.face_sizes > 4)))),
                                  ("irregular quad", irregular_quads), ("degenerate", degenerate)) if n}
     if not nets:
         messages.append(f"{path}: no analysable face (no regular quad face; "
@@ -217,4 +245,4 @@ def read_obj(path):
     for message in messages:
         warn(message)
     return LoadResult(path=path, nets=nets, faces_total=mesh.n_faces, skipped=skipped, warnings=messages,
-                      mesh=mesh, charts=charts)
+                      mesh=mesh, charts=charts, refined=refined)

@@ -129,11 +129,15 @@ class Chart:
         Mesh vertex of each net point.
     face_ids : (nu-1, nv-1) int
         Mesh face (index into ``QuadMesh.faces``) of each grid cell.
+    level : int
+        Subdivision level of the mesh the ids refer to: 0 the cage as read, 1 the cage after one
+        Catmull-Clark step (:class:`~cadartifact.exchange.subdivision.Refined`).
     """
 
     index: int
     vertex_ids: np.ndarray = field(repr=False)
     face_ids: np.ndarray = field(repr=False)
+    level: int = 0
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -249,9 +253,9 @@ def build_quadmesh(path, vertices: np.ndarray, faces: list[tuple[int, ...]], tag
 class _Region:
     """The regular faces with their cut edges; answers adjacency questions for tracing and growth."""
 
-    def __init__(self, mesh: QuadMesh, topology: dict):
+    def __init__(self, mesh: QuadMesh, topology: dict, analysed=None):
         self.faces = mesh.faces
-        self.regular = mesh.regular_faces
+        self.regular = mesh.regular_faces if analysed is None else mesh.regular_faces & np.asarray(analysed, bool)
         self.edge_faces = topology["edge_faces"]
         self.faces_at = topology["faces_at"]
         self.cut: set[tuple[int, int]] = set()
@@ -409,8 +413,10 @@ def _grow(region: _Region, seed: int, free: np.ndarray) -> tuple[np.ndarray, np.
     return np.ascontiguousarray(V), np.ascontiguousarray(F)
 
 
-def find_charts(mesh: QuadMesh, topology: dict) -> list[Chart]:
+def find_charts(mesh: QuadMesh, topology: dict, analysed=None) -> list[Chart]:
     """Split the regular faces into rectangular grid charts (see the module notes).
+
+    ``analysed`` ``(f,) bool``: only these faces (and regular) are charted; default every face.
 
     Returns
     -------
@@ -419,14 +425,14 @@ def find_charts(mesh: QuadMesh, topology: dict) -> list[Chart]:
         taken at convex corners first (so a rectangular piece comes out whole and in
         a stable orientation), then in face order.
     """
-    region = _Region(mesh, topology)
-    regular_ids = np.flatnonzero(mesh.regular_faces)
+    region = _Region(mesh, topology, analysed)
+    regular_ids = np.flatnonzero(region.regular)
     if len(regular_ids) == 0:
         return []
     touched = sorted({v for f in regular_ids for v in mesh.faces[f]})
     region.cut_separatrices(touched)
     corner_faces = sorted({fan[0] for v in touched for fan in region.regular_fans(v) if len(fan) == 1})
-    free = mesh.regular_faces.copy()
+    free = np.array(region.regular, bool)
     charts = []
     for seed in [*corner_faces, *regular_ids.tolist()]:
         if not free[seed]:

@@ -67,7 +67,7 @@ def result_summary(result, fmt: str) -> dict:
             "regular_faces": mesh.n_regular_faces,
             "extraordinary": [int(v) for v in mesh.extraordinary],
             "crease_edges": int(len(mesh.crease_edges)),
-            "charts": [{"chart": c.index, "size": list(c.shape), "faces": [int(f) for f in c.face_ids.ravel()]}
-                       for c in result.charts],
+            "charts": [{"chart": c.index, "size": list(c.shape), "faces": [int(f) for f in c.face_ids.ravel()],
+                        "level": int(c.level)} for c in result.charts],
         },
     }

@@ -160,8 +160,8 @@ class FileSettings:
     convert : bool
         Convert revolution/extrusion/offset faces to B-splines (and gate them) instead of skipping them.
     min_analysed_share : float
-        ``0 <= s <= 1``: an OBJ cage whose analysed charts cover less than this share of its surface
-        area fails (0: never).
+        ``0 <= s <= 1``: an OBJ cage whose analysis covers less than this share of its surface area fails
+        (default 0.95; 0: never). B-rep files have no such share.
     advise : {"failing", "all", "none"}
         Which faces get the density advice (the verdict needs today's budget only): those that warn
         or fail, every face, or none; a face without advice has ``advice: null`` and a reason in
@@ -192,7 +192,7 @@ class FileSettings:
     convert: bool = _key(9, _flag, False, option=("--convert/--no-convert",),
                          help="Convert revolution/extrusion/offset faces to B-splines and gate them (overrides the "
                               "policy's convert; default: skip them).")
-    min_analysed_share: float = _key(10, _share, 0.0)
+    min_analysed_share: float = _key(10, _share, 0.95)
     advise: str = _choice(12, ADVISE, "failing", option=("--advise",),
                           help="Density advice for: failing (faces that warn or fail; default), all or none. The "
                                "verdict needs today's budget only (policy: advise).")

@@ -13,7 +13,7 @@ table is passed over), or given with ``--policy FILE``::
     measured = "fail"             # or "warn": see below
     undecided = "warn"            # faces whose value +/- U straddles the tolerance: "warn", "fail" or "pass"
     convert = false               # convert revolution/extrusion/offset faces to B-splines and gate them
-    min_analysed_share = 0.0      # OBJ cages: fail a file whose analysed charts cover less of its area
+    min_analysed_share = 0.95     # OBJ cages: fail a file whose analysis covers less of its area
     cache = ".cadartifact-cache"  # keep results by content (relative to this file's folder): --cache
     advise = "failing"            # density advice for faces that warn or fail; "all" or "none": --advise
     profile = "none"              # PDQ criteria beside the ripple: "default" or a profile TOML: --profile

@@ -263,8 +263,10 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
             continue
         pol = entry["policy"]
         units = file_units(doc, entry)
+        share = entry.get("analysed_share")
+        cover = "" if share is None else f", cage area analysed {100 * share:.1f} %"
         title = (f"{escape(entry['path'])}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} "
-                 f"{units}, {pol['metric']}, warn at {pol['warn_fraction']:g})")
+                 f"{units}, {pol['metric']}, warn at {pol['warn_fraction']:g}{cover})")
         if entry["faces"]:
             table = Table(header_style="bold")
             cols = (("face", "net", "scheme", "method", "X1", "X2", "diag", "lateral", "value", "+/-U", "advised",

@@ -125,7 +125,7 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     from ..exchange.load import read
     from ..exchange.step_text import entity_line
     from ..runs.face_sharing import analyse_faces
-    from ..runs.records import analysed_share
+    from ..runs.records import analysed_share, subdivided_record
 
     if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
         from ..errors import InputError
@@ -167,8 +167,11 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
     share = analysed_share(res)
     entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
-             "analysed_share": None if share is None else round(share, 9),
-             "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
+             "analysed_share": None if share is None else round(share, 9)}
+    subdivided = subdivided_record(res)
+    if subdivided is not None:
+        entry["subdivided"] = subdivided
+    entry |= {"skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
     if part is not None:
         entry["_part"] = {"index": part[0], "of": part[1], "positions": positions[:len(faces)], "error": error,
@@ -196,7 +199,7 @@ def merge_parts(parts: list, settings: FileSettings) -> dict:
 
 def _complete(entry: dict, share, settings: FileSettings) -> dict:
     """The file-level verdict and notes of an entry whose faces are all in."""
-    from ..runs.records import kind_count
+    from ..runs.records import coverage_text, kind_count
 
     notes = entry["notes"]
     if getattr(settings, "profile", None) is not None:
@@ -206,8 +209,7 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
     entry["verdict"] = file_verdict(entry)
     if share is not None:
         skipped = ", ".join(kind_count(k, n) for k, n in sorted(entry["skipped"].items()))
-        text = f"analysed charts cover {100 * share:.1f} % of the cage's area" + (f" (not analysed: {skipped})"
-                                                                                   if skipped else "")
+        text = coverage_text(share, entry.get("subdivided")) + (f"; not analysed: {skipped}" if skipped else "")
         if share < settings.min_analysed_share:
             entry["share_failure"] = (f"{text}, below min_analysed_share {settings.min_analysed_share:g}")
             entry["verdict"] = worst_verdict([entry["verdict"], "fail"])

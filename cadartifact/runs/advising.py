@@ -8,7 +8,7 @@ from pathlib import Path
 from ..analysis.settings import RunSettings, check_tolerance
 from ..errors import FileFormatError, OptionError
 from ..exchange import formats
-from .records import SCHEMA, analysed_share, json_number
+from .records import SCHEMA, analysed_share, json_number, subdivided_record
 
 __all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "write_advised"]
 
@@ -123,10 +123,13 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
                 summary["unreachable"] += 0 if rec["advice"]["meets_tolerance"] else 1
             if progress:
                 progress("file", len(entries), str(path))
-            doc_files.append({"path": str(path), "units": res.nets[0].unit if res.nets else None,
-                              "faces_total": res.faces_total, "analysed_share": json_number(analysed_share(res)),
-                              "skipped": dict(res.skipped),
-                              "warnings": list(res.warnings), "faces": entries})
+            record = {"path": str(path), "units": res.nets[0].unit if res.nets else None,
+                      "faces_total": res.faces_total, "analysed_share": json_number(analysed_share(res))}
+            subdivided = subdivided_record(res)
+            if subdivided is not None:
+                record["subdivided"] = subdivided
+            doc_files.append({**record, "skipped": dict(res.skipped), "warnings": list(res.warnings),
+                              "faces": entries})
         units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
         return {"schema": SCHEMA, "tolerance": settings.tolerance, "units": units, "metric": settings.metric,
                 "intent": settings.reading, "include_signal_error": settings.include_signal_error,

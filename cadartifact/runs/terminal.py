@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .records import kind_count, plural, unit_name
+from .records import coverage_text, kind_count, plural, unit_name
 
 if TYPE_CHECKING:  # the records the tables read (runs/documents: docs/schema.md)
     from collections.abc import Iterable
@@ -192,9 +192,11 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
                 console.print(f"  face {r['face']}: {why}", markup=False, highlight=False)
         skipped = ", ".join(kind_count(k, v) for k, v in sorted(f["skipped"].items()))
         share = f.get("analysed_share")
-        if skipped:
-            cover = "" if share is None else f" (the analysed charts cover {100 * share:.1f} % of the area)"
-            console.print(f"  not analysed: {skipped}{cover}")
+        if share is not None:  # a cage: its coverage, whatever it is
+            console.print(f"  {coverage_text(share, f.get('subdivided'))}"
+                          + (f"; not analysed: {skipped}" if skipped else ""), markup=False, highlight=False)
+        elif skipped:
+            console.print(f"  not analysed: {skipped}")
         for w in f["warnings"]:
             console.print(f"  [yellow]warning:[/] {escape(w)}")
     s = doc["summary"]

@@ -285,6 +285,11 @@ class Scheme:
 
     # ------------------------------------------------------------------ derived facts
     @property
+    def generation_degree(self) -> int:
+        """Degree generated (data of degree <= d -> a limit of that degree, not the same one: x^2 -> x^2 + c)."""
+        return self.reproduction_degree
+
+    @property
     def dual(self) -> tuple[bool, bool]:
         """Per axis, whether the mask has even size: refined vertices then sit at quarter offsets
         (``J +- 1/4, +- 3/4``), never on the net's half-grid."""

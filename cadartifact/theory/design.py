@@ -14,13 +14,18 @@ orbit of the group: the square's eight symmetries, or the two axis reflections).
 
 so ``p = p0 + N q`` (``N`` an orthonormal basis of the null space). Over ``q`` the objective
 
-    J(q) = mean over the region of  A(Omega)^2  +  w mean over the band of (1 - a(Omega))^2
+    J(q) = mean over the region of  (A(Omega) / a(Omega))^2  +  w mean over the band of (1 - a(Omega))^2
 
 is minimised (``A`` the artifact asked for: energy ``sqrt((b^2 + c^2 + d^2)/3)``, one class, or the lateral artifact of
-SPEC §3, at the limit or after one step; ``a`` the signal) by SLSQP from deterministic starts (the family's
-least-norm point, the B-spline and box-spline masks of the support projected on the family, fixed pseudo-random
-points), subject to the Sobolev exponent bound ``nu_2 >= r + 1 + 0.02`` that proves ``C^r``
-(:mod:`cadartifact.theory.regularity`). The chosen mask is then checked again: convergence by the contractivity of
+SPEC §3, at the limit or after one step; ``a`` the signal). By default the artifact is read on the paper's
+normalisation, as a share of the signal at the same frequency (§3: "percent of the signal"); ``normalisation=
+"absolute"`` minimises ``A^2`` itself, which rewards masks that shrink the signal along with the artifact. The
+search is SLSQP from deterministic starts (the family's least-norm point, the B-spline and box-spline masks of the
+support projected on the family, fixed pseudo-random points), subject to the Sobolev exponent bound
+``nu_2 >= r + 1 + 0.02`` that proves ``C^r`` (:mod:`cadartifact.theory.regularity`) and to the signal bound
+``a(Omega) >= min_signal > 0`` on the band ``|wx|, |wy| <= attenuation_band``: the signal response stays positive
+there (a negative one inverts the net's content: the surface bulges where the net dips) and its attenuation is
+bounded. The chosen mask is then checked again: convergence by the contractivity of
 its difference scheme, the class by ``nu_2``; its responses come from :class:`~cadartifact.theory.catalogue.Scheme`,
 the engine of the named schemes.
 
@@ -43,10 +48,13 @@ from .regularity import ContinuityProof, continuity_proof, sobolev_exponent
 from ..errors import InputError, OptionError, SchemeError, check_option
 
 __all__ = ["DesignSpec", "Design", "design", "symmetric_basis", "affine_family", "objective_value",
-           "OBJECTIVES", "SYMMETRIES", "DESIGN_STAGES", "MASK_FORMAT"]
+           "signal_margin", "OBJECTIVES", "SYMMETRIES", "NORMALISATIONS", "DESIGN_STAGES", "MASK_FORMAT"]
 
 OBJECTIVES = ("energy", "x1", "x2", "diagonal", "lateral")
 SYMMETRIES = ("square", "axes")
+NORMALISATIONS = ("signal", "absolute")
+#: Below this the signal is taken as this in the normalised objective (a vanishing signal: 100000 % artifact).
+_SIGNAL_FLOOR = 1e-5
 DESIGN_STAGES = ("limit", "one_step")
 #: ``format`` key of a mask file.
 MASK_FORMAT = "cadartifact-mask"
@@ -100,6 +108,12 @@ class DesignSpec:
     attenuation_weight : float
         ``w``: weight of the mean squared signal loss ``(1 - a)^2`` over ``|w| <= attenuation_band`` (0: artifact only).
     attenuation_band : float
+        The band (cycles per control point) of the signal bound and of the signal loss.
+    min_signal : float
+        ``0 < s <= 1``: the signal response ``a`` is at least this on the band (checked on the design grid and
+        again on a 4 times finer one).
+    normalisation : {"signal", "absolute"}
+        The artifact as a share of the signal (the paper's percent of the signal; default) or in absolute terms.
     resolution : int
         Midpoint-rule points per axis on the quadrant during the search (the report uses 4 times more).
     starts : int
@@ -116,6 +130,8 @@ class DesignSpec:
     continuity: int = 1
     attenuation_weight: float = 0.0
     attenuation_band: float = 0.25
+    min_signal: float = 0.2
+    normalisation: str = "signal"
     resolution: int = 24
     starts: int = 2
 
@@ -151,6 +167,11 @@ class DesignSpec:
                                         f"(sum rules of degree d prove at most C(d-1))", self.degree)
         set_("attenuation_weight", _fraction("attenuation_weight", self.attenuation_weight, 0.0, 1e6))
         set_("attenuation_band", _fraction("attenuation_band", self.attenuation_band, 0.01, 0.5))
+        set_("min_signal", _fraction("min_signal", self.min_signal, 0.0, 1.0))
+        if self.min_signal <= 0:
+            raise OptionError("min_signal", "a number above 0 and at most 1 (the signal stays positive)",
+                              self.min_signal)
+        check_option("normalisation", self.normalisation, NORMALISATIONS)
         set_("resolution", _positive_int("resolution", self.resolution, 4, 256))
         set_("starts", _positive_int("starts", self.starts, 0, 64))
 
@@ -158,7 +179,8 @@ class DesignSpec:
         return {"support": list(self.support), "symmetry": self.symmetry, "degree": self.degree,
                 "objective": self.objective, "stage": self.stage, "region": self.region,
                 "zeros": [list(z) for z in self.zeros], "continuity": f"C{self.continuity}",
-                "attenuation_weight": self.attenuation_weight, "attenuation_band": self.attenuation_band}
+                "attenuation_weight": self.attenuation_weight, "attenuation_band": self.attenuation_band,
+                "min_signal": self.min_signal, "normalisation": self.normalisation}
 
 
 # ------------------------------------------------------------------ the affine family
@@ -270,15 +292,19 @@ def objective_value(mask, spec: DesignSpec, resolution: int | None = None) -> tu
     """``(J, artifact, attenuation)`` of a mask: ``J = artifact^2 + w attenuation^2``.
 
     ``artifact`` is the RMS of the asked artifact over ``[0, region]^2`` (midpoint rule, ``resolution`` points per
-    axis; the responses of symmetric masks are even in each frequency, so the quadrant stands for the square) and
+    axis; the responses of symmetric masks are even in each frequency, so the quadrant stands for the square), divided
+    pointwise by the signal ``|a|`` (at least ``1e-5``) when ``spec.normalisation == "signal"``, and
     ``attenuation`` the RMS of ``1 - a`` over ``[0, attenuation_band]^2``. ``inf`` for masks without a limit stencil.
     """
     mask = np.asarray(mask, dtype=float)
     n = spec.resolution if resolution is None else int(resolution)
     try:
         w = _grid(spec.region, n)
-        _, b, c, d = _classes(mask, spec.stage, w)
-        art = float(np.sqrt(np.mean(_artifact_sq(spec.objective, b, c, d, w))))
+        a, b, c, d = _classes(mask, spec.stage, w)
+        sq = _artifact_sq(spec.objective, b, c, d, w)
+        if spec.normalisation == "signal":
+            sq = sq / np.maximum(np.abs(a), _SIGNAL_FLOOR) ** 2
+        art = float(np.sqrt(np.mean(sq)))
         att = 0.0
         if spec.attenuation_weight > 0:
             wb = _grid(spec.attenuation_band, n)
@@ -287,6 +313,18 @@ def objective_value(mask, spec: DesignSpec, resolution: int | None = None) -> tu
     except (sy.ConvergenceError, np.linalg.LinAlgError):
         return float("inf"), float("inf"), float("inf")
     return art * art + spec.attenuation_weight * att * att, art, att
+
+
+def signal_margin(mask, spec: DesignSpec, resolution: int | None = None) -> np.ndarray:
+    """``a(Omega) - min_signal`` on the band's grid (``resolution`` equally spaced points per axis from 0 to the band's
+    edge, which it includes: the signal of a smoothing mask is least at the band's corner): ``(n, n) float``, all
+    ``>= 0`` when the signal bound holds; ``-1`` everywhere for a mask without a limit stencil."""
+    n = spec.resolution if resolution is None else int(resolution)
+    wb = np.linspace(0.0, spec.attenuation_band, n)
+    try:
+        return _classes(np.asarray(mask, float), spec.stage, wb)[0] - spec.min_signal
+    except (sy.ConvergenceError, np.linalg.LinAlgError):
+        return -np.ones((n, n))
 
 
 # ------------------------------------------------------------------ the search
@@ -324,6 +362,14 @@ def _search(spec: DesignSpec, m0: np.ndarray, N: np.ndarray):
     def smooth(q):
         return sobolev_exponent(to_mask(q), order) - need
 
+    band_n = max(4, spec.resolution // 2)
+
+    def signal(q):
+        return signal_margin(to_mask(q), spec, band_n).ravel()
+
+    def admissible(q, slack=0.0):
+        return smooth(q) >= -slack and signal(q).min() >= -slack
+
     if n == 0:
         return np.zeros(0)
     starts = [np.zeros(n)]
@@ -332,27 +378,30 @@ def _search(spec: DesignSpec, m0: np.ndarray, N: np.ndarray):
     rng = np.random.default_rng(20110926)
     spread = np.abs(m0).max()
     starts += [rng.normal(0.0, 0.5 * spread, n) for _ in range(spec.starts)]
-    # screen: the proven-smooth starts with the lowest objective first (ties keep their order) are refined
-    values = [(smooth(q0) < 0, f(q0), i) for i, q0 in enumerate(starts)]
+    # screen: the admissible starts (proven smooth, signal bound met) with the lowest objective first (ties keep
+    # their order) are refined
+    values = [(not admissible(q0), f(q0), i) for i, q0 in enumerate(starts)]
     picked = [v[2] for v in sorted(values)[:_REFINED]]
     best, best_val = None, np.inf
     for i in picked:
         # unconstrained first (the least-artifact masks are smooth ones); the Sobolev constraint only when needed
         res = minimize(f, starts[i], method="BFGS", options={"maxiter": 200, "gtol": 1e-10})
         q = res.x
-        if smooth(q) < 0:
-            res = minimize(f, starts[i], method="SLSQP", constraints=[{"type": "ineq", "fun": smooth}],
+        if not admissible(q):
+            res = minimize(f, starts[i], method="SLSQP", constraints=[{"type": "ineq", "fun": smooth},
+                                                                     {"type": "ineq", "fun": signal}],
                            options={"maxiter": 100, "ftol": 1e-12})
             q = res.x
-            if smooth(q) < -1e-9:
+            if not admissible(q, 1e-9):
                 continue
         val = f(q)
         if val < best_val - 1e-15:
             best, best_val = q, val
     if best is None:
-        raise OptionError("continuity", f"a class that a mask of this support can reach (no C{spec.continuity} "
-                                        "mask found; try a larger support or C0)",
-                          f"C{spec.continuity}")
+        raise OptionError("continuity", f"a class that a mask of this support can reach with a signal of at least "
+                                        f"{spec.min_signal:g} on |w| <= {spec.attenuation_band:g} (no "
+                                        f"C{spec.continuity} mask found; try a larger support, C0 or a lower "
+                                        "min_signal)", f"C{spec.continuity}")
     return best
 
 
@@ -369,12 +418,15 @@ class Design:
     objective : float
         ``J`` at the report resolution (4 times the search's).
     artifact : float
-        RMS artifact over the region at the report resolution.
+        RMS artifact over the region at the report resolution (a share of the signal under the ``signal``
+        normalisation).
     attenuation : float
         RMS signal loss over the band (0 when not asked).
     proof : ContinuityProof
     zeros : tuple of float
         The largest artifact class magnitude at each asked zero (exact engine).
+    min_signal : float
+        The least signal response on the band at the report resolution (at least ``spec.min_signal``).
     seconds : float
         Time of the search.
     references : dict
@@ -388,6 +440,7 @@ class Design:
     attenuation: float
     proof: ContinuityProof
     zeros: tuple
+    min_signal: float
     seconds: float
     references: dict = field(default_factory=dict)
 
@@ -404,7 +457,8 @@ class Design:
             "objective": self.objective, "artifact_rms": self.artifact, "attenuation_rms": self.attenuation,
             "zeros": [{"wx": z[0], "wy": z[1], "artifact": v} for z, v in zip(self.spec.zeros, self.zeros)],
             "continuity": self.proof.as_dict(),
-            "reproduction_degree": self.scheme.reproduction_degree,
+            "generation_degree": self.scheme.generation_degree,
+            "min_signal_on_band": self.min_signal,
             "compared": {k: {"objective": v[0], "artifact_rms": v[1]} for k, v in self.references.items()},
             "seconds": round(self.seconds, 3),
         }
@@ -434,7 +488,8 @@ def zero_artifacts(s: Scheme, spec: DesignSpec) -> tuple:
 
 def design(support=(6, 6), symmetry: str = "square", degree: int = 3, objective: str = "energy",
            stage: str = "limit", region: float = 0.5, zeros=(), continuity: int = 1,
-           attenuation_weight: float = 0.0, attenuation_band: float = 0.25, name: str = "designed",
+           attenuation_weight: float = 0.0, attenuation_band: float = 0.25, min_signal: float = 0.2,
+           normalisation: str = "signal", name: str = "designed",
            resolution: int = 24, starts: int = 2, compare=SCHEME_NAMES) -> Design:
     """Design a binary quad subdivision mask (module notes); parameters as :class:`DesignSpec`.
 
@@ -462,7 +517,7 @@ def design(support=(6, 6), symmetry: str = "square", degree: int = 3, objective:
     spec = DesignSpec(support=support, symmetry=symmetry, degree=degree, objective=objective, stage=stage,
                       region=region, zeros=tuple(zeros), continuity=continuity,
                       attenuation_weight=attenuation_weight, attenuation_band=attenuation_band,
-                      resolution=resolution, starts=starts)
+                      min_signal=min_signal, normalisation=normalisation, resolution=resolution, starts=starts)
     if not isinstance(name, str) or not name.strip():
         raise OptionError("name", "a non-empty label", name)
     t0 = time.perf_counter()
@@ -482,9 +537,13 @@ def design(support=(6, 6), symmetry: str = "square", degree: int = 3, objective:
     if proof.continuity < spec.continuity:
         raise OptionError("continuity", f"C{spec.continuity} proven for the best mask found", proof.as_dict()["proven"])
     fine = 4 * spec.resolution
+    least = float(signal_margin(mask, spec, fine).min()) + spec.min_signal
+    if least < spec.min_signal - 1e-6:  # the fine grid finds a dip the search's grid stepped over
+        raise OptionError("min_signal", f"a bound the best mask meets on the fine grid (its signal falls to "
+                                        f"{least:.4g} on |w| <= {spec.attenuation_band:g})", spec.min_signal)
     J, art, att = objective_value(mask, spec, fine)
     refs = {}
     for ref in compare:
         rJ, rart, _ = objective_value(scheme(ref).mask, spec, fine)
         refs[ref] = (rJ, rart)
-    return Design(spec, s, J, art, att, proof, zero_artifacts(s, spec), seconds, refs)
+    return Design(spec, s, J, art, att, proof, zero_artifacts(s, spec), least, seconds, refs)

@@ -348,8 +348,12 @@ def test_real_files_verdicts_follow_their_budgets():
             b = ca.budget(nets[f["face"]], tolerance=tol)
             value = b.stats["total"].peak
             expect = "fail" if value > tol else "warn" if value >= 0.8 * tol else "pass"
-            assert f["value"] == pytest.approx(value, rel=1e-6, abs=1e-12)
+            assert f["value"] == pytest.approx(value, rel=1e-6, abs=1e-9)  # the document keeps 9 decimals
             assert (f["verdict"], f["method"]) == (expect, b.method)
             seen.add(f["verdict"])
     assert seen
-    assert result.exit_code == (1 if "fail" in seen else 0) == doc["exit_code"]
+    # the Blub cage: its triangles and pentagons after one step touch their face points (extraordinary vertices of
+    # valence 3 and 5), so its charts cover 61.9 % of its area, below the default min_analysed_share 0.95
+    (blub,) = [e for e in doc["files"] if e["path"].endswith(".obj")]
+    assert blub["analysed_share"] == pytest.approx(0.6194, abs=1e-4) and "share_failure" in blub
+    assert blub["verdict"] == "fail" and result.exit_code == 1 == doc["exit_code"]

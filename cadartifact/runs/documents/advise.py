@@ -14,11 +14,26 @@ from typing import Literal, NotRequired
 from .face import AdviseFace, Metric, Reading, SummaryCounts
 from .keys import TypedDict
 
-__all__ = ["ADVISE_SCHEMA", "AdviseFile", "AdviseSummary", "WrittenFace", "RefusedMeasure", "RefusedFace",
-           "WrittenFile", "Written", "AdviseDocument"]
+__all__ = ["ADVISE_SCHEMA", "SubdividedRecord", "AdviseFile", "AdviseSummary", "WrittenFace", "RefusedMeasure",
+           "RefusedFace", "WrittenFile", "Written", "AdviseDocument"]
 
 #: The ``schema`` key of the advise document (and of the gate document, which extends it).
 ADVISE_SCHEMA = "cadartifact.advise/3"
+
+
+class SubdividedRecord(TypedDict, closed=True):
+    """An OBJ cage with faces outside its charts as read: what its first Catmull-Clark step brought into the
+    analysis (SPEC §6)."""
+
+    level: int
+    """The subdivision level of those charts (1: after one step, where every face is a quad)."""
+    charts: int
+    """Charts on that level (numbered after the charts of the cage as read)."""
+    quads: int
+    """Quads of that level in those charts."""
+    from_faces: dict[str, int]
+    """Faces of the cage as read some of whose quads are analysed, per kind (``triangle``, ``n-gon``,
+    ``quad``)."""
 
 
 class AdviseFile(TypedDict, closed=True):
@@ -30,6 +45,8 @@ class AdviseFile(TypedDict, closed=True):
     faces_total: int
     analysed_share: float | None
     """An OBJ cage: the share of its area in analysed charts (null: a B-rep file)."""
+    subdivided: NotRequired[SubdividedRecord]
+    """An OBJ cage whose triangles, n-gons or irregular quads were analysed after one subdivision step."""
     skipped: dict[str, int]
     """Faces not analysed, counted per kind (``plane``, ``triangle``, ...)."""
     warnings: list[str]

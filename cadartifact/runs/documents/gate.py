@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Annotated, Literal, NotRequired
 
 from .face import AdviceRecord, FaceRecord, Metric, Reading, SummaryCounts
+from .advise import SubdividedRecord
 from .keys import Pair, Triple, TypedDict
 
 __all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "CriterionAt", "CriterionRecord",
@@ -217,6 +218,8 @@ class GateFile(TypedDict, closed=True):
     """Null: the file could not be read."""
     analysed_share: NotRequired[float | None]
     """An OBJ cage: the share of its area in analysed charts (absent when the file could not be read)."""
+    subdivided: NotRequired[SubdividedRecord]
+    """An OBJ cage whose triangles, n-gons or irregular quads were analysed after one subdivision step."""
     skipped: dict[str, int]
     warnings: list[str]
     notes: list[str]

@@ -38,7 +38,9 @@ class Chart(TypedDict, closed=True):
     chart: int
     size: Annotated[list[int], Pair]
     faces: list[int]
-    """Mesh face ids."""
+    """Mesh face ids (level 1: quads of the cage after one Catmull-Clark step)."""
+    level: int
+    """0: a chart of the cage as read; 1: of its first Catmull-Clark step (triangles, n-gons, irregular quads)."""
 
 
 class Mesh(TypedDict, closed=True):
