@@ -17,11 +17,20 @@ positions (:func:`cadartifact.numerics.catmull_clark.limit_stencil`) of the vert
 faces three steps finer (8 x 8 quads per face), computed on the vertex's 3-ring of faces only (the
 subdivision of the region depends on its 2-ring; one more ring is kept as a margin).
 
-A plane gives 0; a smooth surface's d_k decays like its cubic terms (8^-k); where the curvature is
-unbounded d_k decays like mu^k (mu > lambda^2, the sub-subdominant eigenvalue). The first level with
-``d_k <= tolerance`` is the subdivision level that brings the vertex within the tolerance
-(:func:`level_within`); none within :data:`MAX_LEVEL` means the vertex needs more control (an edge
-loop around it).
+A plane gives 0. On a curved cage d_0 is mostly the design's own shape (a regular vertex of
+``samples/cage.obj`` has d_0 = 0.55 model units, more than its extraordinary vertex's 0.38): no
+quadratic holds a curved surface over a whole ring of a coarse cage. Finer levels separate the two:
+a smooth surface's d_k decays like its cubic terms (8^-k), the vertex's own defect like mu^k (mu the
+sub-subdominant eigenvalue: 1/6, 0.34, 0.41, 0.5 for valences 3, 5, 6, 8; the test family measures
+it). The vertex's **defect** is therefore d_3 extrapolated back to the cage's scale,
+
+    defect = d_3 / mu^3,
+
+in model units, where the design's share of d_0 has fallen by (8 mu)^3 (20 at valence 5, 64 at 8;
+only 2.4 at valence 3, whose mu is close to 1/8). It is what the gate holds against the tolerance.
+Its defect at level k is ``defect * mu^k``: the first k where that is within the tolerance is the
+subdivision level (or local refinement: edge loops around the vertex) that brings the vertex within
+it (:meth:`VertexDefect.level_within`); beyond :data:`MAX_LEVEL` the vertex needs more control.
 
 Reference: Peters and Reif (2008), *Subdivision Surfaces*, ch. 5-7 (the local subdivision matrix and
 curvature at extraordinary points); Karčiauskas, Peters and Reif (2004), *Shape characterization of
@@ -34,10 +43,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["VertexDefect", "MAX_LEVEL", "extraordinary_vertices", "vertex_defects", "quadratic_defect",
-           "region_limit_points"]
+__all__ = ["VertexDefect", "MAX_LEVEL", "MEASURE_LEVEL", "extraordinary_vertices", "vertex_defects",
+           "quadratic_defect", "region_limit_points", "cage_vertex_defects"]
 
 MAX_LEVEL = 6  # the finest subdivision level the advice looks at (64 x finer than the cage)
+MEASURE_LEVEL = 3  # the level whose d_k gives the defect (d_3 / mu^3)
 _RINGS = 3  # rings of faces kept around a vertex (the region's 2-ring and a margin)
 _SAMPLE_STEPS = 3  # the region's faces are sampled 2^3 x 2^3 times
 
@@ -49,7 +59,10 @@ class VertexDefect:
     Attributes
     ----------
     vertex : int
-        Vertex id in the cage given (0-based).
+        Vertex id in the cage given (0-based); ids from the cage's vertex count on are the centres of
+        its triangles and n-gons (``face``).
+    face : int or None
+        The cage's face whose centre the vertex is (a triangle or n-gon after the first step), else None.
     valence : int
     boundary : bool
     crease : bool
@@ -62,10 +75,11 @@ class VertexDefect:
     curvature : str
         ``"bounded"``, ``"zero"`` or ``"unbounded"`` (:mod:`cadartifact.theory.vertex_eigen`).
     defects : tuple of float
-        ``d_0, d_1, ...`` in model units, up to the first within the tolerance (or :data:`MAX_LEVEL`).
+        ``d_0 .. d_3`` in model units (module notes).
     """
 
     vertex: int
+    face: int | None
     valence: int
     boundary: bool
     crease: bool
@@ -77,12 +91,19 @@ class VertexDefect:
 
     @property
     def defect(self) -> float:
-        """``d_0``: the shape defect over the cage's own faces at the vertex."""
-        return self.defects[0]
+        """``d_3 / mu^3``: the vertex's own shape defect at the cage's scale, in model units."""
+        if len(self.defects) <= MEASURE_LEVEL or not self.mu > 0:
+            return self.defects[-1]
+        return self.defects[MEASURE_LEVEL] / self.mu ** MEASURE_LEVEL
 
     def level_within(self, tolerance: float) -> int | None:
-        """The first level k with ``d_k <= tolerance``, None if none up to :data:`MAX_LEVEL`."""
-        return next((k for k, d in enumerate(self.defects) if d <= tolerance), None)
+        """The first level k with ``defect * mu^k <= tolerance``; None beyond :data:`MAX_LEVEL`."""
+        d = self.defect
+        for k in range(MAX_LEVEL + 1):
+            if d <= tolerance:
+                return k
+            d *= self.mu
+        return None
 
 
 def _vertex_faces(n: int, faces) -> list:
@@ -212,8 +233,7 @@ def quadratic_defect(samples: np.ndarray) -> float:
     return float(np.abs(h - A @ coef).max())
 
 
-def vertex_defects(vertices, faces, tolerance: float | None = None, creases=None,
-                   max_level: int = MAX_LEVEL) -> list:
+def vertex_defects(vertices, faces, creases=None, levels: int = MEASURE_LEVEL, first_new: int | None = None) -> list:
     """One :class:`VertexDefect` per extraordinary vertex of a quad cage.
 
     Parameters
@@ -221,11 +241,12 @@ def vertex_defects(vertices, faces, tolerance: float | None = None, creases=None
     vertices : (n, 3) float
     faces : sequence of sequence of int
         Quads, consistently oriented (a cage with triangles or n-gons after its first step).
-    tolerance : float, optional
-        Stop each vertex's levels at the first ``d_k <= tolerance``; None: ``d_0`` only.
     creases : dict, optional
         ``{(a, b): sharpness}``, ``a < b``: OpenSubdiv crease edges.
-    max_level : int
+    levels : int
+        ``d_0 .. d_levels`` are measured (the defect needs :data:`MEASURE_LEVEL`).
+    first_new : int, optional
+        Vertices from this id on are face centres of a first step (see :func:`cage_vertex_defects`).
 
     Returns
     -------
@@ -245,16 +266,46 @@ def vertex_defects(vertices, faces, tolerance: float | None = None, creases=None
         eig = vertex_eigen(valence, boundary)
         P, F, C, w = _local(P0, F0, _rings(vf0, F0, v, _RINGS), creases, v)
         defects, position = [], None
-        for level in range(max_level + 1):
+        for level in range(levels + 1):
             samples = region_limit_points(P, F, w, C)
             if position is None:
                 position = tuple(float(c) for c in samples[0])
             defects.append(quadratic_defect(samples))
-            if tolerance is None or defects[-1] <= tolerance or level == max_level:
+            if level == levels:
                 break
             S, quads, _, C = subdivision_step(len(P), F, C)
             P1, F1 = S @ P, [tuple(q) for q in quads.tolist()]
             P, F, C, w = _local(P1, F1, _rings(_vertex_faces(len(P1), F1), F1, w, _RINGS), C, w)
-        out.append(VertexDefect(v, valence, boundary, crease, position, eig.lam, eig.mu, eig.curvature,
+        face = None if first_new is None or v < first_new else v - first_new
+        out.append(VertexDefect(v, face, valence, boundary, crease, position, eig.lam, eig.mu, eig.curvature,
                                 tuple(defects)))
     return out
+
+
+def cage_vertex_defects(mesh) -> list:
+    """:func:`vertex_defects` of a cage read from a file, with its creases; a cage with triangles or n-gons
+    is taken after its first step (their centres become extraordinary vertices, ``face`` set).
+
+    Parameters
+    ----------
+    mesh : cadartifact.exchange.quadmesh.QuadMesh
+
+    Returns
+    -------
+    list of VertexDefect
+        Vertex ids are the cage's (the face centres' ids follow the cage's vertices).
+    """
+    from ..numerics.catmull_clark import subdivision_step
+
+    creases = {}
+    for (a, b), s in zip(np.asarray(mesh.crease_edges).tolist(), np.asarray(mesh.crease_sharpness).tolist()):
+        if s > 0:
+            creases[(min(a, b), max(a, b))] = float(s)
+    V = np.asarray(mesh.vertices, float)
+    faces = [tuple(f) for f in mesh.faces]
+    if all(len(f) == 4 for f in faces):
+        return vertex_defects(V, faces, creases)
+    S, quads, _, finer = subdivision_step(len(V), faces, creases)
+    recs = vertex_defects(S @ V, quads.tolist(), finer, first_new=len(V))
+    # edge points have 4 faces (2 on a boundary): never extraordinary after one step
+    return [r for r in recs if r.face is None or r.vertex < len(V) + len(faces)]
