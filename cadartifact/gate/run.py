@@ -169,6 +169,11 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
              "analysed_share": None if share is None else round(share, 9),
              "skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
+    if getattr(res, "mesh", None) is not None and (part is None or part[0] == 0):
+        from ..runs.cage_records import vertex_records
+
+        # a cage's extraordinary vertices (batch 0 of a cluster run carries them: the merge keeps its keys)
+        entry["extraordinary"] = vertex_records(res.mesh, settings.tolerance)
     if part is not None:
         entry["_part"] = {"index": part[0], "of": part[1], "positions": positions[:len(faces)], "error": error,
                           "share": share}
@@ -199,7 +204,8 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
 
     notes = entry["notes"]
     if not entry["faces"]:
-        notes.append("no analysable face (nothing to gate): pass")
+        notes.append("no analysable chart (nothing to gate)" if "extraordinary" in entry else
+                     "no analysable face (nothing to gate): pass")
     entry["verdict"] = file_verdict(entry)
     if share is not None:
         skipped = ", ".join(kind_count(k, n) for k, n in sorted(entry["skipped"].items()))
@@ -210,6 +216,14 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
             entry["verdict"] = worst_verdict([entry["verdict"], "fail"])
         elif share < 1:
             notes.append(text)
+    if "extraordinary" in entry:
+        from ..runs.cage_records import cage_advice_record, vertex_failure
+
+        entry["cage_advice"] = cage_advice_record(entry["faces"], entry["extraordinary"])
+        failure = vertex_failure(entry["extraordinary"], settings.tolerance)
+        if failure:
+            entry["extraordinary_failure"] = failure
+            entry["verdict"] = worst_verdict([entry["verdict"], "fail"])
     return entry
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, NotRequired
 
+from .cage import CageAdvice, ExtraordinaryVertexRecord
 from .face import AdviceRecord, FaceRecord, Metric, Reading, SummaryCounts
 from .keys import Pair, Triple, TypedDict
 
@@ -130,6 +131,12 @@ class GateFile(TypedDict, closed=True):
     """Why the file could not be read or analysed (verdict ``error``)."""
     share_failure: NotRequired[str]
     """An OBJ cage whose analysed share is below the policy's ``min_analysed_share`` (it fails)."""
+    extraordinary: NotRequired[list[ExtraordinaryVertexRecord]]
+    """An OBJ cage: one record per extraordinary vertex."""
+    cage_advice: NotRequired[CageAdvice]
+    """An OBJ cage: the subdivision level per region and vertex, and the vertices that need more control."""
+    extraordinary_failure: NotRequired[str]
+    """An OBJ cage with extraordinary vertices whose defect exceeds the tolerance (it fails)."""
 
 
 class CriterionCounts(TypedDict, closed=True):
