@@ -104,8 +104,9 @@ def choose_layout(maps, layout: str = "auto") -> str:
     return "tiles" if scene > 0 and np.median(sizes) < TILE_SPREAD * scene else "model"
 
 
-def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) -> np.ndarray:
-    """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background."""
+def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, markers=None) -> np.ndarray:
+    """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background; ``markers``
+    ``(points (k, 3), values (k,))``: spheres coloured on the same scale (a cage's extraordinary vertices)."""
     pv = require("pyvista", "3-D heatmaps")
     with _quiet_vtk():
         plotter = pv.Plotter(off_screen=True, window_size=size)
@@ -138,6 +139,11 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
                     k = int(np.nanargmax(m.values))
                     plotter.add_points(m.points.reshape(-1, 3)[k][None, :], color="magenta", point_size=12,
                                        render_points_as_spheres=True)
+            if markers is not None and len(markers[0]):
+                at = pv.PolyData(np.asarray(markers[0], float))
+                at.point_data["rgb"] = vertex_colours(np.asarray(markers[1], float), clim, cmap, top)[:, :3]
+                plotter.add_mesh(at, scalars="rgb", rgb=True, point_size=16, render_points_as_spheres=True,
+                                 show_scalar_bar=False)
             if face_labels:
                 worst = sorted(maps, key=lambda m: -m.peak)[:LABELLED_FACES]  # labels of all 40 would overlap
                 centres = np.array([_centre(m) for m in worst])
@@ -227,7 +233,7 @@ def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
 
 def render_image(maps, *, direction: str = "total", tol: float | None = None, title: str | None = None,
                  window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
-                 cmap: str = CMAP) -> np.ndarray:
+                 cmap: str = CMAP, markers=None) -> np.ndarray:
     """Render faces off screen and return the picture: heatmap(s), colour bar, title.
 
     Parameters
@@ -246,6 +252,9 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     layout : {"auto", "model", "tiles"}
         See :func:`choose_layout`. ``model`` labels faces with their index when there are several;
         each tile is titled with its face index and peak.
+    markers : ((k, 3), (k,)) float, optional
+        Points drawn as spheres coloured by their values on the same scale (``model`` layout): a cage's
+        extraordinary vertices and their defects.
 
     Returns
     -------
@@ -280,7 +289,7 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     top = 0.93 if title else 0.98
     bar_left = 1.0 - 110 / width
     if layout == "model":
-        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap))
+        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap, markers))
         ax = fig.add_axes([0.01, 0.02, bar_left - 0.03, top - 0.03])
         ax.imshow(img)
         ax.set_axis_off()
@@ -425,7 +434,14 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         from ..theory.catalogue import scheme as get_scheme
 
         scheme = get_scheme(scheme)
-    nets = read(src).nets
+    res = read(src)
+    nets = res.nets
+    markers = None
+    if getattr(res, "mesh", None) is not None and faces is None:  # a cage: its extraordinary vertices too
+        from ..runs.cage_records import vertex_records
+
+        verts = vertex_records(res.mesh, tol)
+        markers = (np.array([v["position"] for v in verts], float).reshape(-1, 3), [v["defect"] for v in verts])
     if not nets:
         raise CadArtifactError(f"{src}: no analysable face to draw")
     if faces is not None:
@@ -450,8 +466,10 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         if tol is not None:
             title += f", tolerance {tol:g} {unit} (reds beyond it, darkest at the peak)"
         say(f"rendering {png}")
+        if markers is not None and len(markers[1]):
+            title += "; spheres: extraordinary vertices"
         write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
-                  layout=layout)
+                  layout=layout, markers=markers)
     if glb_path is not None:
         say(f"writing {glb_path}")
         export_glb(maps, glb_path, tol=tol, direction=direction)
