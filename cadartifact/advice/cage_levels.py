@@ -54,7 +54,8 @@ def cage_advice(face_records: list, vertices: list) -> dict:
         The charts' face records (``face``, ``net``, ``share.deviation``).
     vertices : list of dict
         The extraordinary vertices' records (``vertex``, ``face``, ``valence``, ``level``: the level within
-        the tolerance, :meth:`~cadartifact.analysis.extraordinary.VertexDefect.level_within`).
+        the tolerance, :meth:`~cadartifact.analysis.extraordinary.VertexDefect.level_within`); those with
+        ``crease`` true are left out.
 
     Returns
     -------
@@ -70,7 +71,8 @@ def cage_advice(face_records: list, vertices: list) -> dict:
     for rec in face_records:
         share = (rec.get("share") or {}).get("deviation")
         regions.append({"face": rec["face"], "net": list(rec["net"]), "share": share, "level": ripple_level(share)})
-    verts = [{k: v[k] for k in ("vertex", "face", "valence", "level")} for v in vertices]
+    # vertices where a crease ends are reported, not advised on (their kink is a feature)
+    verts = [{k: v[k] for k in ("vertex", "face", "valence", "level")} for v in vertices if not v.get("crease")]
     need = [v["vertex"] for v in verts if v["level"] is None]
     levels = [r["level"] for r in regions] + [v["level"] for v in verts]
     unknown = [r["face"] for r in regions if r["level"] is None and r["share"] is not None]

@@ -15,7 +15,8 @@ def vertex_records(mesh, tolerance: float | None) -> list:
     ----------
     mesh : QuadMesh
     tolerance : float or None
-        ``within`` and ``level`` are null without one.
+        ``within`` and ``level`` are null without one, and at a vertex where a crease ends (its kink is a
+        feature, not a defect: such vertices are reported, never gated).
     """
     from ..analysis.extraordinary import cage_vertex_defects
 
@@ -26,8 +27,9 @@ def vertex_records(mesh, tolerance: float | None) -> list:
                     "subdominant": json_number(v.lam), "subsubdominant": json_number(v.mu),
                     "curvature": v.curvature, "defects": [json_number(d) for d in v.defects],
                     "defect": json_number(v.defect),
-                    "within": None if tolerance is None else bool(v.defect <= tolerance),
-                    "level": None if tolerance is None else v.level_within(tolerance)})
+                    # a crease ending at the vertex is a feature the quadratic cannot hold: not gated
+                    "within": None if tolerance is None or v.crease else bool(v.defect <= tolerance),
+                    "level": None if tolerance is None or v.crease else v.level_within(tolerance)})
     return out
 
 

@@ -50,3 +50,9 @@ def test_cage_advice_levels_and_vertices_needing_control():
     c = cage_advice([faces[1]], [verts[1]])
     assert c["level"] == 0 and c["text"] == ["the cage as it is: every region and extraordinary vertex within the "
                                             "tolerance"]
+
+
+def test_crease_vertices_are_reported_not_advised():
+    verts = [{"vertex": 7, "face": None, "valence": 5, "level": None, "crease": True}]
+    a = cage_advice([], verts)
+    assert a["vertices"] == [] and a["need_control"] == [] and a["level"] == 0

@@ -23,7 +23,8 @@ class ExtraordinaryVertexRecord(TypedDict, closed=True):
     valence: int
     boundary: bool
     crease: bool
-    """A crease edge ends here: the eigenvalues are the smooth rules' and do not describe it."""
+    """A crease edge ends here: the eigenvalues are the smooth rules' and do not describe it, and the defect
+    measures the crease's kink (a feature): reported, not gated (``within`` and ``level`` null)."""
     position: Annotated[list[float], Triple]
     """Its limit position (model units)."""
     subdominant: float
@@ -40,10 +41,10 @@ class ExtraordinaryVertexRecord(TypedDict, closed=True):
     """The vertex's own shape defect at the cage's scale, d_3 / mu^3 (model units): gated against the
     tolerance."""
     within: bool | None
-    """defect <= tolerance (null: no tolerance)."""
+    """defect <= tolerance (null: no tolerance, or a crease ends here)."""
     level: int | None
     """The first subdivision level k with defect * mu^k within the tolerance (null: none up to 6, the vertex
-    needs more control; or no tolerance)."""
+    needs more control; or no tolerance, or a crease ends here)."""
 
 
 class RegionLevel(TypedDict, closed=True):
