@@ -190,8 +190,8 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
         if skipped:
             cover = "" if share is None else f" (the analysed charts cover {100 * share:.1f} % of the area)"
             console.print(f"  not analysed: {skipped}{cover}")
-        for line in cage_lines(f):
-            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+        for line in cage_lines(f):  # folded at the terminal's width, between words
+            console.print(f"  {line}", markup=False, highlight=False)
         for w in f["warnings"]:
             console.print(f"  [yellow]warning:[/] {escape(w)}")
     s = doc["summary"]

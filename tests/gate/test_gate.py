@@ -336,7 +336,8 @@ def test_report_option(models, tmp_path):
 
 @pytest.mark.realdata
 def test_real_files_verdicts_follow_their_budgets():
-    """NIST FTC-07 (non-uniform bicubic faces: gated like any face) and the Blub Catmull-Clark cage."""
+    """NIST FTC-07 (non-uniform bicubic faces: gated like any face) and the Blub Catmull-Clark cage (its charts,
+    and its extraordinary vertices against the tolerance)."""
     tol = 0.05
     paths = [REALDATA / "step" / "nist_ftc_07_asme1_rd.stp", REALDATA / "obj" / "blub_control_mesh.obj"]
     result, doc = gate_json(*paths, "--tol", tol)
@@ -352,4 +353,7 @@ def test_real_files_verdicts_follow_their_budgets():
             assert (f["verdict"], f["method"]) == (expect, b.method)
             seen.add(f["verdict"])
     assert seen
-    assert result.exit_code == (1 if "fail" in seen else 0) == doc["exit_code"]
+    # the cage also fails on its extraordinary vertices beyond the tolerance (4 of Blub's 38 at 0.05)
+    beyond = [v for e in doc["files"] for v in e.get("extraordinary", []) if v["defect"] > tol and not v["crease"]]
+    assert len(beyond) == 4 and ("extraordinary_failure" in doc["files"][1])
+    assert result.exit_code == (1 if "fail" in seen or beyond else 0) == doc["exit_code"]
