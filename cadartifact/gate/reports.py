@@ -12,7 +12,7 @@ What goes where:
   without analysable face a ``<skipped>`` testcase.
 - SARIF: one result per finding (``fail`` CA001 error, ``warn`` CA002 warning, unreadable file
   CA003 error, no analysable face CA004 note, OBJ cage analysed below ``min_analysed_share`` CA005
-  error); passing faces are not findings. Locations are the file (URI relative to the working
+  error, OBJ cage with an extraordinary vertex's defect beyond the tolerance CA007 error); passing faces are not findings. Locations are the file (URI relative to the working
   directory) at the line where the face's STEP entity (``#id = ADVANCED_FACE``) is defined (line 1
   for OBJ and files without one), and the face (with its ``#id``) as a logical location; the
   properties carry the entity, its line and the peak's ``uv`` and ``xyz`` (``peak_at``);
@@ -69,6 +69,8 @@ _OWN_RULES = (
      "A file has no B-spline face or quad chart to analyse"),
     ("CA005", "analysed-share-too-small", "error",
      "An OBJ cage's analysed charts cover less of its area than the policy's min_analysed_share"),
+    ("CA007", "extraordinary-vertex-defect", "error",
+     "An OBJ cage's extraordinary vertex has a limit-surface shape defect beyond the tolerance"),
 )
 _NOT_EVALUATED = ("CA110", "pdq-not-evaluated", "note",
                   "A PDQ criterion could not be evaluated on a face (the reason is given)")
@@ -318,6 +320,12 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
         if entry.get("share_failure"):
             console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True, markup=False,
                           highlight=False)
+        if entry.get("extraordinary_failure"):
+            console.print(f"  fail: {entry['path']}: {entry['extraordinary_failure']}", soft_wrap=True,
+                          markup=False, highlight=False)
+        if entry.get("cage_advice") and entry["verdict"] != "pass":
+            for line in entry["cage_advice"]["text"]:
+                console.print(f"  advice: {line}", soft_wrap=True, markup=False, highlight=False)
         for note in entry["notes"] + entry["warnings"]:
             console.print(f"  note: {note}", soft_wrap=True, markup=False, highlight=False)
     prof = profile_line(doc)
@@ -394,6 +402,14 @@ def to_junit(doc: GateDocument) -> str:
             fail = ET.SubElement(case, "failure", message=entry["share_failure"],
                                  type="CA005 analysed-share-too-small")
             fail.text = entry["share_failure"]
+            counts["tests"] += 1
+            counts["failures"] += 1
+        if entry.get("extraordinary_failure"):
+            case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (extraordinary vertices)",
+                                 classname="cadartifact.gate.run")
+            fail = ET.SubElement(case, "failure", message=entry["extraordinary_failure"],
+                                 type="CA007 extraordinary-vertex-defect")
+            fail.text = entry["extraordinary_failure"]
             counts["tests"] += 1
             counts["failures"] += 1
         if entry["verdict"] != "error" and not entry["faces"]:
@@ -495,6 +511,9 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
         if entry.get("share_failure"):
             add("CA005", "error", f"{path}: {entry['share_failure']}", path, None,
                 {"verdict": "fail", "analysed_share": entry.get("analysed_share")})
+        if entry.get("extraordinary_failure"):
+            add("CA007", "error", f"{path}: {entry['extraordinary_failure']}", path, None,
+                {"verdict": "fail", "vertices": [v["vertex"] for v in entry["extraordinary"] if v["within"] is False]})
         if not entry["faces"] and not entry.get("edges"):
             add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
                 {"verdict": entry["verdict"]})

@@ -173,6 +173,11 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
         entry["subdivided"] = subdivided
     entry |= {"skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
+    if getattr(res, "mesh", None) is not None and (part is None or part[0] == 0):
+        from ..runs.cage_records import vertex_records
+
+        # a cage's extraordinary vertices (batch 0 of a cluster run carries them: the merge keeps its keys)
+        entry["extraordinary"] = vertex_records(res.mesh, settings.tolerance)
     if part is not None:
         entry["_part"] = {"index": part[0], "of": part[1], "positions": positions[:len(faces)], "error": error,
                           "share": share}
@@ -205,7 +210,8 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
     if getattr(settings, "profile", None) is not None:
         entry["edges"], entry["edges_counted"] = _edges(entry["path"], settings, notes)
     if not entry["faces"] and not entry.get("edges"):
-        notes.append("no analysable face (nothing to gate): pass")
+        notes.append("no analysable chart (nothing to gate)" if "extraordinary" in entry else
+                     "no analysable face (nothing to gate): pass")
     entry["verdict"] = file_verdict(entry)
     if share is not None:
         skipped = ", ".join(kind_count(k, n) for k, n in sorted(entry["skipped"].items()))
@@ -215,6 +221,14 @@ def _complete(entry: dict, share, settings: FileSettings) -> dict:
             entry["verdict"] = worst_verdict([entry["verdict"], "fail"])
         elif share < 1:
             notes.append(text)
+    if "extraordinary" in entry:
+        from ..runs.cage_records import cage_advice_record, vertex_failure
+
+        entry["cage_advice"] = cage_advice_record(entry["faces"], entry["extraordinary"])
+        failure = vertex_failure(entry["extraordinary"], settings.tolerance)
+        if failure:
+            entry["extraordinary_failure"] = failure
+            entry["verdict"] = worst_verdict([entry["verdict"], "fail"])
     return entry
 
 

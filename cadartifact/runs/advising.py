@@ -130,6 +130,11 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
                 record["subdivided"] = subdivided
             doc_files.append({**record, "skipped": dict(res.skipped), "warnings": list(res.warnings),
                               "faces": entries})
+            if getattr(res, "mesh", None) is not None:  # a cage: its extraordinary vertices and levels
+                from .cage_records import cage_advice_record, vertex_records
+
+                vertices = vertex_records(res.mesh, settings.tolerance)
+                doc_files[-1].update(extraordinary=vertices, cage_advice=cage_advice_record(entries, vertices))
         units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
         return {"schema": SCHEMA, "tolerance": settings.tolerance, "units": units, "metric": settings.metric,
                 "intent": settings.reading, "include_signal_error": settings.include_signal_error,

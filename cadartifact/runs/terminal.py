@@ -165,6 +165,9 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
             else:
                 verdict = "[red]exceeds[/] [dim](out of reach)[/]" if wide else "[red]unreachable[/]"
             advised = "x".join(map(str, adv["net"])) if adv.get("verifiable", True) else "[yellow]unverifiable[/]"
+            if r.get("kind") == "quad-chart" and f.get("cage_advice"):  # a cage's density changes by levels
+                k = next((g["level"] for g in f["cage_advice"]["regions"] if g["face"] == r["face"]), None)
+                advised = "more control" if k is None else f"level {k}"
             unc = f"{r['uncertainty']['peak']:.2g}" if r.get("uncertainty") else "-"
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
@@ -197,6 +200,8 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
                           + (f"; not analysed: {skipped}" if skipped else ""), markup=False, highlight=False)
         elif skipped:
             console.print(f"  not analysed: {skipped}")
+        for line in cage_lines(f):  # folded at the terminal's width, between words
+            console.print(f"  {line}", markup=False, highlight=False)
         for w in f["warnings"]:
             console.print(f"  [yellow]warning:[/] {escape(w)}")
     s = doc["summary"]
@@ -288,3 +293,20 @@ class LineProgress:
         self._last = now
         self.console.print(f"cadartifact: [{self._count(self.done)}] {self.verb} {path}" + (f": {detail}" if detail else "")
                            + f" ({took:.1f} s)", markup=False, highlight=False, soft_wrap=True)
+
+
+def cage_lines(f: dict) -> list:
+    """A cage's extraordinary vertices (count, curvature classes, worst defect) and its advice, as lines."""
+    verts = f.get("extraordinary")
+    if verts is None:
+        return []
+    if not verts:
+        return ["extraordinary vertices: none"]
+    kinds = ", ".join(f"{sum(v['curvature'] == k for v in verts)} {k}" for k in ("bounded", "zero", "unbounded")
+                      if any(v["curvature"] == k for v in verts))
+    worst = max(verts, key=lambda v: v["defect"])
+    beyond = sum(v["within"] is False for v in verts)
+    lines = [f"extraordinary vertices: {len(verts)} (curvature {kinds}); worst defect {worst['defect']:.3g} "
+             f"at vertex {worst['vertex']} (valence {worst['valence']})"
+             + (f"; {beyond} beyond the tolerance" if beyond else "")]
+    return lines + [f"advice: {t}" for t in f["cage_advice"]["text"]]

@@ -450,6 +450,8 @@ def render_html(doc: Document, *, heatmaps: bool = True, maps: bool = True) -> s
             sub.append(f"analysed charts cover {100 * entry['analysed_share']:.1f} % of the area")
         if entry.get("share_failure"):
             parts.append(f'<div class="error">{_e(entry["share_failure"])}</div>')
+        if entry.get("extraordinary_failure"):
+            parts.append(f'<div class="error">{_e(entry["extraordinary_failure"])}</div>')
         sub.append(f"values in {_e(unit)}")
         if ftol is not None and ftol != tol:
             sub.append(f"tolerance {_num(ftol, 4)} {_e(unit)} (policy override)")

@@ -115,11 +115,12 @@ def camera(maps) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(normal, float), up
 
 
-def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, reflection: bool = False
-           ) -> np.ndarray:
+def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, reflection: bool = False,
+           markers=None) -> np.ndarray:
     """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background; with ``reflection``
     the faces carry their reflection lines (:mod:`cadartifact.viz.reflection`) instead of the heatmap, from the
-    same camera."""
+    same camera; ``markers`` ``(points (k, 3), values (k,))``: spheres coloured on the heatmap's scale (a cage's
+    extraordinary vertices)."""
     pv = require("pyvista", "3-D heatmaps")
     towards, up = camera(maps)
     if reflection:
@@ -168,6 +169,11 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, 
                     k = int(np.nanargmax(m.values))
                     plotter.add_points(m.points.reshape(-1, 3)[k][None, :], color="magenta", point_size=12,
                                        render_points_as_spheres=True)
+            if markers is not None and len(markers[0]):
+                at = pv.PolyData(np.asarray(markers[0], float))
+                at.point_data["rgb"] = vertex_colours(np.asarray(markers[1], float), clim, cmap, top)[:, :3]
+                plotter.add_mesh(at, scalars="rgb", rgb=True, point_size=16, render_points_as_spheres=True,
+                                 show_scalar_bar=False)
             if face_labels:
                 worst = sorted(maps, key=lambda m: -m.peak)[:LABELLED_FACES]  # labels of all 40 would overlap
                 centres = np.array([_centre(m) for m in worst])
@@ -256,7 +262,7 @@ def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
 
 def render_image(maps, *, direction: str = "total", tol: float | None = None, title: str | None = None,
                  window_size=DEFAULT_SIZE, show_net: bool = True, layout: str = "auto",
-                 cmap: str = CMAP, reflection: bool = False) -> np.ndarray:
+                 cmap: str = CMAP, reflection: bool = False, markers=None) -> np.ndarray:
     """Render faces off screen and return the picture: heatmap(s), colour bar, title.
 
     Parameters
@@ -278,6 +284,9 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     reflection : bool
         Draw the faces' reflection lines (:mod:`cadartifact.viz.reflection`) instead of the heatmap, from the
         same camera and layout (no net, no colour bar).
+    markers : ((k, 3), (k,)) float, optional
+        Points drawn as spheres coloured by their values on the same scale (``model`` layout): a cage's
+        extraordinary vertices and their defects.
 
     Returns
     -------
@@ -312,7 +321,8 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     top = 0.93 if title else 0.98
     bar_left = 1.0 - 110 / width
     if layout == "model":
-        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap, reflection))
+        img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap, reflection,
+                               markers))
         ax = fig.add_axes([0.01, 0.02, bar_left - 0.03, top - 0.03])
         ax.imshow(img)
         ax.set_axis_off()
@@ -465,7 +475,14 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         from ..theory.catalogue import scheme as get_scheme
 
         scheme = get_scheme(scheme)
-    nets = read(src).nets
+    res = read(src)
+    nets = res.nets
+    markers = None
+    if getattr(res, "mesh", None) is not None and faces is None:  # a cage: its extraordinary vertices too
+        from ..runs.cage_records import vertex_records
+
+        verts = vertex_records(res.mesh, tol)
+        markers = (np.array([v["position"] for v in verts], float).reshape(-1, 3), [v["defect"] for v in verts])
     if not nets:
         raise CadArtifactError(f"{src}: no analysable face to draw")
     if faces is not None:
@@ -490,8 +507,10 @@ def view(path, *, direction: str = "total", tol: float | None = None, out=None, 
         if tol is not None:
             title += f", tolerance {tol:g} {unit} (reds beyond it, darkest at the peak)"
         say(f"rendering {png}")
+        if markers is not None and len(markers[1]):
+            title += "; spheres: extraordinary vertices"
         write_png(maps, png, direction=direction, tol=tol, title=title, window_size=window_size, show_net=show_net,
-                  layout=layout)
+                  layout=layout, markers=markers)
     zebra = None
     if reflection:
         zebra = (png.with_name(f"{png.stem}_reflection.png") if png is not None

@@ -336,7 +336,8 @@ def test_report_option(models, tmp_path):
 
 @pytest.mark.realdata
 def test_real_files_verdicts_follow_their_budgets():
-    """NIST FTC-07 (non-uniform bicubic faces: gated like any face) and the Blub Catmull-Clark cage."""
+    """NIST FTC-07 (non-uniform bicubic faces: gated like any face) and the Blub Catmull-Clark cage (its charts,
+    and its extraordinary vertices against the tolerance)."""
     tol = 0.05
     paths = [REALDATA / "step" / "nist_ftc_07_asme1_rd.stp", REALDATA / "obj" / "blub_control_mesh.obj"]
     result, doc = gate_json(*paths, "--tol", tol)
@@ -356,4 +357,7 @@ def test_real_files_verdicts_follow_their_budgets():
     # valence 3 and 5), so its charts cover 61.9 % of its area, below the default min_analysed_share 0.95
     (blub,) = [e for e in doc["files"] if e["path"].endswith(".obj")]
     assert blub["analysed_share"] == pytest.approx(0.6194, abs=1e-4) and "share_failure" in blub
+    # it also fails on its extraordinary vertices beyond the tolerance (4 of Blub's 38 at 0.05)
+    beyond = [v for e in doc["files"] for v in e.get("extraordinary", []) if v["defect"] > tol and not v["crease"]]
+    assert len(beyond) == 4 and "extraordinary_failure" in blub
     assert blub["verdict"] == "fail" and result.exit_code == 1 == doc["exit_code"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Literal, NotRequired
 
+from .cage import CageAdvice, ExtraordinaryVertexRecord
 from .face import AdviseFace, Metric, Reading, SummaryCounts
 from .keys import TypedDict
 
@@ -51,6 +52,10 @@ class AdviseFile(TypedDict, closed=True):
     """Faces not analysed, counted per kind (``plane``, ``triangle``, ...)."""
     warnings: list[str]
     faces: list[AdviseFace]
+    extraordinary: NotRequired[list[ExtraordinaryVertexRecord]]
+    """An OBJ cage: one record per extraordinary vertex."""
+    cage_advice: NotRequired[CageAdvice]
+    """An OBJ cage: the subdivision level per region and vertex, and the vertices that need more control."""
 
 
 class AdviseSummary(SummaryCounts, closed=True):

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, NotRequired
 
+from .cage import CageAdvice, ExtraordinaryVertexRecord
 from .face import AdviceRecord, FaceRecord, Metric, Reading, SummaryCounts
 from .advise import SubdividedRecord
 from .keys import Pair, Triple, TypedDict
@@ -235,6 +236,12 @@ class GateFile(TypedDict, closed=True):
     """With a PDQ profile: the edges two faces share, judged (null: not a B-rep file); absent without one."""
     edges_counted: NotRequired[EdgeCounts | None]
     """With a PDQ profile: the file's edges by kind (null: not a B-rep file)."""
+    extraordinary: NotRequired[list[ExtraordinaryVertexRecord]]
+    """An OBJ cage: one record per extraordinary vertex."""
+    cage_advice: NotRequired[CageAdvice]
+    """An OBJ cage: the subdivision level per region and vertex, and the vertices that need more control."""
+    extraordinary_failure: NotRequired[str]
+    """An OBJ cage with extraordinary vertices whose defect exceeds the tolerance (it fails)."""
 
 
 class CriterionCounts(TypedDict, closed=True):

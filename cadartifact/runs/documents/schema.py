@@ -66,9 +66,9 @@ def _generated(kind: str) -> dict[str, Any]:
 
 def _records() -> dict[str, type]:
     """Every record of the documents' modules by name (the names pydantic gives their ``$defs``)."""
-    from . import advise, face, gate, inspected
+    from . import advise, cage, face, gate, inspected
 
-    return {name: value for module in (face, advise, gate, inspected) for name, value in vars(module).items()
+    return {name: value for module in (face, cage, advise, gate, inspected) for name, value in vars(module).items()
             if isinstance(value, type) and issubclass(value, dict) and hasattr(value, "__required_keys__")}
 
 

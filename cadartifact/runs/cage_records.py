@@ -1,0 +1,51 @@
+"""The records of a cage's extraordinary vertices and of its advice in the advise and gate documents
+(:mod:`cadartifact.runs.documents.cage`)."""
+
+from __future__ import annotations
+
+from .records import json_number
+
+__all__ = ["vertex_records", "cage_advice_record", "vertex_failure"]
+
+
+def vertex_records(mesh, tolerance: float | None) -> list:
+    """One :class:`~cadartifact.runs.documents.cage.ExtraordinaryVertexRecord` per extraordinary vertex.
+
+    Parameters
+    ----------
+    mesh : QuadMesh
+    tolerance : float or None
+        ``within`` and ``level`` are null without one, and at a vertex where a crease ends (its kink is a
+        feature, not a defect: such vertices are reported, never gated).
+    """
+    from ..analysis.extraordinary import cage_vertex_defects
+
+    out = []
+    for v in cage_vertex_defects(mesh):
+        out.append({"vertex": v.vertex, "face": v.face, "valence": v.valence, "boundary": v.boundary,
+                    "crease": v.crease, "position": [json_number(c) for c in v.position],
+                    "subdominant": json_number(v.lam), "subsubdominant": json_number(v.mu),
+                    "curvature": v.curvature, "defects": [json_number(d) for d in v.defects],
+                    "defect": json_number(v.defect),
+                    # a crease ending at the vertex is a feature the quadratic cannot hold: not gated
+                    "within": None if tolerance is None or v.crease else bool(v.defect <= tolerance),
+                    "level": None if tolerance is None or v.crease else v.level_within(tolerance)})
+    return out
+
+
+def cage_advice_record(face_records: list, vertices: list) -> dict:
+    """:func:`cadartifact.advice.cage_levels.cage_advice` of a file's face records and vertex records."""
+    from ..advice.cage_levels import cage_advice
+
+    return cage_advice(face_records, vertices)
+
+
+def vertex_failure(vertices: list, tolerance: float) -> str | None:
+    """The gate's line for extraordinary vertices beyond the tolerance (None: all within)."""
+    bad = [v for v in vertices if v["within"] is False]
+    if not bad:
+        return None
+    worst = max(bad, key=lambda v: v["defect"])
+    n = len(bad)
+    return (f"{n} extraordinary {'vertices' if n > 1 else 'vertex'} beyond the tolerance {tolerance:g} (worst: vertex "
+            f"{worst['vertex']}, valence {worst['valence']}, defect {worst['defect']:.3g})")
