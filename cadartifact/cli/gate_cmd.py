@@ -33,7 +33,7 @@ def gate_cmd(
                                           help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
     profile: Optional[str] = _option("profile"),
-    fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
+    fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit, sarif or gitlab (GitLab Code Quality)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
     report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
     jobs: Optional[int] = typer.Option(None, "--jobs", "-j", help="Worker processes (default: CPU count)."),
@@ -142,7 +142,9 @@ def gate_cmd(
             con.width = max(con.width, 132)
         render_text(doc, con, wide=wide)
     else:
-        text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
+        from ..gate.codequality import to_gitlab
+
+        text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif, "gitlab": to_gitlab}[fmt](doc)
         if output is None:
             typer.echo(text, nl=False)
         else:

@@ -1,4 +1,5 @@
-"""Report writers of the quality gate: text (rich), JSON, JUnit XML and SARIF 2.1.0.
+"""Report writers of the quality gate: text (rich), JSON, JUnit XML and SARIF 2.1.0 (GitLab Code Quality:
+:mod:`cadartifact.gate.codequality`).
 
 Every writer takes the gate document (:func:`cadartifact.gate.run.build_document`) and returns text;
 :func:`write_atomic` puts it in a file so that no partial report is ever left behind (temporary
@@ -12,11 +13,13 @@ What goes where:
   without analysable face a ``<skipped>`` testcase.
 - SARIF: one result per finding (``fail`` CA001 error, ``warn`` CA002 warning, unreadable file
   CA003 error, no analysable face CA004 note, OBJ cage analysed below ``min_analysed_share`` CA005
-  error); passing faces are not findings. Locations are the file (URI relative to the working
-  directory) at the line where the face's STEP entity (``#id = ADVANCED_FACE``) is defined (line 1
-  for OBJ and files without one), and the face (with its ``#id``) as a logical location; the
-  properties carry the entity, its line and the peak's ``uv`` and ``xyz`` (``peak_at``);
-  ``partialFingerprints`` keep alerts stable across runs.
+  error); passing faces are not findings. Locations are the file (URI relative to the run's root, its
+  ``uriBaseId`` ``SRCROOT``: :mod:`cadartifact.gate.locations`) at the line where the face's STEP entity
+  (``#id = ADVANCED_FACE``) is defined (line 1 for OBJ and files without one), and the face (with its ``#id``)
+  as a logical location; the properties carry the entity, its line, the peak's ``uv`` and ``xyz``
+  (``peak_at``), and the finding's ``path``, ``record`` and ``criterion``; ``partialFingerprints`` (a hash of
+  those three: :func:`cadartifact.gate.locations.fingerprint`) keep alerts stable across runs and machines.
+  The GitLab Code Quality report (:mod:`cadartifact.gate.codequality`) is these results in GitLab's form.
 - PDQ criteria (``--profile``, :mod:`cadartifact.gate.profiles`): every report lists them per face with value,
   threshold and the worst place (text: a ``pdq`` line per face and one per criterion that warns or fails;
   JUnit: a ``pdq.<criterion>`` property each, a failing criterion is the testcase's ``<failure>`` when the
@@ -26,7 +29,6 @@ What goes where:
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
@@ -47,7 +49,7 @@ if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.m
 __all__ = ["FORMATS", "RULES", "CRITERION_RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit",
            "to_sarif", "write_atomic", "face_label", "criterion_text", "criteria_lines", "profile_line"]
 
-FORMATS = ("text", "json", "junit", "sarif")
+FORMATS = ("text", "json", "junit", "sarif", "gitlab")
 
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 
@@ -439,44 +441,40 @@ def to_junit(doc: GateDocument) -> str:
 
 
 # ---------------------------------------------------------------- sarif
-def _uri(path: str, cwd: str) -> str:
-    absolute = os.path.abspath(path)
-    try:
-        rel = os.path.relpath(absolute, cwd)
-    except ValueError:  # another drive
-        return Path(absolute).as_uri()
-    return quote(Path(rel).as_posix())
-
-
-def _fingerprint(*parts) -> str:
-    return hashlib.sha256("\0".join(map(str, parts)).encode()).hexdigest()[:32]
-
-
 def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
-    """SARIF 2.1.0 log: tool.driver ``cadartifact`` with rules CA001-CA004, one result per finding."""
+    """SARIF 2.1.0 log: tool.driver ``cadartifact`` with its rules, one result per finding; locations relative
+    to the run's root (``uriBaseId``, :mod:`cadartifact.gate.locations`), fingerprints stable across runs and
+    machines (``partialFingerprints``, the same as GitLab's and the baseline's)."""
     from .. import __version__
+    from .locations import FINGERPRINT_KEY, ROOT_ID, Fingerprints, face_record, relative, run_root
 
-    cwd = os.path.abspath(cwd or os.getcwd())
+    root = run_root([e["path"] for e in doc["files"]], cwd)
     index = {rule_id: i for i, (rule_id, *_rest) in enumerate(RULES)}
+    names = {rule_id: name for rule_id, name, *_rest in RULES}
     rules = [{"id": rid, "name": name, "shortDescription": {"text": text}, "fullDescription": {"text": text},
               "defaultConfiguration": {"level": level}, "help": {"text": text}}
              for rid, name, level, text in RULES]
     results = []
+    prints = Fingerprints()
 
-    def add(rule_id: str, level: str, text: str, path: str, face: GateFace | None, props: dict):
+    def add(rule_id: str, level: str, text: str, path: str, face: GateFace | None, props: dict,
+            record: str | None = None):
         # the line of the face's STEP entity (#id = ADVANCED_FACE...); line 1 where there is none (OBJ)
         line = (face or {}).get("entity_line") or 1
-        loc = {"physicalLocation": {"artifactLocation": {"uri": _uri(path, cwd)}, "region": {"startLine": line}}}
+        uri = relative(path, root)
+        loc = {"physicalLocation": {"artifactLocation": {"uri": quote(uri), "uriBaseId": ROOT_ID},
+                                    "region": {"startLine": line}}}
         if face is not None:
             entity = f" #{face['entity']}" if face.get("entity") is not None else ""
             loc["logicalLocations"] = [{"name": f"face {face['face']}" + (f" {face['name']}" if face.get("name")
                                                                             else "") + entity,
                                         "fullyQualifiedName": face_label(path, face), "kind": "element"}]
+        criterion = "ripple" if rule_id in ("CA001", "CA002") else names[rule_id]
+        record = face_record(face) if record is None else record
         results.append({"ruleId": rule_id, "ruleIndex": index[rule_id], "level": level, "message": {"text": text},
                         "locations": [loc],
-                        "partialFingerprints": {"cadartifactFace/v1": _fingerprint(
-                            rule_id, _uri(path, cwd), None if face is None else face["face"])},
-                        "properties": props})
+                        "partialFingerprints": {FINGERPRINT_KEY: prints(uri, record, criterion)},
+                        "properties": {**props, "path": uri, "record": record, "criterion": criterion}})
 
     for entry in doc["files"]:
         path = entry["path"]
@@ -500,7 +498,8 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
                      "peaks": {k: f["budget"][k]["peak"] for k in _DIRECTIONS}, "net": f["net"],
                      "advised_net": f["advice"]["net"] if f["advice"] else None, "units": file_units(doc, entry),
                      "entity": None if f.get("entity") is None else f"#{f['entity']}",
-                     "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at")}
+                     "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at"),
+                     "uncertainty": (f.get("uncertainty") or {}).get("peak")}
             add(rule_id, level, f"{face_label(path, f)}: {face_numbers(doc, entry, f)}", path, f, props)
     log = {
         "$schema": SARIF_SCHEMA,
@@ -508,6 +507,7 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
         "runs": [{
             "tool": {"driver": {"name": "cadartifact", "version": __version__, "semanticVersion": __version__,
                                 "rules": rules}},
+            "originalUriBaseIds": {ROOT_ID: {"uri": Path(root).as_uri().rstrip("/") + "/"}},
             "invocations": [{"executionSuccessful": doc["exit_code"] != 2, "exitCode": doc["exit_code"]}],
             "results": results,
             "properties": {"verdict": doc["verdict"], "summary": doc["summary"]},
