@@ -36,6 +36,13 @@ def gate_cmd(
     fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit, sarif or gitlab (GitLab Code Quality)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
     report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
+    baseline: Optional[Path] = typer.Option(None, "--baseline",
+                                            help="Compare with this baseline (or a gate JSON report): only new "
+                                                 "findings and faces whose reading got worse beyond its "
+                                                 "uncertainty fail; fixed ones are listed."),
+    update_baseline: bool = typer.Option(False, "--update-baseline",
+                                         help="Write this run's findings to the --baseline file (exit 0 unless "
+                                              "a file cannot be read)."),
     jobs: Optional[int] = typer.Option(None, "--jobs", "-j", help="Worker processes (default: CPU count)."),
     metric: Optional[str] = _option("metric"),
     warn_fraction: Optional[float] = _option("warn_fraction"),
@@ -106,6 +113,17 @@ def gate_cmd(
     for option, target in (("--output", output), ("--report", report)):
         if target is not None and not (target.parent if str(target.parent) else Path(".")).is_dir():
             raise OptionError(option, "a file in an existing folder", str(target))
+    previous = []
+    if baseline is not None:
+        from ..gate.baseline import load_baseline
+        from ..gate.codequality import baseline_findings
+
+        if baseline.exists() or not update_baseline:  # a first --update-baseline creates it
+            previous = load_baseline(baseline, baseline_findings)
+        if update_baseline and not (baseline.parent if str(baseline.parent) else Path(".")).is_dir():
+            raise OptionError("--baseline", "a file in an existing folder", str(baseline))
+    elif update_baseline:
+        raise OptionError("--update-baseline", "--baseline FILE too (the file to write)", "--update-baseline alone")
     if report is not None and importlib.util.find_spec("cadartifact.viz.html") is None:
         raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
                                       "installation", str(report))
@@ -135,6 +153,17 @@ def gate_cmd(
         entries = run_gate(files, settings, verify=verify, progress=progress, cache=result_cache,
                            execution=execution)
     doc = build_document(entries, base_settings(pol, cli), pol)
+    if baseline is not None:
+        from ..gate.baseline import to_baseline
+        from ..gate.codequality import apply_baseline, baseline_findings
+
+        apply_baseline(doc, previous, str(baseline))
+        if update_baseline:  # this run's findings are accepted: only an unreadable file fails
+            found = baseline_findings(doc)
+            write_atomic(baseline, to_baseline(found))
+            doc["exit_code"] = doc["baseline"]["exit_code"] = 2 if doc["summary"]["errors"] else 0
+            _console(stderr=True).print(f"baseline written to {escape(baseline)}: {len(found)} finding(s)",
+                                        soft_wrap=True)
 
     if fmt == "text" and output is None:
         con = _console()

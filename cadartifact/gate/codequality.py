@@ -22,7 +22,7 @@ import json
 from .locations import FINGERPRINT_KEY
 from .reports import RULES, to_sarif
 
-__all__ = ["SEVERITIES", "findings", "to_gitlab"]
+__all__ = ["SEVERITIES", "findings", "baseline_findings", "apply_baseline", "to_gitlab"]
 
 #: GitLab's severity of a SARIF level (CA003, a file that could not be read, is ``critical``).
 SEVERITIES = {"error": "major", "warning": "minor", "note": "info"}
@@ -33,6 +33,23 @@ def findings(doc, cwd: str | None = None) -> list[dict]:
     ``properties``: ``path`` (relative to the run's root), ``record``, ``criterion``, and its fingerprint under
     :data:`~cadartifact.gate.locations.FINGERPRINT_KEY`."""
     return json.loads(to_sarif(doc, cwd))["runs"][0]["results"]
+
+
+def baseline_findings(doc, cwd: str | None = None) -> list[dict]:
+    """The findings of a gate document as a baseline lists them (:func:`cadartifact.gate.baseline.finding`)."""
+    from .baseline import finding
+
+    return [finding(r) for r in findings(doc, cwd)]
+
+
+def apply_baseline(doc, previous: list[dict], source: str, cwd: str | None = None) -> dict:
+    """Put the comparison with a baseline (:func:`cadartifact.gate.baseline.compare`) in the gate document as
+    ``baseline``, and its exit code in ``exit_code``."""
+    from .baseline import compare
+
+    doc["baseline"] = compare(baseline_findings(doc, cwd), previous, source, doc["summary"]["errors"])
+    doc["exit_code"] = doc["baseline"]["exit_code"]
+    return doc
 
 
 def to_gitlab(doc, cwd: str | None = None) -> str:

@@ -320,6 +320,10 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
     prof = profile_line(doc)
     if prof:
         console.print(prof, soft_wrap=True, markup=False, highlight=False)
+    from .baseline import baseline_lines
+
+    for line in baseline_lines(doc):
+        console.print(line, soft_wrap=True, markup=False, highlight=False)
     console.print(summary_line(doc))
 
 
@@ -339,6 +343,12 @@ def summary_line(doc: GateDocument) -> str:
                                       for k, n in crit.items())
     if s["errors"]:
         text += f"; {s['errors']} file(s) could not be read or analysed"
+    base = doc.get("baseline")
+    if base:
+        from rich.markup import escape
+
+        text += (f"; baseline {escape(base['source'])}: {len(base['new'])} new, {len(base['worse'])} worse, "
+                 f"{base['known']} known, {len(base['fixed'])} fixed")
     return text + f" (exit {doc['exit_code']})"
 
 
@@ -501,6 +511,10 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
                      "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at"),
                      "uncertainty": (f.get("uncertainty") or {}).get("peak")}
             add(rule_id, level, f"{face_label(path, f)}: {face_numbers(doc, entry, f)}", path, f, props)
+    if doc.get("baseline") is not None:  # SARIF's own word for each finding's state against the baseline
+        from .baseline import sarif_states
+
+        sarif_states(results, doc["baseline"])
     log = {
         "$schema": SARIF_SCHEMA,
         "version": "2.1.0",
