@@ -237,7 +237,7 @@ def file_units(doc: GateDocument, entry: GateFile) -> str:
     return unit_name(entry.get("units") if entry.get("units") else (doc["units"] if entry.get("faces") else None))
 
 
-def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
+def render_text(doc: GateDocument, console, wide: bool | None = None, wrap: bool = True) -> None:
     """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary.
 
     ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
@@ -245,12 +245,14 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
     and verdict, with scheme and method under the table; no cell is cut or wraps inside a number.
     Paths and face names are never broken: each file's heading is a line of its own, and on a console that
     wraps nothing (:func:`~cadartifact.runs.terminal.wraps_nothing`: a log, a file) face labels are whole
-    and a table takes its content's width.
+    and a table takes its content's width. Explanation lines are wrapped at spaces to the console's width
+    (``wrap``; never inside a path or a face label: :func:`~cadartifact.runs.terminal.say`).
     """
     from rich.markup import escape
     from rich.table import Table
 
-    from ..runs.terminal import WIDE_COLUMNS, canonical_lines, face_cell, print_table, worst_direction, wraps_nothing
+    from ..runs.terminal import (WIDE_COLUMNS, canonical_lines, face_cell, print_table, say, worst_direction,
+                                 wraps_nothing)
 
     if wide is None:
         wide = console.width >= WIDE_COLUMNS
@@ -262,6 +264,7 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
             continue
         pol = entry["policy"]
         units = file_units(doc, entry)
+        keep = [entry["path"]] + [face_label(entry["path"], f) for f in entry["faces"]]
         title = (f"{escape(entry['path'])}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} "
                  f"{units}, {pol['metric']}, warn at {pol['warn_fraction']:g})")
         if entry["faces"]:
@@ -291,40 +294,38 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
         else:
             console.print(title, soft_wrap=True)
         for line in canonical_lines(entry["faces"]):  # no ripple along their exact directions
-            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+            say(console, f"  {line}", keep, wrap)
         for f in entry["faces"]:
             if f["verdict"] != "pass":
                 where = where_text(f, units)
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
-                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
-                              + (f"; {where}" if where else ""), soft_wrap=True, markup=False, highlight=False)
+                say(console, f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
+                    + (f"; {where}" if where else ""), keep, wrap)
         for line in criteria_lines(entry, units):
-            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+            say(console, f"  {line}", keep, wrap)
         repeats = 0
         for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
             for note in f.get("notes") or []:
                 if note.startswith(REPEAT_NOTE):  # not a judgement: counted below
                     repeats += 1
                     continue
-                console.print(f"  note: {face_label(entry['path'], f)}: {note}", soft_wrap=True, markup=False,
-                              highlight=False)
+                say(console, f"  note: {face_label(entry['path'], f)}: {note}", keep, wrap)
         if repeats:
             verb, whose = ("repeats", "its") if repeats == 1 else ("repeat", "their")
-            console.print(f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
-                          "is reused (the JSON report names the face)", soft_wrap=True)
+            say(console, f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
+                "is reused (the JSON report names the face)", keep, wrap)
         if entry.get("share_failure"):
-            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True, markup=False,
-                          highlight=False)
+            say(console, f"  fail: {entry['path']}: {entry['share_failure']}", keep, wrap)
         for note in entry["notes"] + entry["warnings"]:
-            console.print(f"  note: {note}", soft_wrap=True, markup=False, highlight=False)
+            say(console, f"  note: {note}", keep, wrap)
     prof = profile_line(doc)
     if prof:
-        console.print(prof, soft_wrap=True, markup=False, highlight=False)
+        say(console, prof, (), wrap)
     from .baseline import baseline_lines
 
     for line in baseline_lines(doc):
-        console.print(line, soft_wrap=True, markup=False, highlight=False)
-    console.print(summary_line(doc))
+        say(console, line, (), wrap)
+    console.print(summary_line(doc), soft_wrap=not wrap)  # rich wraps it at spaces
 
 
 def summary_line(doc: GateDocument) -> str:
@@ -341,6 +342,9 @@ def summary_line(doc: GateDocument) -> str:
     if crit:
         text += "; PDQ: " + ", ".join(f"{k} " + " ".join(f"{n[v]} {v}" for v in ("fail", "warn") if n[v])
                                       for k, n in crit.items())
+    whole = sum(1 for e in doc["files"] if e.get("share_failure"))
+    if whole:  # a file-level failure no face carries: counted, so that the verdict adds up
+        text += f"; {whole} file(s) fail as a whole (analysed share below min_analysed_share)"
     if s["errors"]:
         text += f"; {s['errors']} file(s) could not be read or analysed"
     base = doc.get("baseline")
@@ -359,7 +363,7 @@ def to_text(doc: GateDocument, width: int = 132) -> str:
 
     buf = io.StringIO()
     render_text(doc, Console(file=buf, width=width, color_system=None, force_terminal=False, highlight=False,
-                             soft_wrap=True))
+                             soft_wrap=True), wrap=False)
     return buf.getvalue()
 
 
