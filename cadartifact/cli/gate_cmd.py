@@ -1,5 +1,5 @@
 """``cadartifact gate``: the CI quality gate, pass / warn / fail per face against a tolerance policy, with
-text, JSON, JUnit and SARIF reports."""
+text, JSON, JUnit, SARIF and GitLab Code Quality reports, and a baseline."""
 
 from __future__ import annotations
 
@@ -33,7 +33,8 @@ def gate_cmd(
                                           help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
     profile: Optional[str] = _option("profile"),
-    fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit, sarif or gitlab (GitLab Code Quality)."),
+    fmt: str = typer.Option("text", "--format", "-f",
+                            help="Report format: text, json, junit, sarif or gitlab (GitLab Code Quality)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
     report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
     baseline: Optional[Path] = typer.Option(None, "--baseline",

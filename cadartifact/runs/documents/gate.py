@@ -168,7 +168,7 @@ class BaselineFinding(TypedDict, closed=True):
     """A finding as a baseline lists it (``gate --update-baseline``)."""
 
     fingerprint: str
-    """The hash of ``path``, ``record`` and ``criterion`` (the SARIF ``partialFingerprints``, GitLab's ``fingerprint``)."""
+    """The hash of ``path``, ``record`` and ``criterion`` (SARIF ``partialFingerprints``, GitLab's ``fingerprint``)."""
     rule: str
     """The SARIF rule (``CA001``...)."""
     level: Literal["error", "warning", "note"]
