@@ -144,8 +144,8 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str) 
                 plotter.add_point_labels(centres, [str(m.net.origin.face) for m in shown],
                                          font_size=14 if len(shown) <= 12 else 10, point_size=1, shape_opacity=0.5,
                                          always_visible=True)
-            normal = mean_normal(maps[0]) if len(maps) == 1 else None
-            if normal is not None:  # a face seen along its mean normal, not edge-on
+            normal = best_view(maps[0]) if len(maps) == 1 else None
+            if normal is not None:  # a face seen square on, not edge-on
                 up = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
                 plotter.view_vector(normal, viewup=up)
             else:
@@ -213,6 +213,22 @@ def mean_normal(m: FaceMap) -> np.ndarray | None:
     if not area > 0 or length < 0.2 * area:
         return None
     return total / length
+
+
+def best_view(m: FaceMap) -> np.ndarray | None:
+    """The direction a face's picture looks from: its mean normal (:func:`mean_normal`), else, for a face that
+    curves all round (a cylinder), the normal of the plane that best fits its points inside the trim (the
+    principal axis of least spread), from which the face shows its largest extent, never edge-on as a curve."""
+    normal = mean_normal(m)
+    if normal is not None:
+        return normal
+    p = np.asarray(m.points, float).reshape(-1, 3)
+    inside = np.isfinite(np.asarray(m.values, float).reshape(-1))
+    p = p[inside] if inside.sum() >= 3 else p
+    if len(p) < 3:
+        return None
+    _, s, vt = np.linalg.svd(p - p.mean(axis=0), full_matrices=False)
+    return vt[-1] if s[0] > 0 else None
 
 
 def little_surface_reason(m: FaceMap) -> str:

@@ -46,3 +46,30 @@ def test_the_legend_names_the_marks():
     assert [h.get_label() for h in legend_handles(rippled, True)] == ["peak of each face", "control net"]
     assert [h.get_label() for h in legend_handles(rippled, False)] == ["peak of each face"]
     assert legend_handles([face((0, 0, 0), (10, 10))], False) == []  # no ripple: no dot to explain
+
+
+@pytest.mark.parametrize("sweep", [np.pi, 1.5 * np.pi, 2 * np.pi])
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_a_face_curving_all_round_is_seen_square_on(sweep, axis):
+    """A cylinder's patch of ``sweep`` radians around ``axis``: no mean normal; the view looks across the axis
+    (perpendicular to it), from where the patch shows its length, never along the axis (a curve)."""
+    from cadartifact.viz.view import best_view, mean_normal
+
+    t, h = np.meshgrid(np.linspace(0, sweep, 40), np.linspace(0, 30.0, 12), indexing="ij")
+    local = np.stack([10 * np.cos(t), 10 * np.sin(t), h], axis=-1)
+    pts = np.roll(local, axis - 2, axis=-1)  # the cylinder's axis along x, y or z
+    m = SimpleNamespace(points=pts, values=np.zeros(pts.shape[:2]), peak=0.0)
+    view = best_view(m)
+    axis_dir = np.eye(3)[axis]
+    assert view is not None and abs(np.linalg.norm(view) - 1) < 1e-9
+    assert abs(view @ axis_dir) < 1e-6
+    if mean_normal(m) is not None:  # a half cylinder has a mean normal: the same road as before
+        assert np.allclose(view, mean_normal(m))
+
+
+def test_a_flat_face_is_seen_along_its_normal():
+    from cadartifact.viz.view import best_view
+
+    m = face((0, 0, 3.0), (10, 5))
+    m.values = np.zeros(m.points.shape[:2])
+    assert abs(abs(best_view(m)[2]) - 1) < 1e-12
