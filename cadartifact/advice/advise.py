@@ -352,7 +352,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         # (SPEC §5: the advice is a fixed point; a flat frontier would otherwise wander)
         if (a, b) != tuple(work.shape):
             found = f"the fewest-points net found ({a}x{b}, {a * b} points)"
-            why = ("the search found no net that conforms" if not meets
+            why = ("no other density the search tried conforms" if not meets
                    else f"{found} is no smaller" if a * b >= work.shape[0] * work.shape[1]
                    else f"{found} saves less than {MIN_REDUCTION:.0%}")
             notes.append(f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and {why}: "

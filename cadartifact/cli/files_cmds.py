@@ -28,8 +28,8 @@ def inspect_cmd(
     Columns: face index, kind, degrees, net size, rational / weights vary, periodic, knots uniform,
     kept area (the share of the knot range the face's UV bounds keep: 1.000 untrimmed) and name; then a
     summary line (faces total, analysable, skipped by kind). A file with no analysable face prints a warning
-    and exits 0. If any file cannot be read, every error is printed (one line each), nothing else
-    is printed (no partial tables or JSON) and the exit code is 2.
+    and exits 0. If any file cannot be read, the other files' tables are printed, then every error (one line
+    each, on stderr), and the exit code is 2; with --json nothing but the errors (no partial document).
 
     JSON schema (--json):
 
@@ -51,8 +51,6 @@ def inspect_cmd(
 
     from ..exchange.load import LoadWarning, read
     from ..exchange.summary import result_summary
-    from ..runs.records import kind_count, plural
-    from ..runs.terminal import print_table
 
     summaries, errors = [], []
     for path in files:
@@ -64,7 +62,7 @@ def inspect_cmd(
             errors.append(exc)
             continue
         summaries.append(result_summary(result, formats.format_of(path).name))
-    if errors:  # fail closed: no partial output
+    if errors and json_out:  # fail closed: no partial JSON document for a pipeline to take as whole
         for exc in errors[:-1]:
             fail(str(exc), exc.exit_code)
         raise fail(str(errors[-1]), errors[-1].exit_code)
@@ -72,6 +70,17 @@ def inspect_cmd(
     if json_out:
         typer.echo(json.dumps({"schema": "cadartifact.inspect/1", "files": summaries}, indent=2))
         return
+    _inspect_tables(summaries)
+    if errors:  # the readable files' tables are shown; the run still fails (exit 2)
+        for exc in errors[:-1]:
+            fail(str(exc), exc.exit_code)
+        raise fail(str(errors[-1]), errors[-1].exit_code)
+
+
+def _inspect_tables(summaries: list) -> None:
+    """``inspect``'s text: per file its table of faces, a summary line, its mesh and its warnings."""
+    from ..runs.records import kind_count, plural
+    from ..runs.terminal import print_table
     from rich.table import Table
 
     con = _console()

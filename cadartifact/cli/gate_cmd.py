@@ -1,5 +1,5 @@
 """``cadartifact gate``: the CI quality gate, pass / warn / fail per face against a tolerance policy, with
-text, JSON, JUnit and SARIF reports."""
+text, JSON, JUnit, SARIF and GitLab Code Quality reports, and a baseline."""
 
 from __future__ import annotations
 
@@ -33,9 +33,17 @@ def gate_cmd(
                                           help="Policy TOML (default: cadartifact.toml or [tool.cadartifact] in "
                                                "pyproject.toml, looked up from here upward)."),
     profile: Optional[str] = _option("profile"),
-    fmt: str = typer.Option("text", "--format", "-f", help="Report format: text, json, junit or sarif."),
+    fmt: str = typer.Option("text", "--format", "-f",
+                            help="Report format: text, json, junit, sarif or gitlab (GitLab Code Quality)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the report to this file (atomically)."),
     report: Optional[Path] = typer.Option(None, "--report", help="Also write a self-contained HTML report."),
+    baseline: Optional[Path] = typer.Option(None, "--baseline",
+                                            help="Compare with this baseline (or a gate JSON report): only new "
+                                                 "findings and faces whose reading got worse beyond its "
+                                                 "uncertainty fail; fixed ones are listed."),
+    update_baseline: bool = typer.Option(False, "--update-baseline",
+                                         help="Write this run's findings to the --baseline file (exit 0 unless "
+                                              "a file cannot be read)."),
     jobs: Optional[int] = typer.Option(None, "--jobs", "-j", help="Worker processes (default: CPU count)."),
     metric: Optional[str] = _option("metric"),
     warn_fraction: Optional[float] = _option("warn_fraction"),
@@ -106,6 +114,17 @@ def gate_cmd(
     for option, target in (("--output", output), ("--report", report)):
         if target is not None and not (target.parent if str(target.parent) else Path(".")).is_dir():
             raise OptionError(option, "a file in an existing folder", str(target))
+    previous = []
+    if baseline is not None:
+        from ..gate.baseline import load_baseline
+        from ..gate.codequality import baseline_findings
+
+        if baseline.exists() or not update_baseline:  # a first --update-baseline creates it
+            previous = load_baseline(baseline, baseline_findings)
+        if update_baseline and not (baseline.parent if str(baseline.parent) else Path(".")).is_dir():
+            raise OptionError("--baseline", "a file in an existing folder", str(baseline))
+    elif update_baseline:
+        raise OptionError("--update-baseline", "--baseline FILE too (the file to write)", "--update-baseline alone")
     if report is not None and importlib.util.find_spec("cadartifact.viz.html") is None:
         raise OptionError("--report", "the HTML report (cadartifact.viz.html), which is not available in this "
                                       "installation", str(report))
@@ -135,6 +154,17 @@ def gate_cmd(
         entries = run_gate(files, settings, verify=verify, progress=progress, cache=result_cache,
                            execution=execution)
     doc = build_document(entries, base_settings(pol, cli), pol)
+    if baseline is not None:
+        from ..gate.baseline import to_baseline
+        from ..gate.codequality import apply_baseline, baseline_findings
+
+        apply_baseline(doc, previous, str(baseline))
+        if update_baseline:  # this run's findings are accepted: only an unreadable file fails
+            found = baseline_findings(doc)
+            write_atomic(baseline, to_baseline(found))
+            doc["exit_code"] = doc["baseline"]["exit_code"] = 2 if doc["summary"]["errors"] else 0
+            _console(stderr=True).print(f"baseline written to {escape(baseline)}: {len(found)} finding(s)",
+                                        soft_wrap=True)
 
     if fmt == "text" and output is None:
         con = _console()
@@ -142,7 +172,9 @@ def gate_cmd(
             con.width = max(con.width, 132)
         render_text(doc, con, wide=wide)
     else:
-        text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif}[fmt](doc)
+        from ..gate.codequality import to_gitlab
+
+        text = {"text": to_text, "json": to_json, "junit": to_junit, "sarif": to_sarif, "gitlab": to_gitlab}[fmt](doc)
         if output is None:
             typer.echo(text, nl=False)
         else:

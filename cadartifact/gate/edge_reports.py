@@ -58,32 +58,25 @@ def edge_lines(entry: GateFile, units: str) -> list[str]:
     return lines
 
 
-def edge_results(entry: GateFile, uri: str, index: dict, fingerprint) -> list[dict]:
-    """SARIF results of one file's shared edges that warn or fail (``index``: rule id -> rule index)."""
+def edge_results(add, entry: GateFile) -> None:
+    """SARIF results of one file's shared edges that warn or fail, through the report's ``add`` (the edge's line,
+    its ``#id`` as the finding's record, so that its fingerprint is the edge's)."""
     from ..analysis.quality import CRITERIA
 
-    out = []
     for e in entry.get("edges") or []:
         for c in e["criteria"]:
             if not (c["evaluated"] and c["verdict"] in ("warn", "fail")):
                 continue
-            rule = CRITERIA[c["criterion"]].rule[0]
             label = edge_label(entry["path"], e)
-            loc = {"physicalLocation": {"artifactLocation": {"uri": uri}, "region": {"startLine": e.get("line") or 1}},
-                   "logicalLocations": [{"name": f"edge {e['edge']}" + (f" #{e['entity']}" if e.get("entity")
-                                                                         is not None else ""),
-                                         "fullyQualifiedName": label, "kind": "element"}]}
-            out.append({"ruleId": rule, "ruleIndex": index[rule], "level": "error" if c["verdict"] == "fail" else
-                        "warning", "message": {"text": f"{label}: {c['code']}: {edge_text(c, 'mm')}"},
-                        "locations": [loc],
-                        "partialFingerprints": {"cadartifactEdge/v1": fingerprint(rule, uri, e["edge"], *e["faces"])},
-                        "properties": {"verdict": c["verdict"], "edge": e["edge"], "faces": e["faces"],
-                                       "criterion": c["criterion"], "code": c["code"], "value": c["value"],
-                                       "unit": c["unit"], "threshold": c["threshold"], "at": c["at"],
-                                       "detail": c["detail"],
-                                       "entity": None if e.get("entity") is None else f"#{e['entity']}",
-                                       "entity_line": e.get("line")}})
-    return out
+            entity = None if e.get("entity") is None else f"#{e['entity']}"
+            logical = {"name": f"edge {e['edge']}" + (f" {entity}" if entity else ""), "fullyQualifiedName": label,
+                       "kind": "element"}
+            add(CRITERIA[c["criterion"]].rule[0], "error" if c["verdict"] == "fail" else "warning",
+                f"{label}: {c['code']}: {edge_text(c, 'mm')}", entry["path"], None,
+                {"verdict": c["verdict"], "edge": e["edge"], "faces": e["faces"], "code": c["code"],
+                 "value": c["value"], "unit": c["unit"], "threshold": c["threshold"], "at": c["at"],
+                 "detail": c["detail"], "entity": entity, "entity_line": e.get("line")},
+                record=entity or f"edge {e['edge']}", line=e.get("line"), logical=logical)
 
 
 def edge_junit(suite, entry: GateFile, counts: dict) -> None:

@@ -1,4 +1,5 @@
-"""Report writers of the quality gate: text (rich), JSON, JUnit XML and SARIF 2.1.0.
+"""Report writers of the quality gate: text (rich), JSON, JUnit XML and SARIF 2.1.0 (GitLab Code Quality:
+:mod:`cadartifact.gate.codequality`).
 
 Every writer takes the gate document (:func:`cadartifact.gate.run.build_document`) and returns text;
 :func:`write_atomic` puts it in a file so that no partial report is ever left behind (temporary
@@ -12,11 +13,14 @@ What goes where:
   without analysable face a ``<skipped>`` testcase.
 - SARIF: one result per finding (``fail`` CA001 error, ``warn`` CA002 warning, unreadable file
   CA003 error, no analysable face CA004 note, OBJ cage analysed below ``min_analysed_share`` CA005
-  error, OBJ cage with an extraordinary vertex's defect beyond the tolerance CA007 error); passing faces are not findings. Locations are the file (URI relative to the working
-  directory) at the line where the face's STEP entity (``#id = ADVANCED_FACE``) is defined (line 1
-  for OBJ and files without one), and the face (with its ``#id``) as a logical location; the
-  properties carry the entity, its line and the peak's ``uv`` and ``xyz`` (``peak_at``);
-  ``partialFingerprints`` keep alerts stable across runs.
+  error, OBJ cage with an extraordinary vertex's defect beyond the tolerance CA007 error); passing faces are
+  not findings. Locations are the file (URI relative to the run's root, its
+  ``uriBaseId`` ``SRCROOT``: :mod:`cadartifact.gate.locations`) at the line where the face's STEP entity
+  (``#id = ADVANCED_FACE``) is defined (line 1 for OBJ and files without one), and the face (with its ``#id``)
+  as a logical location; the properties carry the entity, its line, the peak's ``uv`` and ``xyz``
+  (``peak_at``), and the finding's ``path``, ``record`` and ``criterion``; ``partialFingerprints`` (a hash of
+  those three: :func:`cadartifact.gate.locations.fingerprint`) keep alerts stable across runs and machines.
+  The GitLab Code Quality report (:mod:`cadartifact.gate.codequality`) is these results in GitLab's form.
 - PDQ criteria (``--profile``, :mod:`cadartifact.gate.profiles`): every report lists them per face with value,
   threshold and the worst place (text: a ``pdq`` line per face and one per criterion that warns or fails;
   JUnit: a ``pdq.<criterion>`` property each, a failing criterion is the testcase's ``<failure>`` when the
@@ -28,20 +32,18 @@ What goes where:
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
 import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
-from urllib.parse import quote
 
 from ..errors import InputError
-from ..registry import LiveMapping, LiveTuple
 from ..runs.face_instances import NOTE as REPEAT_NOTE
 from ..runs.records import plural, unit_name
-from .edge_reports import edge_junit, edge_lines, edge_results
+from .edge_reports import edge_junit, edge_lines
+from .rules import CRITERION_RULES, RULES, SARIF_SCHEMA
 
 if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.md)
     from ..runs.documents.face import AdviceRecord
@@ -50,49 +52,7 @@ if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.m
 __all__ = ["FORMATS", "RULES", "CRITERION_RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit",
            "to_sarif", "write_atomic", "face_label", "criterion_text", "criteria_lines", "profile_line"]
 
-FORMATS = ("text", "json", "junit", "sarif")
-
-SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
-
-#: SARIF rules: id, name, default level, short description; those of the PDQ criteria come from their registry
-#: (:data:`cadartifact.analysis.quality.CRITERIA`, ``rule``), between CA005 and CA110.
-_OWN_RULES = (
-    ("CA001", "ripple-exceeds-tolerance", "error",
-     "A face's control-net ripple (artifact) exceeds the tolerance"),
-    ("CA002", "ripple-near-tolerance", "warning",
-     "A face's ripple is within the tolerance but above the warn fraction of it, is undecided (its value "
-     "+/- the intent's uncertainty U straddles the tolerance; policy undecided = 'warn'), or has non-uniform "
-     "knots and is capped at warn by policy (measured = 'warn')"),
-    ("CA003", "unreadable-file", "error",
-     "A file could not be read or analysed; the gate fails closed"),
-    ("CA004", "no-analysable-face", "note",
-     "A file has no B-spline face or quad chart to analyse"),
-    ("CA005", "analysed-share-too-small", "error",
-     "An OBJ cage's analysed charts cover less of its area than the policy's min_analysed_share"),
-    ("CA007", "extraordinary-vertex-defect", "error",
-     "An OBJ cage's extraordinary vertex has a limit-surface shape defect beyond the tolerance"),
-)
-_NOT_EVALUATED = ("CA110", "pdq-not-evaluated", "note",
-                  "A PDQ criterion could not be evaluated on a face (the reason is given)")
-
-
-def _rules() -> tuple:
-    from ..analysis.quality import CRITERIA
-
-    criteria = tuple((spec.rule[0], spec.rule[1], "warning", spec.rule[2]) for spec in CRITERIA.values())
-    return _OWN_RULES + criteria + (_NOT_EVALUATED,)
-
-
-def _criterion_rules() -> dict:
-    from ..analysis.quality import CRITERIA
-
-    return {key: spec.rule[0] for key, spec in CRITERIA.items()}
-
-
-RULES = LiveTuple(_rules)
-
-#: SARIF rule of each PDQ criterion (:data:`cadartifact.analysis.quality.CRITERIA`, in order).
-CRITERION_RULES = LiveMapping(_criterion_rules)
+FORMATS = ("text", "json", "junit", "sarif", "gitlab")
 
 _COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red"}
 _DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total")
@@ -240,7 +200,7 @@ def file_units(doc: GateDocument, entry: GateFile) -> str:
     return unit_name(entry.get("units") if entry.get("units") else (doc["units"] if entry.get("faces") else None))
 
 
-def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
+def render_text(doc: GateDocument, console, wide: bool | None = None, wrap: bool = True) -> None:
     """Print one rich table per file (shares of the tolerance per direction, value, verdict) and a summary.
 
     ``wide`` (default: a console of 110 columns or more) shows scheme, method and every direction;
@@ -248,12 +208,14 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
     and verdict, with scheme and method under the table; no cell is cut or wraps inside a number.
     Paths and face names are never broken: each file's heading is a line of its own, and on a console that
     wraps nothing (:func:`~cadartifact.runs.terminal.wraps_nothing`: a log, a file) face labels are whole
-    and a table takes its content's width.
+    and a table takes its content's width. Explanation lines are wrapped at spaces to the console's width
+    (``wrap``; never inside a path or a face label: :func:`~cadartifact.runs.terminal.say`).
     """
     from rich.markup import escape
     from rich.table import Table
 
-    from ..runs.terminal import WIDE_COLUMNS, canonical_lines, face_cell, print_table, worst_direction, wraps_nothing
+    from ..runs.terminal import (WIDE_COLUMNS, canonical_lines, face_cell, print_table, say, worst_direction,
+                                 wraps_nothing)
 
     if wide is None:
         wide = console.width >= WIDE_COLUMNS
@@ -267,6 +229,7 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
         units = file_units(doc, entry)
         share = entry.get("analysed_share")
         cover = "" if share is None else f", cage area analysed {100 * share:.1f} %"
+        keep = [entry["path"]] + [face_label(entry["path"], f) for f in entry["faces"]]
         title = (f"{escape(entry['path'])}  [{_COLOURS[v]}]{v.upper()}[/]  (tolerance {pol['tolerance']:g} "
                  f"{units}, {pol['metric']}, warn at {pol['warn_fraction']:g}{cover})")
         if entry["faces"]:
@@ -296,42 +259,43 @@ def render_text(doc: GateDocument, console, wide: bool | None = None) -> None:
         else:
             console.print(title, soft_wrap=True)
         for line in canonical_lines(entry["faces"]):  # no ripple along their exact directions
-            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+            say(console, f"  {line}", keep, wrap)
         for f in entry["faces"]:
             if f["verdict"] != "pass":
                 where = where_text(f, units)
                 what = f" ({f['canonical']})" if f.get("canonical") else ""
-                console.print(f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
-                              + (f"; {where}" if where else ""), soft_wrap=True, markup=False, highlight=False)
+                say(console, f"  {f['verdict']}: {face_label(entry['path'], f)}{what}: {f['verdict_reason']}"
+                    + (f"; {where}" if where else ""), keep, wrap)
         for line in criteria_lines(entry, units) + edge_lines(entry, units):
-            console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
+            say(console, f"  {line}", keep, wrap)
         repeats = 0
         for f in entry["faces"]:  # what the analysis could not judge on a face: never silent
             for note in f.get("notes") or []:
                 if note.startswith(REPEAT_NOTE):  # not a judgement: counted below
                     repeats += 1
                     continue
-                console.print(f"  note: {face_label(entry['path'], f)}: {note}", soft_wrap=True, markup=False,
-                              highlight=False)
+                say(console, f"  note: {face_label(entry['path'], f)}: {note}", keep, wrap)
         if repeats:
             verb, whose = ("repeats", "its") if repeats == 1 else ("repeat", "their")
-            console.print(f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
-                          "is reused (the JSON report names the face)", soft_wrap=True)
+            say(console, f"  note: {plural(repeats, 'face')} {verb} an earlier face moved rigidly: {whose} analysis "
+                "is reused (the JSON report names the face)", keep, wrap)
         if entry.get("share_failure"):
-            console.print(f"  fail: {entry['path']}: {entry['share_failure']}", soft_wrap=True, markup=False,
-                          highlight=False)
+            say(console, f"  fail: {entry['path']}: {entry['share_failure']}", keep, wrap)
         if entry.get("extraordinary_failure"):
-            console.print(f"  fail: {entry['path']}: {entry['extraordinary_failure']}", soft_wrap=True,
-                          markup=False, highlight=False)
+            say(console, f"  fail: {entry['path']}: {entry['extraordinary_failure']}", keep, wrap)
         if entry.get("cage_advice") and entry["verdict"] != "pass":
             for line in entry["cage_advice"]["text"]:
-                console.print(f"  advice: {line}", soft_wrap=True, markup=False, highlight=False)
+                say(console, f"  advice: {line}", keep, wrap)
         for note in entry["notes"] + entry["warnings"]:
-            console.print(f"  note: {note}", soft_wrap=True, markup=False, highlight=False)
+            say(console, f"  note: {note}", keep, wrap)
     prof = profile_line(doc)
     if prof:
-        console.print(prof, soft_wrap=True, markup=False, highlight=False)
-    console.print(summary_line(doc))
+        say(console, prof, (), wrap)
+    from .baseline import baseline_lines
+
+    for line in baseline_lines(doc):
+        say(console, line, (), wrap)
+    console.print(summary_line(doc), soft_wrap=not wrap)  # rich wraps it at spaces
 
 
 def summary_line(doc: GateDocument) -> str:
@@ -351,8 +315,17 @@ def summary_line(doc: GateDocument) -> str:
     if crit:
         text += "; PDQ: " + ", ".join(f"{k} " + " ".join(f"{n[v]} {v}" for v in ("fail", "warn") if n[v])
                                       for k, n in crit.items())
+    whole = sum(1 for e in doc["files"] if e.get("share_failure"))
+    if whole:  # a file-level failure no face carries: counted, so that the verdict adds up
+        text += f"; {whole} file(s) fail as a whole (analysed share below min_analysed_share)"
     if s["errors"]:
         text += f"; {s['errors']} file(s) could not be read or analysed"
+    base = doc.get("baseline")
+    if base:
+        from rich.markup import escape
+
+        text += (f"; baseline {escape(base['source'])}: {len(base['new'])} new, {len(base['worse'])} worse, "
+                 f"{base['known']} known, {len(base['fixed'])} fixed")
     return text + f" (exit {doc['exit_code']})"
 
 
@@ -363,7 +336,7 @@ def to_text(doc: GateDocument, width: int = 132) -> str:
 
     buf = io.StringIO()
     render_text(doc, Console(file=buf, width=width, color_system=None, force_terminal=False, highlight=False,
-                             soft_wrap=True))
+                             soft_wrap=True), wrap=False)
     return buf.getvalue()
 
 
@@ -464,102 +437,11 @@ def to_junit(doc: GateDocument) -> str:
 
 
 # ---------------------------------------------------------------- sarif
-def _uri(path: str, cwd: str) -> str:
-    absolute = os.path.abspath(path)
-    try:
-        rel = os.path.relpath(absolute, cwd)
-    except ValueError:  # another drive
-        return Path(absolute).as_uri()
-    return quote(Path(rel).as_posix())
-
-
-def _fingerprint(*parts) -> str:
-    return hashlib.sha256("\0".join(map(str, parts)).encode()).hexdigest()[:32]
-
-
 def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
-    """SARIF 2.1.0 log: tool.driver ``cadartifact`` with rules CA001-CA004, one result per finding."""
-    from .. import __version__
+    """SARIF 2.1.0 log of a gate document: :func:`cadartifact.gate.sarif.sarif_log`."""
+    from .sarif import sarif_log
 
-    cwd = os.path.abspath(cwd or os.getcwd())
-    index = {rule_id: i for i, (rule_id, *_rest) in enumerate(RULES)}
-    rules = [{"id": rid, "name": name, "shortDescription": {"text": text}, "fullDescription": {"text": text},
-              "defaultConfiguration": {"level": level}, "help": {"text": text}}
-             for rid, name, level, text in RULES]
-    results = []
-
-    def add(rule_id: str, level: str, text: str, path: str, face: GateFace | None, props: dict):
-        # the line of the face's STEP entity (#id = ADVANCED_FACE...); line 1 where there is none (OBJ)
-        line = (face or {}).get("entity_line") or 1
-        loc = {"physicalLocation": {"artifactLocation": {"uri": _uri(path, cwd)}, "region": {"startLine": line}}}
-        if face is not None:
-            entity = f" #{face['entity']}" if face.get("entity") is not None else ""
-            loc["logicalLocations"] = [{"name": f"face {face['face']}" + (f" {face['name']}" if face.get("name")
-                                                                            else "") + entity,
-                                        "fullyQualifiedName": face_label(path, face), "kind": "element"}]
-        results.append({"ruleId": rule_id, "ruleIndex": index[rule_id], "level": level, "message": {"text": text},
-                        "locations": [loc],
-                        "partialFingerprints": {"cadartifactFace/v1": _fingerprint(
-                            rule_id, _uri(path, cwd), None if face is None else face["face"])},
-                        "properties": props})
-
-    for entry in doc["files"]:
-        path = entry["path"]
-        if entry["verdict"] == "error":
-            add("CA003", "error", entry["error"], path, None, {"verdict": "error"})
-            continue
-        if entry.get("share_failure"):
-            add("CA005", "error", f"{path}: {entry['share_failure']}", path, None,
-                {"verdict": "fail", "analysed_share": entry.get("analysed_share")})
-        if entry.get("extraordinary_failure"):
-            add("CA007", "error", f"{path}: {entry['extraordinary_failure']}", path, None,
-                {"verdict": "fail", "vertices": [v["vertex"] for v in entry["extraordinary"] if v["within"] is False]})
-        if not entry["faces"] and not entry.get("edges"):
-            add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
-                {"verdict": entry["verdict"]})
-        results.extend(edge_results(entry, _uri(path, cwd), index, _fingerprint))
-        for f in entry["faces"]:
-            _criteria_results(add, f, path, file_units(doc, entry))
-            ripple = f.get("ripple_verdict", f["verdict"])
-            if ripple == "pass":
-                continue
-            rule_id, level = ("CA001", "error") if ripple == "fail" else ("CA002", "warning")
-            props = {"verdict": f["verdict"], "face": f["face"], "value": f["value"],
-                     "tolerance": entry["policy"]["tolerance"], "metric": entry["policy"]["metric"],
-                     "peaks": {k: f["budget"][k]["peak"] for k in _DIRECTIONS}, "net": f["net"],
-                     "advised_net": f["advice"]["net"] if f["advice"] else None, "units": file_units(doc, entry),
-                     "entity": None if f.get("entity") is None else f"#{f['entity']}",
-                     "entity_line": f.get("entity_line"), "peak_at": f.get("peak_at")}
-            add(rule_id, level, f"{face_label(path, f)}: {face_numbers(doc, entry, f)}", path, f, props)
-    log = {
-        "$schema": SARIF_SCHEMA,
-        "version": "2.1.0",
-        "runs": [{
-            "tool": {"driver": {"name": "cadartifact", "version": __version__, "semanticVersion": __version__,
-                                "rules": rules}},
-            "invocations": [{"executionSuccessful": doc["exit_code"] != 2, "exitCode": doc["exit_code"]}],
-            "results": results,
-            "properties": {"verdict": doc["verdict"], "summary": doc["summary"]},
-        }],
-    }
-    return json.dumps(log, indent=2, allow_nan=False) + "\n"
-
-
-def _criteria_results(add, f: GateFace, path: str, units: str) -> None:
-    """SARIF results of a face's PDQ criteria: one per criterion that warns or fails, one note for those not
-    evaluated."""
-    crit = f.get("criteria") or []
-    for c in crit:
-        if c["evaluated"] and c["verdict"] in ("warn", "fail"):
-            add(CRITERION_RULES[c["criterion"]], "error" if c["verdict"] == "fail" else "warning",
-                f"{face_label(path, f)}: {c['code']}: {criterion_text(c, units)}", path, f,
-                {"verdict": c["verdict"], "face": f["face"], "criterion": c["criterion"], "code": c["code"],
-                 "value": c["value"], "unit": c["unit"], "threshold": c["threshold"], "at": c.get("at"),
-                 "detail": c["detail"], "entity": None if f.get("entity") is None else f"#{f['entity']}"})
-    missing = [c for c in crit if not c["evaluated"]]
-    if missing:
-        add("CA110", "note", f"{face_label(path, f)}: " + "; ".join(criterion_text(c, units) for c in missing),
-            path, f, {"face": f["face"], "criteria": {c["criterion"]: c["reason"] for c in missing}})
+    return sarif_log(doc, cwd)
 
 
 # ---------------------------------------------------------------- files

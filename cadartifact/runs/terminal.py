@@ -19,8 +19,8 @@ if TYPE_CHECKING:  # the records the tables read (runs/documents: docs/schema.md
     from .documents.advise import AdviseDocument
     from .documents.face import FaceRecord, Shares
 
-__all__ = ["WIDE_COLUMNS", "canonical_lines", "direction_reason", "face_cell", "worst_direction", "wraps_nothing", "print_table", "render",
-           "RichProgress", "LineProgress"]
+__all__ = ["WIDE_COLUMNS", "canonical_lines", "direction_reason", "face_cell", "worst_direction", "wraps_nothing",
+           "print_table", "render", "RichProgress", "LineProgress", "say"]
 
 
 def _mm_pct(value, share) -> str:
@@ -79,6 +79,21 @@ def wraps_nothing(console) -> bool:
     """Whether ``console`` wraps no line (``soft_wrap``: the command line's console off a terminal): then
     no name is cut or folded and tables take their content's width."""
     return bool(getattr(console, "soft_wrap", False))
+
+
+def say(console, text: str, keep=(), wrap: bool = True) -> None:
+    """Print an explanation line (plain text, no markup), wrapped at spaces to the console's width with
+    continuation lines indented by 4; never inside a word, so that a path stays whole, nor inside the ``keep``
+    strings (face labels: ``part.step#3 outer skin``). ``wrap`` False: one line, as it is (a report file)."""
+    if wrap and len(text) > console.width:
+        import textwrap
+
+        glue = "\ue000"  # a private-use character: a space textwrap does not break at
+        for k in sorted(keep, key=len, reverse=True):  # a label before the path it starts with
+            text = text.replace(k, k.replace(" ", glue))
+        text = "\n".join(textwrap.wrap(text, width=console.width, subsequent_indent="    ", break_long_words=False,
+                                       break_on_hyphens=False)).replace(glue, " ")
+    console.print(text, soft_wrap=True, markup=False, highlight=False)
 
 
 def print_table(console, table, heading: str | None = None) -> None:
@@ -206,8 +221,11 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
             console.print(f"  [yellow]warning:[/] {escape(w)}")
     s = doc["summary"]
     console.print(f"[bold]{plural(s['faces'], 'face')} in {plural(s['files'], 'file')}: {s['within']} within tolerance, "
-                  f"{s['exceeding']} exceeding[/]" + (f", {s['undecided']} undecided" if s.get("undecided") else "")
-                  + (f", {s['unreachable']} out of reach" if s["unreachable"] else ""))
+                  f"{s['exceeding']} exceeding[/]"
+                  # out of reach: a named subset of the exceeding (and undecided) faces, never a class of its own
+                  + (f", {s['undecided']} undecided" if s.get("undecided") else "")
+                  + (f" ({s['unreachable']} of them out of reach: no density up to the search limit meets the "
+                     "tolerance)" if s["unreachable"] else ""))
     if any((ff["advice"].get("verification") or {}).get("meets") is False for fl in doc["files"] for ff in fl["faces"]):
         console.print("[yellow]?[/] the advised net did not verify on the real surface's interior "
                       "(clamped ends of strongly curved faces): see the JSON 'verification'.")

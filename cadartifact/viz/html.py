@@ -416,12 +416,16 @@ def render_html(doc: Document, *, heatmaps: bool = True, maps: bool = True) -> s
                else "")
     parts.append(f"<header><h1>cadartifact {'quality gate' if gate else 'density advice'}{verdict}</h1>"
                  f'<div class="meta">{" · ".join(meta)}</div></header><main>')
+    # every face in one class of each row: within + undecided + exceeding = pass + warn + fail = faces; "out of
+    # reach" is named as a subset, files failing as a whole (analysed share) and unreadable ones are files
     cards = [("files", summary.get("files")), ("faces", summary.get("faces")), ("within", summary.get("within")),
-             ("exceeding", summary.get("exceeding")), ("out of reach", summary.get("unreachable"))]
+             ("undecided", summary.get("undecided") or None), ("exceeding", summary.get("exceeding")),
+             ("of them out of reach", summary.get("unreachable"))]
     if gate:
         fv = summary.get("verdicts", {}).get("faces", {})
+        whole = sum(1 for e in doc["files"] if e.get("share_failure"))
         cards += [("pass", fv.get("pass")), ("warn", fv.get("warn")), ("fail", fv.get("fail")),
-                  ("file errors", summary.get("errors"))]
+                  ("files failing whole", whole or None), ("file errors", summary.get("errors"))]
     parts.append('<div class="cards">' + "".join(
         f'<div class="card"><div class="n">{_e(v)}</div><div class="l">{_e(k)}</div></div>'
         for k, v in cards if v is not None) + "</div>")

@@ -108,7 +108,7 @@ def choose_layout(maps, layout: str = "auto") -> str:
 def camera(maps) -> tuple[np.ndarray, np.ndarray]:
     """``(towards, up)``: the unit direction from the scene to the camera and the camera's up vector of the scene of
     ``maps``: one face seen along its mean normal, several faces (or a face curved all round) isometrically."""
-    normal = mean_normal(maps[0]) if len(maps) == 1 else None
+    normal = best_view(maps[0]) if len(maps) == 1 else None
     if normal is None:  # pyvista's isometric view
         return np.ones(3) / np.sqrt(3.0), np.array([0.0, 0.0, 1.0])
     up = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
@@ -175,22 +175,19 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, 
                 plotter.add_mesh(at, scalars="rgb", rgb=True, point_size=16, render_points_as_spheres=True,
                                  show_scalar_bar=False)
             if face_labels:
-                worst = sorted(maps, key=lambda m: -m.peak)[:LABELLED_FACES]  # labels of all 40 would overlap
-                centres = np.array([_centre(m) for m in worst])
-                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in worst], font_size=14,
-                                         point_size=1, shape_opacity=0.5, always_visible=True)
-            if len(maps) == 1 and mean_normal(maps[0]) is not None:  # a face seen along its mean normal
+                shown = labelled_faces(maps)
+                centres = np.array([_centre(m) for m in shown])
+                plotter.add_point_labels(centres, [str(m.net.origin.face) for m in shown],
+                                         font_size=14 if len(shown) <= 12 else 10, point_size=1, shape_opacity=0.5,
+                                         always_visible=True)
+            if len(maps) == 1 and best_view(maps[0]) is not None:  # a face seen square on, not edge-on
                 plotter.view_vector(towards, viewup=up)
             else:
                 plotter.view_isometric()
             if len(maps) > 1:  # the whole-model view: an axis triad and a scale bar along the longest side
                 plotter.add_axes()
             if len(maps) > 1 and not reflection:  # (the stripes read better without the bar across them)
-                pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
-                lo, hi = pts.min(axis=0), pts.max(axis=0)
-                k = int(np.argmax(hi - lo))
-                a, b = lo.copy(), lo.copy()
-                b[k] = hi[k]
+                a, b = ruler_ends(maps)
                 plotter.add_ruler(a, b, title=unit_text(maps[0].net.unit), number_labels=3, font_size_factor=0.6,
                                   label_size_factor=0.6)
             plotter.reset_camera()
@@ -199,8 +196,32 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, 
             plotter.close()
 
 
-#: Faces labelled with their index in a whole-model view (the worst ones).
-LABELLED_FACES = 6
+#: A face smaller than this share of the scene's size is tiny: a whole-model view does not label it.
+TINY_FACE = 0.03
+
+
+def labelled_faces(maps) -> list:
+    """The faces a whole-model view labels with their index: every face whose bounding box's diagonal is at
+    least :data:`TINY_FACE` of the scene's (a tiny face's label would cover its neighbours)."""
+    pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+    scene = float(np.linalg.norm(np.ptp(pts, axis=0)))
+    return [m for m in maps if float(np.linalg.norm(np.ptp(m.points.reshape(-1, 3), axis=0))) >= TINY_FACE * scene]
+
+
+def ruler_ends(maps) -> tuple[np.ndarray, np.ndarray]:
+    """The scale bar of a whole-model view: along the model's longest side, moved off the model by a tenth of
+    its extent below its shortest side and beyond its middle one, the side the isometric camera (from +x+y+z)
+    sees in front, so that neither the bar nor its labels cover a face."""
+    pts = np.concatenate([m.points.reshape(-1, 3) for m in maps])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    shortest, middle, k = (int(j) for j in np.argsort(hi - lo))
+    size = float((hi - lo)[k])
+    a = lo.copy()
+    a[shortest] -= 0.1 * size
+    a[middle] = hi[middle] + 0.1 * size
+    b = a.copy()
+    b[k] = hi[k]
+    return a, b
 
 
 def noise_floor(maps) -> float:
@@ -227,6 +248,22 @@ def mean_normal(m: FaceMap) -> np.ndarray | None:
     if not area > 0 or length < 0.2 * area:
         return None
     return total / length
+
+
+def best_view(m: FaceMap) -> np.ndarray | None:
+    """The direction a face's picture looks from: its mean normal (:func:`mean_normal`), else, for a face that
+    curves all round (a cylinder), the normal of the plane that best fits its points inside the trim (the
+    principal axis of least spread), from which the face shows its largest extent, never edge-on as a curve."""
+    normal = mean_normal(m)
+    if normal is not None:
+        return normal
+    p = np.asarray(m.points, float).reshape(-1, 3)
+    inside = np.isfinite(np.asarray(m.values, float).reshape(-1))
+    p = p[inside] if inside.sum() >= 3 else p
+    if len(p) < 3:
+        return None
+    _, s, vt = np.linalg.svd(p - p.mean(axis=0), full_matrices=False)
+    return vt[-1] if s[0] > 0 else None
 
 
 def little_surface_reason(m: FaceMap) -> str:
@@ -364,10 +401,23 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     if not reflection:
         bar.set_label(label(direction, unit_text(unit)), fontsize=11)
         bar.ax.tick_params(labelsize=9)
+        fig.legend(handles=legend_handles(maps, show_net), loc="lower right", fontsize=9, frameon=False)
     if title:
         fig.text(0.01, 0.985, title, ha="left", va="top", fontsize=12)
     fig.canvas.draw()
     return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+
+
+def legend_handles(maps, show_net: bool) -> list:
+    """What the marks on the faces mean: the peak's magenta dot (faces with ripple) and the control net."""
+    from matplotlib.lines import Line2D
+
+    handles = []
+    if any(m.peak > noise_floor(maps) for m in maps):
+        handles.append(Line2D([], [], color="magenta", marker="o", linestyle="", label="peak of each face"))
+    if show_net:
+        handles.append(Line2D([], [], color="black", alpha=0.5, label="control net"))
+    return handles
 
 
 def _net_lines(nu: int, nv: int) -> np.ndarray:

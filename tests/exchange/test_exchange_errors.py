@@ -107,8 +107,13 @@ def test_cli_fails_closed_on_one_bad_file_among_good_ones(cases):
     bad, _, _ = cases["truncated"]
     result = CliRunner().invoke(app, ["inspect", str(SAMPLE_STEP), str(bad), "--json"])
     assert result.exit_code == 2 and "{" not in result.output and bad.name in result.output
+    # text: the good file's table beside the error (issue 42), exit 2 still
     result = CliRunner().invoke(app, ["inspect", str(SAMPLE_STEP), str(bad)])
-    assert result.exit_code == 2 and "wavy_panel_diagonal" not in result.output.replace(str(SAMPLE_STEP), "")
+    assert result.exit_code == 2 and "wavy_panel_diagonal" in result.stdout.replace(str(SAMPLE_STEP), "")
+    assert bad.name in result.stderr and bad.name not in result.stdout
+    missing = CliRunner().invoke(app, ["inspect", str(SAMPLE_STEP), str(bad.parent / "missing.step")])
+    assert missing.exit_code == 2 and "wavy_panel_diagonal" in missing.stdout.replace(str(SAMPLE_STEP), "")
+    assert "missing.step" in missing.stderr
 
 
 def test_cli_inspect_json_schema_and_tables():

@@ -17,7 +17,7 @@ from .keys import Pair, Triple, TypedDict
 __all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "CriterionAt", "CriterionRecord",
            "GateFace", "EdgeAt", "EdgeGap", "EdgeAngle", "EdgeCurvature", "EdgeCriterion", "GateEdge", "EdgeCounts",
            "EdgeSummary", "ProfileRecord", "PolicyRecord", "GateFile", "CriterionCounts", "FaceCounts", "FileCounts",
-           "VerdictCounts", "GateSummary", "GateDocument"]
+           "VerdictCounts", "GateSummary", "BaselineFinding", "BaselineRecord", "GateDocument"]
 
 #: The ``gate`` key of the gate document.
 GATE_SCHEMA = "cadartifact.gate/3"
@@ -287,6 +287,46 @@ class GateSummary(SummaryCounts, closed=True):
     verdicts: VerdictCounts
 
 
+class BaselineFinding(TypedDict, closed=True):
+    """A finding as a baseline lists it (``gate --update-baseline``)."""
+
+    fingerprint: str
+    """The hash of ``path``, ``record`` and ``criterion`` (SARIF ``partialFingerprints``, GitLab's ``fingerprint``)."""
+    rule: str
+    """The SARIF rule (``CA001``...)."""
+    level: Literal["error", "warning", "note"]
+    path: str
+    """The file, relative to the run's root, ``/``-separated."""
+    record: str
+    """The face's STEP record (``#1234``), ``face N`` without one, ``""`` for the whole file."""
+    criterion: str
+    """``ripple``, or the rule's name."""
+    value: float | None
+    uncertainty: float | None
+    """The reading's uncertainty U (null: none)."""
+    sense: Sense
+    """``above``: a higher value is worse; ``below``: a lower one."""
+    previous: NotRequired[float | None]
+    """A worse finding: the baseline's value."""
+
+
+class BaselineRecord(TypedDict, closed=True):
+    """This run's findings against a baseline (``gate --baseline``)."""
+
+    source: str
+    """The baseline file."""
+    new: list[BaselineFinding]
+    """Findings the baseline does not have."""
+    worse: list[BaselineFinding]
+    """Findings whose reading got worse beyond its uncertainty."""
+    known: int
+    """Findings the baseline has, not worse."""
+    fixed: list[BaselineFinding]
+    """The baseline's findings this run no longer has."""
+    exit_code: Literal[0, 1, 2]
+    """2: a file could not be read; 1: a new or worse finding fails; else 0."""
+
+
 class GateDocument(TypedDict, closed=True):
     """The gate document: pass / warn / fail per face and file, and the exit code."""
 
@@ -310,3 +350,6 @@ class GateDocument(TypedDict, closed=True):
     summary: GateSummary
     verdict: Verdict
     exit_code: Literal[0, 1, 2]
+    """With a baseline, the baseline's (``baseline.exit_code``)."""
+    baseline: NotRequired[BaselineRecord]
+    """Only with ``--baseline``."""
