@@ -88,7 +88,8 @@ def gate_cmd(
 
     from ..gate.run import build_document, run_gate
     from ..gate.policy import base_settings, check_cli, expand_paths, find_policy, load_policy
-    from ..gate.reports import FORMATS, render_text, summary_line, to_json, to_junit, to_sarif, to_text, write_atomic
+    from ..gate.reports import FORMATS, render_text, summary_line, to_json, to_junit, to_text, write_atomic
+    from ..gate.sarif import to_sarif
 
     check_option("--format", fmt, FORMATS)
     if jobs is not None and jobs < 1:

@@ -37,7 +37,7 @@ _KEYS = ("fingerprint", "rule", "level", "path", "record", "criterion", "value",
 
 
 def finding(result: dict) -> dict:
-    """A SARIF result of :func:`cadartifact.gate.reports.to_sarif` as a baseline lists it (:data:`_KEYS`)."""
+    """A SARIF result of :func:`cadartifact.gate.sarif.to_sarif` as a baseline lists it (:data:`_KEYS`)."""
     p = result["properties"]
     value, sense = p.get("value"), (p.get("threshold") or {}).get("sense", "above")
     if result["ruleId"] == "CA005":  # the analysed share: lower is worse

@@ -2,7 +2,7 @@
 
 GitLab reads a JSON array of issues (``artifacts: reports: codequality:`` in ``.gitlab-ci.yml``; the format is a
 subset of Code Climate's: https://docs.gitlab.com/ci/testing/code_quality/#code-quality-report-format). Each
-issue is one SARIF result of :func:`cadartifact.gate.reports.to_sarif`, so that both reports hold the same
+issue is one SARIF result of :func:`cadartifact.gate.sarif.to_sarif`, so that both reports hold the same
 findings with the same fingerprints:
 
 - ``description``: the result's message (the face, its numbers, where it peaks);
@@ -20,7 +20,8 @@ from __future__ import annotations
 import json
 
 from .locations import FINGERPRINT_KEY
-from .reports import RULES, to_sarif
+from .reports import RULES
+from .sarif import to_sarif
 
 __all__ = ["SEVERITIES", "findings", "baseline_findings", "apply_baseline", "to_gitlab"]
 
@@ -29,7 +30,7 @@ SEVERITIES = {"error": "major", "warning": "minor", "note": "info"}
 
 
 def findings(doc, cwd: str | None = None) -> list[dict]:
-    """The SARIF results of a gate document (:func:`~cadartifact.gate.reports.to_sarif`), each with its
+    """The SARIF results of a gate document (:func:`~cadartifact.gate.sarif.to_sarif`), each with its
     ``properties``: ``path`` (relative to the run's root), ``record``, ``criterion``, and its fingerprint under
     :data:`~cadartifact.gate.locations.FINGERPRINT_KEY`."""
     return json.loads(to_sarif(doc, cwd))["runs"][0]["results"]

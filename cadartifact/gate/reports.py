@@ -50,7 +50,7 @@ if TYPE_CHECKING:  # the records the writers read (runs/documents: docs/schema.m
     from ..runs.documents.gate import CriterionAt, CriterionRecord, GateDocument, GateFace, GateFile
 
 __all__ = ["FORMATS", "RULES", "CRITERION_RULES", "SARIF_SCHEMA", "render_text", "to_text", "to_json", "to_junit",
-           "to_sarif", "write_atomic", "face_label", "criterion_text", "criteria_lines", "profile_line"]
+           "write_atomic", "face_label", "criterion_text", "criteria_lines", "profile_line"]
 
 FORMATS = ("text", "json", "junit", "sarif", "gitlab")
 
@@ -437,13 +437,6 @@ def to_junit(doc: GateDocument) -> str:
 
 
 # ---------------------------------------------------------------- sarif
-def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
-    """SARIF 2.1.0 log of a gate document: :func:`cadartifact.gate.sarif.sarif_log`."""
-    from .sarif import sarif_log
-
-    return sarif_log(doc, cwd)
-
-
 # ---------------------------------------------------------------- files
 def write_atomic(path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file in the same folder and ``os.replace``.

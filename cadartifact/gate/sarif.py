@@ -16,10 +16,10 @@ from .rules import CRITERION_RULES, RULES, SARIF_SCHEMA
 if TYPE_CHECKING:
     from ..runs.documents.gate import GateDocument, GateFace
 
-__all__ = ["sarif_log"]
+__all__ = ["to_sarif"]
 
 
-def sarif_log(doc: GateDocument, cwd: str | None = None) -> str:
+def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
     """SARIF 2.1.0 log: tool.driver ``cadartifact`` with its rules, one result per finding; locations relative
     to the run's root (``uriBaseId``, :mod:`cadartifact.gate.locations`), fingerprints stable across runs and
     machines (``partialFingerprints``, the same as GitLab's and the baseline's)."""

@@ -39,7 +39,8 @@ def documents(entries, policy, cli, cwd) -> dict:
     """Every report of a run as text: json, text, junit, sarif and the HTML page (its clock blanked)."""
     from cadartifact.gate.run import build_document
     from cadartifact.gate.policy import base_settings
-    from cadartifact.gate.reports import to_json, to_junit, to_sarif, to_text
+    from cadartifact.gate.reports import to_json, to_junit, to_text
+    from cadartifact.gate.sarif import to_sarif
     from cadartifact.viz.html import render_html
 
     doc = build_document(entries, base_settings(policy, cli), policy)

@@ -18,7 +18,8 @@ from cadartifact.exchange.load import read  # noqa: E402
 from cadartifact.exchange.step_text import entity_line, entity_lines  # noqa: E402
 from cadartifact.gate.run import build_document, run_gate  # noqa: E402
 from cadartifact.gate.policy import base_settings, find_policy, load_policy, parse_policy  # noqa: E402
-from cadartifact.gate.reports import render_text, to_junit, to_sarif, to_text  # noqa: E402
+from cadartifact.gate.reports import render_text, to_junit, to_text  # noqa: E402
+from cadartifact.gate.sarif import to_sarif  # noqa: E402
 from cadartifact.runs.advising import advise_files
 from cadartifact.runs.records import analysed_share, peak_location
 from cadartifact.runs.terminal import render  # noqa: E402
@@ -53,7 +54,8 @@ def _at(width, draw):
 
 
 def _table_rows(text):
-    return [line for line in text.splitlines() if re.match(r"^[ │]\s*\d", line)]
+    # (not an explanation line's continuation, which is indented by 4)
+    return [line for line in text.splitlines() if re.match(r"^[ │]\s*\d", line) and not line.startswith("    ")]
 
 
 def test_advise_at_80_columns_cuts_no_cell_and_splits_no_value(advice_doc):

@@ -78,7 +78,8 @@ def test_include_signal_error_and_net_intent_agree_with_all(models):
 
 
 def test_every_report_format_takes_a_face_without_advice(pair, tmp_path):
-    from cadartifact.gate.reports import to_json, to_junit, to_sarif, to_text
+    from cadartifact.gate.reports import to_json, to_junit, to_text
+    from cadartifact.gate.sarif import to_sarif
     from cadartifact.viz.html import write_report
 
     policy = Policy(source=None)

@@ -20,7 +20,7 @@ from typer.testing import CliRunner
 from cadartifact.cli.app import app
 from cadartifact.gate.codequality import to_gitlab
 from cadartifact.gate.locations import FINGERPRINT_KEY, Fingerprints, fingerprint, relative, run_root
-from cadartifact.gate.reports import to_sarif
+from cadartifact.gate.sarif import to_sarif
 from cadartifact.testing.outcomes import no_traceback
 
 pytest.importorskip("OCP")

@@ -11,7 +11,8 @@ from cadartifact.errors import CadArtifactError, InputError
 from cadartifact.runs.verdicts import VERDICTS, face_verdict
 from cadartifact.gate.run import build_document, file_verdict
 from cadartifact.gate.policy import FileSettings, Policy, PolicyError, expand_paths, find_policy, load_policy, parse_policy
-from cadartifact.gate.reports import to_junit, to_sarif, write_atomic
+from cadartifact.gate.reports import to_junit, write_atomic
+from cadartifact.gate.sarif import to_sarif
 from cadartifact.testing.paths import ROOT
 
 REPO = ROOT
