@@ -165,7 +165,12 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     missing = [i for i in ignored if i not in present]
     if missing:
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
-    share = analysed_share(res)
+    vertices = None
+    if getattr(res, "mesh", None) is not None:
+        from ..runs.cage_records import measured_around, vertex_records
+
+        vertices = vertex_records(res.mesh, settings.tolerance)  # a cage's extraordinary vertices
+    share = analysed_share(res, measured_around(res, vertices) if vertices else ())
     entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
              "analysed_share": None if share is None else round(share, 9)}
     subdivided = subdivided_record(res)
@@ -173,11 +178,9 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
         entry["subdivided"] = subdivided
     entry |= {"skipped": dict(res.skipped), "warnings": list(res.warnings), "notes": notes,
              "ignored_faces": [i for i in ignored if i in present], "policy": settings.to_dict(), "faces": faces}
-    if getattr(res, "mesh", None) is not None and (part is None or part[0] == 0):
-        from ..runs.cage_records import vertex_records
-
-        # a cage's extraordinary vertices (batch 0 of a cluster run carries them: the merge keeps its keys)
-        entry["extraordinary"] = vertex_records(res.mesh, settings.tolerance)
+    if vertices is not None and (part is None or part[0] == 0):
+        # batch 0 of a cluster run carries them: the merge keeps its keys
+        entry["extraordinary"] = vertices
     if part is not None:
         entry["_part"] = {"index": part[0], "of": part[1], "positions": positions[:len(faces)], "error": error,
                           "share": share}

@@ -124,16 +124,22 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
             if progress:
                 progress("file", len(entries), str(path))
             record = {"path": str(path), "units": res.nets[0].unit if res.nets else None,
-                      "faces_total": res.faces_total, "analysed_share": json_number(analysed_share(res))}
+                      "faces_total": res.faces_total}
+            vertices = None
+            if getattr(res, "mesh", None) is not None:  # a cage: its extraordinary vertices and levels
+                from .cage_records import measured_around, vertex_records
+
+                vertices = vertex_records(res.mesh, settings.tolerance)
+            record["analysed_share"] = json_number(analysed_share(res, measured_around(res, vertices) if vertices
+                                                                  else ()))
             subdivided = subdivided_record(res)
             if subdivided is not None:
                 record["subdivided"] = subdivided
             doc_files.append({**record, "skipped": dict(res.skipped), "warnings": list(res.warnings),
                               "faces": entries})
-            if getattr(res, "mesh", None) is not None:  # a cage: its extraordinary vertices and levels
-                from .cage_records import cage_advice_record, vertex_records
+            if vertices is not None:
+                from .cage_records import cage_advice_record
 
-                vertices = vertex_records(res.mesh, settings.tolerance)
                 doc_files[-1].update(extraordinary=vertices, cage_advice=cage_advice_record(entries, vertices))
         units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
         return {"schema": SCHEMA, "tolerance": settings.tolerance, "units": units, "metric": settings.metric,

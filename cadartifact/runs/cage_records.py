@@ -49,3 +49,26 @@ def vertex_failure(vertices: list, tolerance: float) -> str | None:
     n = len(bad)
     return (f"{n} extraordinary {'vertices' if n > 1 else 'vertex'} beyond the tolerance {tolerance:g} (worst: vertex "
             f"{worst['vertex']}, valence {worst['valence']}, defect {worst['defect']:.3g})")
+
+
+def measured_around(result, vertices: list) -> list:
+    """Level-1 vertex ids (:attr:`LoadResult.refined`'s mesh) of the extraordinary vertices the vertex measure
+    analyses, for :func:`cadartifact.runs.records.analysed_share`: a cage vertex keeps its id after a
+    Catmull-Clark step (vertex points come first, in the cage's order); a triangle's or n-gon's centre is its face
+    point, the third corner of each of its child quads."""
+    refined = getattr(result, "refined", None)
+    if refined is None:
+        return []
+    first_child = {}
+    for k, f in enumerate(refined.parent):
+        first_child.setdefault(int(f), k)
+    out = []
+    for v in vertices:
+        if v.get("defect") is None:
+            continue
+        if v.get("face") is None:
+            out.append(int(v["vertex"]))
+        elif int(v["face"]) in first_child:
+            out.append(int(refined.mesh.faces[first_child[int(v["face"])]][2]))
+    return out
+
