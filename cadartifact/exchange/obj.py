@@ -195,6 +195,13 @@ def read_obj(path):
         raise InputError(path, f"no quad faces ({mesh.n_triangles} triangles, {mesh.n_ngons} n-gons): "
                          "a quad cage is needed")
     messages: list[str] = []
+    with open(path, "rb") as fh:  # a cage cut short loses faces without a parse error: say so
+        fh.seek(0, 2)
+        if fh.tell() > 0:
+            fh.seek(-1, 2)
+            if fh.read(1) not in (b"\n", b"\r"):
+                messages.append(f"{path}: the file does not end with a line break: it may be cut short (its last "
+                                "line is read as it stands)")
     nets, charts = [], []
     degenerate = 0
 
