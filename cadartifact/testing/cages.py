@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["fan_cage", "SURFACES", "write_obj"]
+__all__ = ["fan_cage", "cube_cage", "SURFACES", "write_obj"]
 
 
 def _plane(p):
@@ -97,3 +97,37 @@ def write_obj(path, vertices, faces) -> None:
             f.write("v {!r} {!r} {!r}\n".format(*map(float, v)))
         for face in faces:
             f.write("f " + " ".join(str(i + 1) for i in face) + "\n")
+
+
+def cube_cage(n: int = 3):
+    """A closed cube cage of ``n x n`` quads per side on ``[-1, 1]^3``, faces wound outwards.
+
+    Returns
+    -------
+    vertices : (m, 3) float
+        Shared corners (each grid point once: valence 3 at the cube's 8 corners, 4 elsewhere).
+    faces : list of (4,) tuple of int
+    """
+    verts, index, faces = [], {}, []
+
+    def vid(p):
+        key = tuple(np.round(p, 9))
+        if key not in index:
+            index[key] = len(verts)
+            verts.append(p)
+        return index[key]
+
+    t = np.linspace(-1, 1, n + 1)
+    for axis in range(3):
+        for sign in (-1, 1):
+            for i in range(n):
+                for j in range(n):
+                    quad = []
+                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        p = np.zeros(3)
+                        p[axis] = sign
+                        p[(axis + 1) % 3], p[(axis + 2) % 3] = t[i + di], t[j + dj]
+                        quad.append(vid(p))
+                    faces.append(tuple(quad) if sign > 0 else tuple(quad[::-1]))
+    return np.array(verts), faces
+

@@ -13,6 +13,7 @@ from cadartifact.exchange.obj import read_obj
 from cadartifact.gate.keys import FileSettings
 from cadartifact.gate.run import gate_file
 from cadartifact.runs.records import analysed_share, subdivided_record
+from cadartifact.testing.cages import cube_cage
 from cadartifact.testing.paths import REALDATA
 
 
@@ -95,30 +96,10 @@ def test_coverage_by_hand_on_a_planar_cage(tmp_path):
     assert analysed_share(res, around=res.refined.mesh.irregular) == pytest.approx(1.0, abs=1e-12)
 
 
-def cube_cage(creased: bool, n: int = 3):
-    """A cube of n x n quads per side; ``creased``: every edge on the cube's 12 edges has sharpness 10."""
-    verts, index, faces = [], {}, []
-
-    def vid(p):
-        key = tuple(np.round(p, 9))
-        if key not in index:
-            index[key] = len(verts)
-            verts.append(p)
-        return index[key]
-
-    t = np.linspace(-1, 1, n + 1)
-    for axis in range(3):
-        for sign in (-1, 1):
-            for i in range(n):
-                for j in range(n):
-                    quad = []
-                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                        p = np.zeros(3)
-                        p[axis] = sign
-                        p[(axis + 1) % 3], p[(axis + 2) % 3] = t[i + di], t[j + dj]
-                        quad.append(vid(p))
-                    faces.append(tuple(quad) if sign > 0 else tuple(quad[::-1]))
-    v = np.array(verts)
+def creased_cube(creased: bool, n: int = 3):
+    """A cube of n x n quads per side (:func:`cadartifact.testing.cages.cube_cage`); ``creased``: every edge on the
+    cube's 12 edges has sharpness 10."""
+    v, faces = cube_cage(n)
     extra = ""
     if creased:
         edges = {tuple(sorted((f[k], f[(k + 1) % 4]))) for f in faces for k in range(4)}
@@ -128,7 +109,7 @@ def cube_cage(creased: bool, n: int = 3):
 
 
 def test_sharp_creased_cube_keeps_its_edges_and_yields_no_ripple(tmp_path):
-    v, faces, extra = cube_cage(creased=True)
+    v, faces, extra = creased_cube(creased=True)
     path = write_obj(tmp_path / "sharp.obj", v, faces, extra)
     res = read_obj(path)
     assert len(res.mesh.crease_edges) == 12 * 3
@@ -143,7 +124,7 @@ def test_sharp_creased_cube_keeps_its_edges_and_yields_no_ripple(tmp_path):
     assert entry["analysed_share"] == 1.0 and "share_failure" not in entry and entry["verdict"] == "pass"
     assert len(entry["extraordinary"]) == 8 and all(v["crease"] for v in entry["extraordinary"])
     # the same cage without creases rounds off: its charts across the cube's edges carry ripple
-    v, faces, extra = cube_cage(creased=False)
+    v, faces, extra = creased_cube(creased=False)
     plain = gate(write_obj(tmp_path / "round.obj", v, faces, extra), tol=0.01)
     assert max(f["value"] for f in plain["faces"]) > 5e-4
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from cadartifact.exchange.subdivision import catmull_clark_step, crease_map
+from cadartifact.testing.cages import cube_cage
 
 CUBE_V = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
 CUBE_F = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
@@ -47,29 +48,7 @@ def limit_point(vertices, faces, a):
 def bumpy_closed_cage(seed):
     """A cube of 3x3 quads per side (valences 3 at the corners, 4 elsewhere) pushed onto a bumpy blob."""
     rng = np.random.default_rng(seed)
-    verts, index = [], {}
-
-    def vid(p):
-        key = tuple(np.round(p, 9))
-        if key not in index:
-            index[key] = len(verts)
-            verts.append(p)
-        return index[key]
-
-    faces = []
-    t = np.linspace(-1, 1, 4)
-    for axis in range(3):
-        for sign in (-1, 1):
-            for i in range(3):
-                for j in range(3):
-                    quad = []
-                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                        p = np.zeros(3)
-                        p[axis] = sign
-                        p[(axis + 1) % 3], p[(axis + 2) % 3] = t[i + di], t[j + dj]
-                        quad.append(vid(p))
-                    faces.append(tuple(quad) if sign > 0 else tuple(quad[::-1]))
-    v = np.array(verts)
+    v, faces = cube_cage(3)
     v = v / np.linalg.norm(v, axis=1, keepdims=True) * (1 + 0.2 * rng.random((len(v), 1)))
     return v, faces
 
