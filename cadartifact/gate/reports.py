@@ -54,6 +54,9 @@ __all__ = ["FORMATS", "RULES", "CRITERION_RULES", "SARIF_SCHEMA", "render_text",
 
 FORMATS = ("text", "json", "junit", "sarif", "gitlab")
 
+#: A file's failures as a whole: its entry's key, the JUnit testcase's name suffix and the failure's type.
+_FILE_FAILURES = (("share_failure", "analysed share", "CA005 analysed-share-too-small"),
+                  ("extraordinary_failure", "extraordinary vertices", "CA007 extraordinary-vertex-defect"))
 _COLOURS = {"pass": "green", "warn": "yellow", "fail": "red", "error": "bold red"}
 _DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total")
 
@@ -369,22 +372,14 @@ def to_junit(doc: GateDocument) -> str:
             err.text = entry["error"]
             counts["tests"] += 1
             counts["errors"] += 1
-        if entry.get("share_failure"):
-            case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (analysed share)",
-                                 classname="cadartifact.gate.run")
-            fail = ET.SubElement(case, "failure", message=entry["share_failure"],
-                                 type="CA005 analysed-share-too-small")
-            fail.text = entry["share_failure"]
-            counts["tests"] += 1
-            counts["failures"] += 1
-        if entry.get("extraordinary_failure"):
-            case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (extraordinary vertices)",
-                                 classname="cadartifact.gate.run")
-            fail = ET.SubElement(case, "failure", message=entry["extraordinary_failure"],
-                                 type="CA007 extraordinary-vertex-defect")
-            fail.text = entry["extraordinary_failure"]
-            counts["tests"] += 1
-            counts["failures"] += 1
+        for key, what, rule in _FILE_FAILURES:  # the file fails as a whole: one testcase each
+            if entry.get(key):
+                case = ET.SubElement(suite, "testcase", name=f"{entry['path']} ({what})",
+                                     classname="cadartifact.gate.run")
+                fail = ET.SubElement(case, "failure", message=entry[key], type=rule)
+                fail.text = entry[key]
+                counts["tests"] += 1
+                counts["failures"] += 1
         if entry["verdict"] != "error" and not entry["faces"]:
             case = ET.SubElement(suite, "testcase", name=f"{entry['path']} (no analysable face)",
                                  classname="cadartifact.gate.run")
