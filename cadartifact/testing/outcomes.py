@@ -23,3 +23,24 @@ def no_traceback(result, text: str | None = None) -> None:
     assert "Traceback" not in (result.output if text is None else text), result.output[-2000:]
     error = result.exception
     assert error is None or isinstance(error, SystemExit), "".join(traceback.format_exception(error))[-3000:]
+
+
+def gate_profile_run(*args):
+    """``cadartifact gate ARGS --jobs 1 --advise none`` under ``CliRunner``, checked for a traceback: the gate's
+    verdicts and criteria without the advice's search (the PDQ and edge tests)."""
+    from typer.testing import CliRunner
+
+    from cadartifact.cli.app import app
+
+    result = CliRunner().invoke(app, ["gate", *map(str, args), "--jobs", "1", "--advise", "none"])
+    no_traceback(result)
+    return result
+
+
+def gate_profile_json(*args):
+    """:func:`gate_profile_run` with ``--format json``: ``(result, document)``."""
+    import json
+
+    result = gate_profile_run(*args, "--format", "json")
+    return result, json.loads(result.stdout)
+

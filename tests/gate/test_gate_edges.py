@@ -14,22 +14,9 @@ import pytest
 
 pytest.importorskip("OCP")
 
-from typer.testing import CliRunner  # noqa: E402
-
-from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.testing.joined_faces import joined, write_step_shape  # noqa: E402
-from cadartifact.testing.outcomes import no_traceback  # noqa: E402
-
-
-def gate(*args):
-    result = CliRunner().invoke(app, ["gate", *map(str, args), "--jobs", "1", "--advise", "none"])
-    no_traceback(result)
-    return result
-
-
-def gate_json(*args):
-    result = gate(*args, "--format", "json")
-    return result, json.loads(result.stdout)
+from cadartifact.testing.outcomes import gate_profile_json as gate_json  # noqa: E402
+from cadartifact.testing.outcomes import gate_profile_run as gate  # noqa: E402
 
 
 @pytest.fixture(scope="module")

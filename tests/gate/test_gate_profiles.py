@@ -16,17 +16,15 @@ import pytest
 
 pytest.importorskip("OCP")
 
-from typer.testing import CliRunner  # noqa: E402
-
 from cadartifact.analysis.quality import DEFAULT_PROFILE, criteria  # noqa: E402
 from cadartifact.analysis.quality import CRITERIA as ALL_CRITERIA  # noqa: E402
 from cadartifact.analysis.quality import FACE_CRITERIA as CRITERIA  # noqa: E402  # the faces' own criteria
-from cadartifact.cli.app import app  # noqa: E402
 from cadartifact.exchange.load import read, write_step  # noqa: E402
 from cadartifact.gate.profiles import load_profile  # noqa: E402
 from cadartifact.gate.policy import PolicyError  # noqa: E402
 from cadartifact.net import ControlNet, NetOrigin  # noqa: E402
-from cadartifact.testing.outcomes import no_traceback
+from cadartifact.testing.outcomes import gate_profile_json as gate_json  # noqa: E402
+from cadartifact.testing.outcomes import gate_profile_run as gate  # noqa: E402
 from cadartifact.testing.paths import REAL_STEP
 
 
@@ -50,17 +48,6 @@ def files(tmp_path_factory):
     write_step([wavy], root / "wavy.step")
     write_step([dome], root / "dome.step")
     return {"root": root, "wavy": root / "wavy.step", "dome": root / "dome.step"}
-
-
-def gate(*args):
-    result = CliRunner().invoke(app, ["gate", *map(str, args), "--jobs", "1", "--advise", "none"])
-    no_traceback(result)
-    return result
-
-
-def gate_json(*args):
-    result = gate(*args, "--format", "json")
-    return result, json.loads(result.stdout)
 
 
 # ---------------------------------------------------------------- verdicts and exit codes
