@@ -55,6 +55,8 @@ class ObjData:
     faces: list[tuple[int, ...]]
     tags: list[Tag] = field(default_factory=list)
     face_lines: list[int] = field(default_factory=list)
+    #: Whether the text ends with a line break (a file cut short usually does not).
+    ends_with_line_break: bool = True
 
 
 def _statements(text: str):
@@ -155,7 +157,8 @@ def parse_obj(path) -> ObjData:
             tags.append(_tag(path, number, tokens))
         # everything else (vt, vn, vp, o, g, s, l, usemtl, mtllib, ...) carries no net data
     vertices = np.array(coords, dtype=float).reshape(-1, 3)
-    return ObjData(vertices=vertices, faces=faces, tags=tags, face_lines=face_lines)
+    return ObjData(vertices=vertices, faces=faces, tags=tags, face_lines=face_lines,
+                   ends_with_line_break=not text or text.endswith(("\n", "\r")))
 
 
 def read_obj(path):
@@ -195,13 +198,9 @@ def read_obj(path):
         raise InputError(path, f"no quad faces ({mesh.n_triangles} triangles, {mesh.n_ngons} n-gons): "
                          "a quad cage is needed")
     messages: list[str] = []
-    with open(path, "rb") as fh:  # a cage cut short loses faces without a parse error: say so
-        fh.seek(0, 2)
-        if fh.tell() > 0:
-            fh.seek(-1, 2)
-            if fh.read(1) not in (b"\n", b"\r"):
-                messages.append(f"{path}: the file does not end with a line break: it may be cut short (its last "
-                                "line is read as it stands)")
+    if not data.ends_with_line_break:  # a cage cut short loses faces without a parse error: say so
+        messages.append(f"{path}: the file does not end with a line break: it may be cut short (its last line is "
+                        "read as it stands)")
     nets, charts = [], []
     degenerate = 0
 
