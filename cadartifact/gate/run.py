@@ -125,7 +125,7 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     from ..exchange.load import read
     from ..exchange.step_text import entity_line
     from ..runs.face_sharing import analyse_faces
-    from ..runs.records import analysed_share, subdivided_record
+    from ..runs.records import subdivided_record
 
     if os.path.isdir(path):  # a folder the walk could not list (gate_policy._walk)
         from ..errors import InputError
@@ -165,12 +165,9 @@ def _gate_file(path: str, settings: FileSettings, verify: bool, read_timeout: fl
     missing = [i for i in ignored if i not in present]
     if missing:
         notes.append(f"ignore_faces {missing} name no analysable face of this file")
-    vertices = None
-    if getattr(res, "mesh", None) is not None:
-        from ..runs.cage_records import measured_around, vertex_records
+    from ..runs.cage_records import vertices_and_coverage
 
-        vertices = vertex_records(res.mesh, settings.tolerance)  # a cage's extraordinary vertices
-    share = analysed_share(res, measured_around(res, vertices) if vertices else ())
+    vertices, share = vertices_and_coverage(res, settings.tolerance)  # a cage's extraordinary vertices
     entry = {"path": path, "units": res.nets[0].unit if res.nets else None, "faces_total": res.faces_total,
              "analysed_share": None if share is None else round(share, 9)}
     subdivided = subdivided_record(res)

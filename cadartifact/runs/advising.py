@@ -8,7 +8,7 @@ from pathlib import Path
 from ..analysis.settings import RunSettings, check_tolerance
 from ..errors import FileFormatError, OptionError
 from ..exchange import formats
-from .records import SCHEMA, analysed_share, json_number, subdivided_record
+from .records import SCHEMA, json_number, subdivided_record
 
 __all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "write_advised"]
 
@@ -125,13 +125,10 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
                 progress("file", len(entries), str(path))
             record = {"path": str(path), "units": res.nets[0].unit if res.nets else None,
                       "faces_total": res.faces_total}
-            vertices = None
-            if getattr(res, "mesh", None) is not None:  # a cage: its extraordinary vertices and levels
-                from .cage_records import measured_around, vertex_records
+            from .cage_records import vertices_and_coverage
 
-                vertices = vertex_records(res.mesh, settings.tolerance)
-            record["analysed_share"] = json_number(analysed_share(res, measured_around(res, vertices) if vertices
-                                                                  else ()))
+            vertices, share = vertices_and_coverage(res, settings.tolerance)  # a cage's extraordinary vertices
+            record["analysed_share"] = json_number(share)
             subdivided = subdivided_record(res)
             if subdivided is not None:
                 record["subdivided"] = subdivided

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from .records import json_number
+from .records import analysed_share, json_number
 
 __all__ = ["vertex_records", "cage_advice_record", "vertex_failure"]
 
@@ -71,4 +71,14 @@ def measured_around(result, vertices: list) -> list:
         elif int(v["face"]) in first_child:
             out.append(int(refined.mesh.faces[first_child[int(v["face"])]][2]))
     return out
+
+
+def vertices_and_coverage(result, tolerance: float | None) -> tuple[list | None, float | None]:
+    """A file's extraordinary-vertex records (None: not a cage) and its analysed share of area
+    (:func:`cadartifact.runs.records.analysed_share`, the measured vertices' quads counted), as every door
+    reports them."""
+    if getattr(result, "mesh", None) is None:
+        return None, analysed_share(result)
+    vertices = vertex_records(result.mesh, tolerance)
+    return vertices, analysed_share(result, measured_around(result, vertices))
 
