@@ -8,6 +8,8 @@ a path or a name stays one token on one line, to copy or grep, and a table takes
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -58,14 +60,18 @@ def canonical_lines(faces: Iterable[FaceRecord]) -> list[str]:
     """One line per canonical label among face records: ``"canonical: sphere r=12.5: faces 3, 15"``.
 
     Canonical faces (exactly a plane, cylinder, ..., or exactly straight/circular along a direction)
-    carry no ripple along their exact directions; the label says which.
+    carry no ripple along their exact directions; the label says which. Faces written piecewise Bezier (or
+    exact) in both directions carry none at all: ``"no ripple by construction (u: 4 Bezier pieces of degree 3;
+    v: ...): face 2"``.
     """
     groups: dict = {}
     for r in faces:
+        construction = re.search(r"no ripple by construction \((.*)\)$", r.get("reason") or "")
         if r.get("canonical"):
-            groups.setdefault(r["canonical"], []).append(str(r["face"]))
-    return [f"canonical: {label}: {'face' if len(ids) == 1 else 'faces'} {', '.join(ids)}"
-            for label, ids in groups.items()]
+            groups.setdefault(f"canonical: {r['canonical']}", []).append(str(r["face"]))
+        elif construction:  # piecewise Bezier (or exact) both ways: zero, and why
+            groups.setdefault(f"no ripple by construction ({construction[1]})", []).append(str(r["face"]))
+    return [f"{label}: {'face' if len(ids) == 1 else 'faces'} {', '.join(ids)}" for label, ids in groups.items()]
 
 
 def face_cell(r: FaceRecord, limit: int | None = 24) -> str:
