@@ -100,7 +100,7 @@ def _inspect_tables(summaries: list) -> None:
                 ",".join(yes[x] for x in f["periodic"]), ",".join(yes[x] for x in f["knots_uniform"]),
                 "-" if frac is None else f"{frac:.3f}", escape(f["name"] or ""))
         if doc["faces"]:
-            print_table(con, table, escape(doc["path"]))
+            print_table(con, table, escape(doc["path"]), keep=[doc["path"]])
         skipped = ", ".join(kind_count(k, n) for k, n in doc["skipped"].items()) or "none"
         con.print(f"{escape(doc['path'])}: {plural(doc['faces_total'], 'face')}, {doc['analysable']} analysable, "
                   f"skipped: {skipped}", soft_wrap=True)
