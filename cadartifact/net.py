@@ -34,6 +34,7 @@ __all__ = [
     "knot_runs",
     "lifted",
     "bezier_direction",
+    "no_ripple_by_construction",
 ]
 
 #: What a net was made from.
@@ -222,6 +223,44 @@ def bezier_direction(knots: np.ndarray, degree: int, n: int, periodic: bool) -> 
     """Whether every span of a direction is a piece of its own (every interior knot has multiplicity >= p:
     degree 1, piecewise Bezier): nothing along it aliases, it has no ripple band."""
     return all(m >= degree for _, m in knot_multiplicities(knots, degree, n, periodic))
+
+
+def no_ripple_by_construction(net: "ControlNet") -> str | None:
+    """Why a B-spline face carries no ripple at all, when its writing says so in both directions; else None.
+
+    A direction carries none when it is exact (a line or a circle: ``net.exact``), one Bezier piece
+    (``n = p + 1``) or piecewise Bezier (every interior knot of multiplicity ``>= p``, degree 1 included): each
+    span is then a polynomial of its own and nothing along it can alias (SPEC §4: a knot of multiplicity ``p``
+    is a deliberate junction).
+
+    Returns
+    -------
+    str or None
+        ``"u: 4 Bezier pieces of degree 3; v: one Bezier piece of degree 3"``, or None when a direction of
+        several spans joined with some continuity can carry ripple (or the net is not a B-spline face).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = np.stack(np.meshgrid(np.arange(7.0), np.arange(4.0), [0.0], indexing="ij"), -1)[:, :, 0]
+    >>> knots = (np.r_[0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 2.0], np.r_[0, 0, 0, 0, 1, 1, 1, 1.0])
+    >>> no_ripple_by_construction(ControlNet.from_points(P, degrees=(3, 3)).replace(knots=knots))
+    'u: 2 Bezier pieces of degree 3; v: one Bezier piece of degree 3'
+    """
+    if not net.is_bspline or "surface" in net.exact:  # a canonical face says what it is on its own
+        return None
+    words = []
+    for d, exact, knots, p, n, periodic in zip("uv", net.exact, net.knots, net.degrees, net.shape, net.periodic):
+        if exact is not None:
+            words.append(f"{d}: exactly a {exact}")
+        elif not periodic and n == p + 1:
+            words.append(f"{d}: one Bezier piece of degree {p}")
+        elif bezier_direction(knots, p, n, periodic):
+            pieces = len(knot_multiplicities(knots, p, n, periodic)) + (0 if periodic else 1)
+            words.append(f"{d}: {pieces} Bezier pieces of degree {p}" if p > 1 else f"{d}: {pieces} straight spans")
+        else:
+            return None
+    return "; ".join(words)
 
 
 def lifted(net: "ControlNet") -> np.ndarray:

@@ -28,7 +28,7 @@ from ..errors import OptionError, check_option
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
 from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_scheme
-from ..net import ControlNet
+from ..net import ControlNet, no_ripple_by_construction
 from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
 from .exact import kept_phrase
@@ -355,7 +355,10 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             why = ("no other density the search tried conforms" if not meets
                    else f"{found} is no smaller" if a * b >= work.shape[0] * work.shape[1]
                    else f"{found} saves less than {MIN_REDUCTION:.0%}")
-            notes.append(f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and {why}: "
+            construction = no_ripple_by_construction(work)
+            notes.append(f"no ripple by construction ({construction}): today's {work.shape[0]}x{work.shape[1]} "
+                         f"is kept" if construction else
+                         f"today's net meets the tolerance ({today[metric]:.4g} <= {tolerance:g}) and {why}: "
                          f"today's {work.shape[0]}x{work.shape[1]} is kept")
         a, b = work.shape
         kept, meets = True, meets or today_ok

@@ -18,7 +18,7 @@ from ..errors import OptionError
 from .clamped import reads_clamped_borders
 from .fields import FIELD_NAMES, ArtifactFields, artifact_fields, intent_normals, project
 from .intent import design_intent
-from ..net import ControlNet
+from ..net import ControlNet, no_ripple_by_construction
 from .pieces import gather_fields, split_net
 from .settings import RunSettings, resolve_scheme
 from .trim_region import cage_bounds, used_net
@@ -342,6 +342,9 @@ def _budget_of(net, work, sch, settings: RunSettings, keep_fields, keep_scalars=
             why.append("knots are not uniform")
         if why:
             reason += "; " + " and ".join(why) + ": outside the uniform theory"
+        construction = no_ripple_by_construction(work)
+        if construction:
+            reason += f"; no ripple by construction ({construction})"
     else:
         reason = "spectral prediction (the scheme's responses)"
     if it.homogeneous:

@@ -100,7 +100,7 @@ def _inspect_tables(summaries: list) -> None:
                 ",".join(yes[x] for x in f["periodic"]), ",".join(yes[x] for x in f["knots_uniform"]),
                 "-" if frac is None else f"{frac:.3f}", escape(f["name"] or ""))
         if doc["faces"]:
-            print_table(con, table, escape(doc["path"]))
+            print_table(con, table, escape(doc["path"]), keep=[doc["path"]])
         skipped = ", ".join(kind_count(k, n) for k, n in doc["skipped"].items()) or "none"
         con.print(f"{escape(doc['path'])}: {plural(doc['faces_total'], 'face')}, {doc['analysable']} analysable, "
                   f"skipped: {skipped}", soft_wrap=True)
@@ -127,7 +127,8 @@ def view_cmd(
     file: Path = typer.Argument(..., help=f"{formats.labels()} file.", show_default=False),
     direction: str = typer.Option("total", "--direction", "-d",
                                   help="Field to colour: total, x1, x2, diagonal, lateral, signal_error or deviation."),
-    tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Colour scale 0..tol in model units, red beyond."),
+    tol: Optional[float] = typer.Option(None, "--tol", "-t", help="Colour scale 0..tol in model units, red beyond "
+                                        "(default: the gate policy's tolerance for the file, when there is one)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="PNG to write (default: <file stem>_<direction>.png)."),
     glb: Optional[Path] = typer.Option(None, "--glb", help="Also write the coloured faces as a .glb mesh."),
     face: Optional[List[int]] = typer.Option(None, "--face", help="Only this face index (repeatable)."),
@@ -147,6 +148,7 @@ def view_cmd(
     except ValueError:
         raise OptionError("--size", "WIDTHxHEIGHT in pixels, e.g. 1200x900", size) from None
     require("pyvista", "3-D heatmaps").OFF_SCREEN = True  # this process never opens a window
+    tol, tol_source = _view_tolerance(file, tol)
     err = _console(stderr=True)
     if err.is_terminal:
         status = err.status(f"reading {escape(file)}")
@@ -166,10 +168,28 @@ def view_cmd(
 
     con.print(f"wrote {escape(res.png)} ({plural(len(res.faces), 'face')}, {res.direction} peak {res.peak:.4g} "
               f"{unit_name(getattr(res, 'unit', None) or _unit_of(file))})", soft_wrap=True)
+    con.print(f"tolerance mark: {tol:g} ({tol_source})" if tol is not None else
+              "no tolerance mark: pass --tol, or set 'tolerance' in cadartifact.toml or [tool.cadartifact] in "
+              "pyproject.toml", soft_wrap=True, markup=False, highlight=False)
     if res.reflection is not None:
         con.print(f"wrote {escape(res.reflection)} (reflection lines)", soft_wrap=True)
     if res.glb is not None:
         con.print(f"wrote {escape(res.glb)}", soft_wrap=True)
+
+
+def _view_tolerance(file: Path, tol: float | None) -> tuple[float | None, str]:
+    """The tolerance ``view`` marks and where it comes from: ``--tol``, else the gate policy's for ``file`` (the
+    policy file the gate would find from the working directory upward), else none."""
+    if tol is not None:
+        return tol, "--tol"
+    from ..gate.policy import find_policy
+    from ..gate.policy_error import PolicyError
+
+    policy = find_policy()
+    try:
+        return policy.settings_for(file).tolerance, f"policy {policy.source}"
+    except PolicyError:
+        return None, ""
 
 
 def _unit_of(path) -> str:

@@ -254,7 +254,7 @@ def render_text(doc: GateDocument, console, wide: bool | None = None, wrap: bool
                     key = "deviation" if pol["include_signal_error"] else "total"
                     table.add_row(face_cell(f, limit), _net(f["net"]), f"{f['value']:.4g}", _u_cell(f), _share(sh[key]),
                                   worst_direction(sh), advised, verdict)
-            print_table(console, table, title)
+            print_table(console, table, title, keep=[entry["path"]])
             if not wide:
                 schemes = ", ".join(sorted({f["scheme"] for f in entry["faces"]}))
                 methods = ", ".join(sorted({f["method"] for f in entry["faces"]}))

@@ -8,6 +8,8 @@ a path or a name stays one token on one line, to copy or grep, and a table takes
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -58,14 +60,18 @@ def canonical_lines(faces: Iterable[FaceRecord]) -> list[str]:
     """One line per canonical label among face records: ``"canonical: sphere r=12.5: faces 3, 15"``.
 
     Canonical faces (exactly a plane, cylinder, ..., or exactly straight/circular along a direction)
-    carry no ripple along their exact directions; the label says which.
+    carry no ripple along their exact directions; the label says which. Faces written piecewise Bezier (or
+    exact) in both directions carry none at all: ``"no ripple by construction (u: 4 Bezier pieces of degree 3;
+    v: ...): face 2"``.
     """
     groups: dict = {}
     for r in faces:
+        construction = re.search(r"no ripple by construction \((.*)\)$", r.get("reason") or "")
         if r.get("canonical"):
-            groups.setdefault(r["canonical"], []).append(str(r["face"]))
-    return [f"canonical: {label}: {'face' if len(ids) == 1 else 'faces'} {', '.join(ids)}"
-            for label, ids in groups.items()]
+            groups.setdefault(f"canonical: {r['canonical']}", []).append(str(r["face"]))
+        elif construction:  # piecewise Bezier (or exact) both ways: zero, and why
+            groups.setdefault(f"no ripple by construction ({construction[1]})", []).append(str(r["face"]))
+    return [f"{label}: {'face' if len(ids) == 1 else 'faces'} {', '.join(ids)}" for label, ids in groups.items()]
 
 
 def face_cell(r: FaceRecord, limit: int | None = 24) -> str:
@@ -81,30 +87,56 @@ def wraps_nothing(console) -> bool:
     return bool(getattr(console, "soft_wrap", False))
 
 
-def say(console, text: str, keep=(), wrap: bool = True) -> None:
-    """Print an explanation line (plain text, no markup), wrapped at spaces to the console's width with
-    continuation lines indented by 4; never inside a word, so that a path stays whole, nor inside the ``keep``
-    strings (face labels: ``part.step#3 outer skin``). ``wrap`` False: one line, as it is (a report file)."""
-    if wrap and len(text) > console.width:
-        import textwrap
+def wrap_lines(text: str, width: int, keep=()) -> list[str]:
+    """``text`` wrapped at spaces to ``width`` with continuation lines indented by 4; never inside a word, so
+    that a path stays whole, nor inside the ``keep`` strings (face labels: ``part.step#3 outer skin``)."""
+    import textwrap
 
-        glue = "\ue000"  # a private-use character: a space textwrap does not break at
-        for k in sorted(keep, key=len, reverse=True):  # a label before the path it starts with
-            text = text.replace(k, k.replace(" ", glue))
-        text = "\n".join(textwrap.wrap(text, width=console.width, subsequent_indent="    ", break_long_words=False,
-                                       break_on_hyphens=False)).replace(glue, " ")
+    glue = "\ue000"  # a private-use character: a space textwrap does not break at
+    for k in sorted(keep, key=len, reverse=True):  # a label before the path it starts with
+        text = text.replace(k, k.replace(" ", glue))
+    return [line.replace(glue, " ") for line in textwrap.wrap(
+        text, width=width, subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)]
+
+
+def say(console, text: str, keep=(), wrap: bool = True) -> None:
+    """Print an explanation line (plain text, no markup), wrapped by :func:`wrap_lines` to the console's width.
+    ``wrap`` False: one line, as it is (a report file)."""
+    if wrap and len(text) > console.width:
+        text = "\n".join(wrap_lines(text, console.width, keep))
     console.print(text, soft_wrap=True, markup=False, highlight=False)
 
 
-def print_table(console, table, heading: str | None = None) -> None:
+def _wrapped_heading(console, heading: str, keep=()):
+    """The heading (rich markup) as styled lines wrapped like :func:`say`'s: the plain text is wrapped, then the
+    styled text is cut at the same places, so that colours stay on their words."""
+    from rich.text import Text
+
+    text = Text.from_markup(heading, style="table.title")
+    if text.cell_len <= console.width:
+        return text
+    lines, cuts, at = wrap_lines(text.plain, console.width, keep), [], 0
+    for line in lines[1:]:  # each continuation's first word, found after the previous line's
+        at = text.plain.index(line.lstrip(), at + 1)
+        cuts.append(at)
+    parts = text.divide(cuts)
+    for part in parts[1:]:
+        part.pad_left(4)
+    for part in parts:
+        part.rstrip()
+    return Text("\n").join(parts)
+
+
+def print_table(console, table, heading: str | None = None, keep=()) -> None:
     """Print ``heading`` (rich markup: escape the paths in it) on a line of its own, then ``table``.
 
-    The heading is soft-wrapped (rich never breaks it: a path in it stays whole); on a console that
+    The heading is wrapped at spaces to the console's width, never inside a word or the ``keep`` strings (the
+    file's path: it stays whole, on a line of its own if it must); on a console that
     :func:`wraps_nothing`, the table takes its content's width, past the console's if it must, so that
     no cell is cut or folded. Elsewhere (a terminal) the table is fitted to the console's width.
     """
     if heading is not None:
-        console.print(heading, style="table.title", soft_wrap=True, highlight=False)
+        console.print(_wrapped_heading(console, heading, keep), soft_wrap=True, highlight=False)
     if wraps_nothing(console):
         from rich.measure import Measurement
 
@@ -196,7 +228,7 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
             else:
                 table.add_row(face_cell(r, limit), "x".join(map(str, r["net"])),
                               _mm_pct(mm[key][doc["metric"]], sh[key]), unc, worst_direction(sh), advised, verdict)
-        print_table(console, table, f"[bold]{escape(f['path'])}[/]")
+        print_table(console, table, f"[bold]{escape(f['path'])}[/]", keep=[f['path']])
         for line in canonical_lines(f["faces"]):  # no ripple along their exact directions
             console.print(f"  {line}", soft_wrap=True, markup=False, highlight=False)
         for r in rows:  # the advice's honest no (SPEC §5): the intent's uncertainty leaves no room

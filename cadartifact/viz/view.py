@@ -118,6 +118,7 @@ def camera(maps) -> tuple[np.ndarray, np.ndarray]:
 def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, reflection: bool = False,
            markers=None) -> np.ndarray:
     """One off-screen pyvista scene of ``maps`` (no text, no colour bar), white background; with ``reflection``
+    (on :data:`REFLECTION_GROUND`)
     the faces carry their reflection lines (:mod:`cadartifact.viz.reflection`) instead of the heatmap, from the
     same camera; ``markers`` ``(points (k, 3), values (k,))``: spheres coloured on the heatmap's scale (a cage's
     extraordinary vertices)."""
@@ -137,7 +138,8 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, 
     with _quiet_vtk():
         plotter = pv.Plotter(off_screen=True, window_size=size)
         try:
-            plotter.set_background("white")
+            # reflection lines: a grey-blue ground, so that the light stripes keep the face's outline
+            plotter.set_background(REFLECTION_GROUND if reflection else "white")
             extra = {"above_color": ABOVE_COLOUR} if tol is not None else {}
             floor = noise_floor(maps)
             top = upper_limit(maps, tol)
@@ -195,6 +197,9 @@ def _scene(maps, clim, tol, size, show_net: bool, face_labels: bool, cmap: str, 
         finally:
             plotter.close()
 
+
+#: The reflection picture's background (RGB): neither stripe colour, so the light stripes do not melt into it.
+REFLECTION_GROUND = (0.62, 0.68, 0.76)
 
 #: A face smaller than this share of the scene's size is tiny: a whole-model view does not label it.
 TINY_FACE = 0.03
@@ -286,9 +291,10 @@ def little_surface_reason(m: FaceMap) -> str:
     return "; ".join(why)
 
 
-def _autocrop(img: np.ndarray, pad: int = 6) -> np.ndarray:
-    """Cut the white margin around a rendered scene."""
-    ink = np.any(img < 250, axis=-1)
+def _autocrop(img: np.ndarray, pad: int = 6, reflection: bool = False) -> np.ndarray:
+    """Cut the margin of background (white, or :data:`REFLECTION_GROUND`) around a rendered scene."""
+    ground = np.array(REFLECTION_GROUND if reflection else (1.0, 1.0, 1.0)) * 255
+    ink = np.any(np.abs(img[..., :3].astype(float) - ground) > 5, axis=-1)
     if not ink.any():
         return img
     rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
@@ -359,7 +365,7 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
     bar_left = 1.0 - 110 / width
     if layout == "model":
         img = _autocrop(_scene(maps, clim, tol, (width, height), show_net, len(maps) > 1, cmap, reflection,
-                               markers))
+                               markers), reflection=reflection)
         ax = fig.add_axes([0.01, 0.02, bar_left - 0.03, top - 0.03])
         ax.imshow(img)
         ax.set_axis_off()
@@ -372,7 +378,7 @@ def render_image(maps, *, direction: str = "total", tol: float | None = None, ti
         for k, m in enumerate(maps):
             r, c = divmod(k, cols)
             ax = fig.add_axes([0.01 + c * cw, top - (r + 1) * ch, cw * 0.96, ch * 0.9])
-            ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap, reflection)))
+            ax.imshow(_autocrop(_scene([m], clim, tol, tile, show_net, False, cmap, reflection), reflection=reflection))
             ax.set_axis_off()
             why = little_surface_reason(m)
             why = f"\n({why})" if why else ""

@@ -90,6 +90,56 @@ def test_piecewise_bezier_faces_carry_no_ripple_and_never_more_than_their_smooth
     b = ca.budget(bez)
     assert b.stats["total"].peak == 0.0
     assert b.stats["total"].peak <= ca.budget(smooth).stats["total"].peak + 1e-12
+    # and the zero says why, with the pieces counted from the knots
+    assert b.reason.endswith(f"no ripple by construction (u: {nu - p} Bezier pieces of degree {p}; "
+                             f"v: 3 Bezier pieces of degree 3)")
+    assert "by construction" not in ca.budget(smooth).reason
+
+
+@pytest.mark.parametrize("p", [1, 2, 3, 5])
+@pytest.mark.parametrize("pieces", [1, 2, 4])
+def test_why_a_face_carries_no_ripple_is_read_off_its_knots(p, pieces):
+    """One Bezier piece, several (every interior knot of multiplicity p, or more), degree 1, an exact direction:
+    no ripple by construction; one interior knot below multiplicity p in a direction: None (it can ripple)."""
+    from cadartifact.net import no_ripple_by_construction
+
+    n = pieces * p + 1
+    x, y = np.meshgrid(np.linspace(0, 50, n), np.linspace(0, 20, 4), indexing="ij")
+    P = np.stack([x, y, 0.01 * x * y], -1)
+    ku = np.concatenate([np.zeros(p + 1), np.repeat(np.arange(1, pieces), p), np.full(p + 1, pieces)]) / pieces
+    face = ControlNet(points=P, degrees=(p, 3), knots=(ku, clamped_uniform_knots(4, 3)))
+    u = (f"one Bezier piece of degree {p}" if pieces == 1 else f"{pieces} straight spans" if p == 1
+         else f"{pieces} Bezier pieces of degree {p}")
+    assert no_ripple_by_construction(face) == f"u: {u}; v: one Bezier piece of degree 3"
+    assert no_ripple_by_construction(face.replace(exact=(None, "line"))) == f"u: {u}; v: exactly a line"
+    if p > 1 and pieces > 1:  # one junction lowered below p: that direction's spans join smoothly and can ripple
+        lowered = np.delete(ku, p + 1)
+        joined = ControlNet(points=P[1:], degrees=(p, 3), knots=(lowered, clamped_uniform_knots(4, 3)))
+        assert no_ripple_by_construction(joined) is None
+    assert no_ripple_by_construction(ControlNet.from_points(P, degrees=None)) is None  # a cage
+
+
+def test_the_text_says_why_a_piecewise_bezier_face_reads_zero(tmp_path):
+    """The gate's and the advice's text name the faces that read zero by construction, and the advice's JSON note
+    reason says so (its notes never read "no other density the search tried conforms" beside a zero)."""
+    import json
+    import subprocess
+    import sys
+
+    from cadartifact.exchange.load import write_step
+
+    face = bezier_form(smooth_face(10, 6, 3, 3, 2.0, 0.7, 0.3))
+    write_step([face], tmp_path / "pieces.step")
+    line = "no ripple by construction (u: 7 Bezier pieces of degree 3; v: 3 Bezier pieces of degree 3): face 0"
+    for command in (["gate", "--tol", "0.05"], ["advise", "--tol", "0.05"]):
+        out = subprocess.run([sys.executable, "-m", "cadartifact.cli", *command, str(tmp_path / "pieces.step")],
+                             capture_output=True, text=True, cwd=tmp_path)
+        assert out.returncode == 0 and line in " ".join(out.stdout.split()), out.stdout  # wrapped at spaces
+    doc = json.loads(subprocess.run([sys.executable, "-m", "cadartifact.cli", "advise", "--tol", "0.05", "--json",
+                                     str(tmp_path / "pieces.step")], capture_output=True, text=True).stdout)
+    record = doc["files"][0]["faces"][0]
+    assert record["reason"].endswith(line.removesuffix(": face 0"))
+    assert not any("no other density" in n for n in record["advice"]["notes"]), record["advice"]["notes"]
 
 
 def _kinked(p, n_half, amp, seed):

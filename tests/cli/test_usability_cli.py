@@ -139,11 +139,12 @@ def test_no_raw_python_warning_on_stderr(tmp_path):
 
 
 def test_the_error_hierarchy_is_exported_and_documented():
-    readme = (ROOT / "README.md").read_text()
+    page = (ROOT / "docs" / "errors.md").read_text()
+    assert "docs/errors.md" in (ROOT / "README.md").read_text()
     for name in [n for n in errors.__all__ if n[0].isupper()]:
         assert getattr(cadartifact, name) is getattr(errors, name), name
         assert name in cadartifact.__all__
-        assert f"`{name}`" in readme, name
+        assert f"`{name}`" in page, name
     assert issubclass(cadartifact.ArtifactToleranceError, cadartifact.CadArtifactError)
 
 

@@ -60,6 +60,25 @@ def test_explanation_lines_wrap_without_breaking_paths_or_labels(doc, width):
         assert any(label in ln for label in labels) or any(e["path"] in ln for e in doc["files"]), ln
 
 
+@pytest.mark.parametrize("width", [60, 80, 100])
+def test_file_headings_wrap_at_spaces_and_keep_the_path_whole(doc, width):
+    """A file's heading (path, verdict, policy) is wrapped at spaces; a line longer than the console holds the
+    path alone; the heading's words all come back, in order."""
+    buf = io.StringIO()
+    render_text(doc, Console(file=buf, width=width, color_system=None, soft_wrap=True), wide=False)
+    lines = buf.getvalue().splitlines()
+    for entry in doc["files"]:
+        start = next(i for i, ln in enumerate(lines) if ln.startswith(entry["path"]))
+        heading = []
+        for ln in lines[start:]:
+            if ln.startswith(("┏", "┃")):
+                break
+            heading.append(ln)
+            assert len(ln) <= width or ln.strip() == entry["path"], ln
+        words = " ".join(" ".join(heading).split())
+        assert words.startswith(f"{entry['path']} {entry['verdict'].upper()} (tolerance ") and words.endswith(")")
+
+
 def test_a_report_file_keeps_each_explanation_on_one_line(doc):
     text = to_text(doc)
     fails = [ln for ln in text.splitlines() if ln.startswith("  fail: ")]

@@ -4,8 +4,9 @@ artifact) and the pre-commit hook (run the way pre-commit runs a hook: the stage
 selects, passed to its entry with the config's args). Each set-up is extracted from README.md, not copied here.
 
 Offline: ``cadartifact`` on PATH is this checkout's package (a shim), the action's install step is turned off
-(``install: false``), pip lines naming the placeholder host are left out, and pre-commit itself (``try-repo``
-builds a virtualenv from the network) is stood in for by :func:`run_hook`.
+(``install: false``), pip lines naming the placeholder host are left out. The pre-commit hook runs twice: as
+:func:`run_hook` (pre-commit's file selection, spelled out) and through pre-commit itself, whose hook virtualenv
+is built offline (no index, no dependencies: it finds them on the test environment's site-packages).
 """
 
 import json
@@ -208,3 +209,39 @@ def test_the_readme_pre_commit_hook_checks_the_staged_models(checkout):
     subprocess.run(["git", "rm", "-q", "--cached", "models/clean_panel.step", "models/wavy_panel_diagonal.step"],
                    cwd=work, env=env, check=True)
     assert run_hook(work, env, config) == 0  # only notes.md: the hook does not run
+
+
+def test_pre_commit_itself_runs_the_readme_config(checkout, tmp_path):
+    """pre-commit itself (not a stand-in) runs the README's config on this checkout's hook, offline: its
+    virtualenv gets this checkout installed without dependencies or an index, and finds numpy, OCP and the rest
+    on the test environment's own site-packages."""
+    pytest.importorskip("pre_commit")
+    import sysconfig
+
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+    if head.returncode:
+        pytest.skip(f"{ROOT} is not a git checkout: pre-commit clones the hook's repository")
+    work, env = checkout
+    config = readme_yaml("repos:")
+    config["repos"][0].update(repo=str(ROOT), rev=head.stdout.strip())
+    (work / ".pre-commit-config.yaml").write_text(yaml.safe_dump(config))
+    env = dict(env, GIT_AUTHOR_NAME="t", GIT_AUTHOR_EMAIL="t@t", GIT_COMMITTER_NAME="t", GIT_COMMITTER_EMAIL="t@t",
+               PRE_COMMIT_HOME=str(tmp_path / "pre-commit-home"), PIP_NO_INDEX="1", PIP_NO_DEPS="1",
+               PIP_NO_BUILD_ISOLATION="0", VIRTUALENV_NO_PERIODIC_UPDATE="1",
+               PYTHONPATH=sysconfig.get_paths()["purelib"])
+    subprocess.run(["git", "init", "-q"], cwd=work, env=env, check=True)
+    subprocess.run(["git", "add", ".pre-commit-config.yaml", "models/clean_panel.step"], cwd=work, env=env,
+                   check=True)
+
+    def pre_commit() -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "pre_commit", "run"], cwd=work, env=env, capture_output=True,
+                              text=True, timeout=600)
+
+    clean = pre_commit()
+    assert clean.returncode == 0, clean.stdout[-2000:]
+    assert "cadartifact gate" in clean.stdout and "Passed" in clean.stdout
+    subprocess.run(["git", "add", "models/wavy_panel_diagonal.step"], cwd=work, env=env, check=True)
+    wavy = pre_commit()
+    assert wavy.returncode == 1, wavy.stdout[-2000:]
+    assert "Failed" in wavy.stdout and "wavy_panel_diagonal.step" in wavy.stdout
+    assert "Traceback" not in wavy.stdout

@@ -118,3 +118,8 @@ def test_view_reflection_writes_both_pictures_from_one_camera(tmp_path, samples)
     assert heat.shape == zebra.shape
     grey = zebra[..., :3].mean(axis=-1)
     assert (grey < 0.1).mean() > 0.1 and (grey > 0.9).mean() > 0.1  # black and white stripes
+    # on a ground of neither colour, so that the white stripes keep the face's outline
+    from cadartifact.viz.view import REFLECTION_GROUND
+
+    ground = np.all(np.abs(zebra[..., :3] - np.array(REFLECTION_GROUND)) < 0.02, axis=-1)
+    assert ground.mean() > 0.05

@@ -201,6 +201,22 @@ def test_view_command_default_output_and_glb(model, tmp_path, monkeypatch):
     assert list(trimesh.load(tmp_path / "m.glb").geometry) == ["face_1"]
 
 
+def test_view_marks_the_policy_tolerance_without_tol(model, tmp_path, monkeypatch):
+    """Without --tol, ``view`` marks the tolerance the gate's policy gives the file: the same picture as with
+    --tol that value; with no policy it says there is no mark and how to get one."""
+    monkeypatch.chdir(tmp_path)
+    args = (model["path"], "--face", 1, "--size", "320x240")
+    plain = invoke(*args, "--out", "plain.png")
+    assert plain.exit_code == 0 and "no tolerance mark: pass --tol" in plain.stdout
+    (tmp_path / "cadartifact.toml").write_text("tolerance = 0.02\n")
+    marked = invoke(*args, "--out", "policy.png")
+    assert marked.exit_code == 0 and "tolerance mark: 0.02 (policy " in marked.stdout, marked.stdout
+    given = invoke(*args, "--out", "given.png", "--tol", "0.02")
+    assert "tolerance mark: 0.02 (--tol)" in given.stdout
+    assert np.array_equal(read_png(tmp_path / "policy.png"), read_png(tmp_path / "given.png"))
+    assert not np.array_equal(read_png(tmp_path / "plain.png"), read_png(tmp_path / "given.png"))
+
+
 @pytest.mark.parametrize("args, needle", [
     (["--direction", "sideways"], "--direction: expected one of 'total', 'x1'"),
     (["--face", "9"], "--face: expected an analysable face index of pair.step (0, 1), received 9"),
