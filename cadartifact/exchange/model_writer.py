@@ -198,7 +198,7 @@ def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source:
 
 def write_model(source, replacements: dict, out, *, provenance: dict | None = None,
                 faces_only: bool = False, refused: dict | None = None, allowed: dict | None = None,
-                tolerance: float | None = None, measurements: dict | None = None) -> list[dict]:
+                tolerance: float | None = None, measurements: dict | None = None, edge_check=None) -> list[dict]:
     """Write ``source`` to STEP with the surfaces of some faces replaced.
 
     Parameters
@@ -231,7 +231,14 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         None: not checked. A face BRepCheck rejects where the input's passed is always refused.
     measurements : dict, optional
         Given (an empty dict to fill): face index -> the figures (as in the records) of a
-        replacement refused on measured grounds, with ``allowed_distance``.
+        replacement refused on measured grounds, with ``allowed_distance`` (and ``edges``: the
+        edges it made worse, when refused by ``edge_check``).
+    edge_check : callable, optional
+        ``edge_check(source shape, written shape, {face index: measured figures}) -> {face index:
+        (reason, [edge records])}``: the replaced faces that make the continuity between faces worse
+        than in the input (the layer above passes the gate's edge rules here; this layer measures
+        no continuity itself). Run once the other checks pass; a face it names is refused (kept) and
+        the model is built again without it, until it names none. None: not checked.
 
     Returns
     -------
@@ -308,6 +315,10 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         limits = {index: _limit(allowed.get(index), measured[index]) for index in replacements}
         failed = {index: why for index in replacements
                   if (why := refusal(measured[index], limits[index], tolerance)) is not None}
+        if not failed and edge_check is not None:  # the edges the replaced faces share, judged as the gate does
+            for index, (why, edges) in edge_check(shape, result, measured).items():
+                failed[index] = why
+                measured[index] = dict(measured[index], edges=edges)
         if not failed:
             break
         retry = set(failed) - kept_pcurves
@@ -322,7 +333,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             if own and index not in own:
                 continue
             projected, best = first.get(index, (None, measured[index]))
-            if projected is not None:
+            if projected is not None and projected != why:
                 why = f"with its edges projected onto it: {projected}; with its old pcurves: {why}"
                 if measured[index]["max_distance"] + measured[index]["edge_tolerance"] < \
                         best["max_distance"] + best["edge_tolerance"]:

@@ -10,7 +10,7 @@ from ..errors import FileFormatError, OptionError
 from ..exchange import formats
 from .records import SCHEMA, json_number, subdivided_record
 
-__all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "write_advised"]
+__all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "edge_rules", "write_advised"]
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
@@ -207,12 +207,53 @@ def _measured(record):
     """The figures a refused replacement measured (None: refused before it was built)."""
     if record is None:
         return None
-    return {key: json_number(record.get(key)) if not isinstance(record.get(key), bool) else record.get(key)
-            for key in ("distance_to_old", "distance_from_old", "max_distance", "allowed_distance",
-                        "edge_tolerance_before", "edge_tolerance", "valid_before", "valid")}
+    out = {key: json_number(record.get(key)) if not isinstance(record.get(key), bool) else record.get(key)
+           for key in ("distance_to_old", "distance_from_old", "max_distance", "allowed_distance",
+                       "edge_tolerance_before", "edge_tolerance", "valid_before", "valid")}
+    if record.get("edges"):
+        out["edges"] = record["edges"]
+    return out
 
 
-def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None) -> dict:
+def edge_rules(profile=None, units: str = "mm"):
+    """The check :func:`~cadartifact.exchange.model_writer.write_model` runs on a written model's edges: the
+    gate's continuity rules (G0 gap, G1 angle, G2 jump of ``profile``, the default profile when None) along the
+    edges of the replaced faces, against the input's own verdict per edge
+    (:mod:`cadartifact.analysis.edge_changes`). The input's verdicts are measured once per face and kept.
+
+    Returns
+    -------
+    callable
+        ``check(source shape, written shape, {face index: measured figures}) -> {face index: (reason, [edge
+        records])}``: the replaced faces charged with an edge whose verdict got worse.
+    """
+    from ..analysis.edge_changes import blame, edge_verdicts, reason, worse_edges
+    from ..analysis.quality import default_profile
+
+    profile = profile or default_profile()
+    before: dict = {}
+    seen: set = set()
+
+    def check(source, written, measured: dict) -> dict:
+        faces = set(measured)
+        if faces - seen:
+            before.update(edge_verdicts(source, faces - seen, profile))
+            seen.update(faces)
+        worse = worse_edges(before, edge_verdicts(written, faces, profile))
+        charged = blame(worse, faces, {i: r.get("max_distance") or 0.0 for i, r in measured.items()})
+        return {face: (reason(face, edges, units), [_edge_json(e) for e in edges]) for face, edges in charged.items()}
+
+    return check
+
+
+def _edge_json(edge: dict) -> dict:
+    """A worse edge as the ``refused[].measured.edges`` record (numbers JSON-safe)."""
+    return {"faces": edge["faces"], "criterion": edge["criterion"], "rule": edge["rule"],
+            "value": json_number(edge["value"]), "before": json_number(edge["before"]),
+            "verdict": edge["verdict"], "verdict_before": edge["verdict_before"], "limit": json_number(edge["limit"])}
+
+
+def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None, profile=None) -> dict:
     """Write the advice of ``(path, net, advice)`` tuples: whole models, or the advised faces only.
 
     Parameters
@@ -226,6 +267,9 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         always written this way (a cage has no B-rep to keep).
     provenance : dict, optional
         Header provenance (tool, version, tolerance, intent).
+    profile : Profile, optional
+        The gate's thresholds whose continuity rules between faces a written model must keep (:func:`edge_rules`);
+        None: the default profile.
 
     Returns
     -------
@@ -270,9 +314,10 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         else:
             asked = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
                      if not getattr(adv, "kept_today", new.shape == net.shape)}
+            units = next((net.unit for _, net, _ in items if getattr(net, "unit", None)), None) or "mm"
             faces = write_model(src, asked, target, provenance=provenance, refused=refused,
                                 allowed=allowed_distances(items), tolerance=_tolerance(items),
-                                measurements=measurements)
+                                measurements=measurements, edge_check=edge_rules(profile, units))
             kept_faces = sorted(set(by_face) - set(asked))
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
         # every replacement refused: nothing was written (the model would be today's)

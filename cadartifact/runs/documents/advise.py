@@ -96,6 +96,24 @@ class WrittenFace(TypedDict, closed=True):
     """Several input files: the output file this face was written to."""
 
 
+class WorseEdge(TypedDict, closed=True):
+    """An edge of a refused face whose continuity verdict (the gate's edge rules) the replacement made worse."""
+
+    faces: list[int]
+    """The two faces of the edge."""
+    criterion: Literal["edge_gap", "edge_angle", "edge_curvature"]
+    rule: str
+    """The gate's rule id (CA131 G0, CA132 G1, CA133 G2)."""
+    value: float | None
+    """As written (model units, degrees or a share)."""
+    before: float | None
+    """In the input."""
+    verdict: Literal["pass", "warn", "fail"]
+    verdict_before: Literal["pass", "warn", "fail"]
+    limit: float | None
+    """The threshold crossed (when the input already failed: its value + a tenth of the fail threshold)."""
+
+
 class RefusedMeasure(TypedDict, closed=True):
     """What the best replacement of a refused face measured, written (model units)."""
 
@@ -107,6 +125,8 @@ class RefusedMeasure(TypedDict, closed=True):
     edge_tolerance: float | None
     valid_before: bool | None
     valid: bool | None
+    edges: NotRequired[list[WorseEdge]]
+    """Refused on the continuity between faces: the edges it made worse than in the input, the worst first."""
 
 
 class RefusedFace(TypedDict, closed=True):
@@ -115,8 +135,9 @@ class RefusedFace(TypedDict, closed=True):
     face: int
     reason: str
     """Why, as the writer's check says it (the net does not cover the face's trimmed region; written, it lies
-    beyond t + the old face's ripple of the old face, its edges beyond the input's tolerance + t, or BRepCheck
-    rejects it where the input's passed)."""
+    beyond t + the old face's ripple of the old face, its edges beyond the input's tolerance + t, BRepCheck
+    rejects it where the input's passed, or it makes an edge's continuity verdict worse than the input's:
+    "edge continuity: gap X mm > Y (input Z) ...")."""
     measured: NotRequired[RefusedMeasure | None]
     """What the replacement measured when it was refused on measured grounds (null: refused before it was built)."""
 
