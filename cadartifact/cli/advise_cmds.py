@@ -83,6 +83,10 @@ def advise_cmd(
         raise fail("--faces-only: expected together with --write-resampled, received it alone")
     keep = [] if write_resampled else None
     files = advise_inputs(files)
+    if write_resampled is not None:  # never over an input, whatever the spelling: before any work
+        from ..runs.advising import check_not_an_input
+
+        check_not_an_input(files, write_resampled)
     err = _console(stderr=True)
     with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,

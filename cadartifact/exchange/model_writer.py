@@ -266,6 +266,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     """
     out = check_step_output(out)
     source = check_file(source)
+    if os.path.realpath(out) == os.path.realpath(source) or (out.exists() and os.path.samefile(out, source)):
+        raise InputError(out, f"is the source model {source}: writing would overwrite it (write to another file)")
     provenance = dict(provenance or {})
     asked = dict(replacements)
     refusals = {}

@@ -10,7 +10,8 @@ from ..errors import FileFormatError, OptionError
 from ..exchange import formats
 from .records import SCHEMA, json_number, subdivided_record
 
-__all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "edge_rules", "write_advised"]
+__all__ = ["advise_files", "resampled_nets", "advised_outputs", "check_not_an_input", "allowed_distances", "edge_rules",
+           "write_advised"]
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
@@ -186,6 +187,30 @@ def advised_outputs(kept, out) -> list:
     return [(src, out.with_name(f"{out.stem}_{src.stem}{out.suffix}"), items) for src, items in groups.items()]
 
 
+def check_not_an_input(paths, out) -> None:
+    """:class:`InputError` naming ``out`` when writing it (or, for several input files, ``OUT_<input stem>``:
+    :func:`advised_outputs`) would overwrite one of the input ``paths``: the same file under another spelling,
+    through a symbolic link or a hard link included. Checked before any file is read."""
+    import os
+
+    from ..errors import InputError
+
+    paths = [Path(p) for p in paths]
+    out = Path(out)
+    targets = [out] + ([out.with_name(f"{out.stem}_{p.stem}{out.suffix}") for p in paths] if len(paths) > 1 else [])
+    for target in targets:
+        for path in paths:
+            same = os.path.realpath(target) == os.path.realpath(path)
+            if not same and target.exists() and path.exists():
+                try:
+                    same = os.path.samefile(target, path)
+                except OSError:
+                    same = False
+            if same:
+                raise InputError(target, f"is the input file {path}: --write-resampled would overwrite it "
+                                 "(write to another file)")
+
+
 def allowed_distances(items) -> dict:
     """Per face of ``(path, net, advice)`` tuples, how far its written face may lie from the old one (model
     units): the tolerance plus the old face's ripple, the peak the advice read for today's net (the new surface
@@ -293,6 +318,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
     from ..exchange.step import write_step
 
     check_step_output(out)
+    check_not_an_input(sorted({str(p) for p, _, _ in kept}), out)
     files = []
     for src, target, items in advised_outputs(kept, out):
         nets = resampled_nets(items)
