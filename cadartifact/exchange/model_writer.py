@@ -207,7 +207,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         The original STEP/IGES/BREP model.
     replacements : dict int -> ControlNet
         0-based face index (as ``ControlNet.origin.face`` of :func:`cadartifact.exchange.read`)
-        -> a non-rational B-spline net over the same parameter range as that face's surface.
+        -> a B-spline net (rational or not: its weights are written per pole) over the same parameter
+        range as that face's surface.
     out : str or path-like
         A ``.step``/``.stp`` file in an existing folder (checked before anything is read).
     provenance : dict str -> str or float, optional
@@ -217,8 +218,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         Write only the replacement nets, one untrimmed face each
         (:func:`cadartifact.exchange.step.write_step`), instead of the whole model.
     refused : dict, optional
-        Given (an empty dict to fill): a replacement the per-face checks refuse (a cage or rational
-        net, a face without a surface, a net that does not cover the face's trimmed region) is not
+        Given (an empty dict to fill): a replacement the per-face checks refuse (a cage, a face without a surface, a net that does not cover the face's trimmed region) is not
         raised but recorded here as ``face index -> reason`` and that face is kept as it is; the
         other faces are written. If every replacement is refused, nothing is written (``[]``).
         The same for a face the written model measures unfaithful (below).
@@ -258,7 +258,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     ------
     OptionError
         ``out`` not .step/.stp or not in an existing folder; a face index the model has not;
-        a net that is a cage, rational, or over another parameter range (unless ``refused`` is given);
+        a net that is a cage or over another parameter range (unless ``refused`` is given);
         an OBJ source.
     InputError
         The source cannot be read, or the file cannot be written (nothing is left behind); a face
@@ -281,8 +281,6 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         if not isinstance(net, ControlNet) or not net.is_bspline:
             refuse(index, OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)",
                                       type(net).__name__))
-        elif net.rational:
-            refuse(index, OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights"))
     shape, face_name, unit, products, uncertainty = _read_source(source)
     faces = list(iter_faces(shape))
     missing = sorted(set(asked) - set(range(len(faces))))
