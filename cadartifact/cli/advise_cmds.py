@@ -145,6 +145,9 @@ def _print_written(written: dict, units: str) -> None:
                 " (as in the input)" if r.get("valid_before") is False else "")
             con.print(f"  face {label}: {r['max_distance']:.4g} {units} from the old face{allowed}, mean "
                       f"{r['mean_distance']:.4g} {units} (by projection, both ways){edges}; {valid}", soft_wrap=True)
+        for c in f.get("surface_types", []):
+            con.print(f"  face {c['face']}: a {c['before']} surface in the input, written as a {c['after']} surface "
+                      "by OCCT's STEP writer", soft_wrap=True)
         for r in f.get("refused", []):
             con.print(f"  face {r['face']} kept as it was, its advised net cannot be written: {escape(r['reason'])}",
                       soft_wrap=True)

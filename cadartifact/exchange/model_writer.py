@@ -198,7 +198,8 @@ def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source:
 
 def write_model(source, replacements: dict, out, *, provenance: dict | None = None,
                 faces_only: bool = False, refused: dict | None = None, allowed: dict | None = None,
-                tolerance: float | None = None, measurements: dict | None = None, edge_check=None) -> list[dict]:
+                tolerance: float | None = None, measurements: dict | None = None, edge_check=None,
+                types: dict | None = None) -> list[dict]:
     """Write ``source`` to STEP with the surfaces of some faces replaced.
 
     Parameters
@@ -239,6 +240,11 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         than in the input (the layer above passes the gate's edge rules here; this layer measures
         no continuity itself). Run once the other checks pass; a face it names is refused (kept) and
         the model is built again without it, until it names none. None: not checked.
+    types : dict, optional
+        Given (an empty dict to fill): face index -> (surface kind in the input, kind read back from the
+        written file) of every face OCCT's STEP writer turned into another kind of surface than the one
+        it was given (a replaced face: a B-spline; another face: its input's own; e.g. a degenerate torus
+        written as a surface of revolution).
 
     Returns
     -------
@@ -246,12 +252,13 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         One per replaced face, in face order: ``{"face": int, "name": str | None,
         "distance_to_old", "distance_from_old", "max_distance", "mean_distance",
         "allowed_distance", "edge_tolerance_before", "edge_tolerance", "valid_before", "valid",
-        "pcurves", "model_valid"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
+        "pcurves", "model_valid", "surface_type", "surface_type_written"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
         against the old one by projection both ways, trims respected (model units, mm for STEP),
         its edges' largest tolerance and BRepCheck's verdict on the face in the input and as
         written, ``model_valid`` on the whole written shape; ``pcurves``: ``"projected"`` (the edges'
         3-D curves projected onto the new surface) or ``"kept"`` (the old pcurves, tried when the
-        projected face measured unfaithful). ``faces_only``: the untrimmed new
+        projected face measured unfaithful); ``surface_type`` / ``surface_type_written``: the input face's
+        surface kind and the written face's as the file reads back (None: not compared). ``faces_only``: the untrimmed new
         face against the old one; no edge figures, ``model_valid`` None.
 
     Raises
@@ -360,9 +367,29 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
                 names.append((after, name))
     _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
            provenance=provenance)
+    before = [surface_kind(BRep_Tool.Surface_s(face))[0] for _, face in faces]
+    after = _kinds_read_back(out, len(faces))
+    expected = [_kind_of(replacements[i]) if i in replacements else kind for i, kind in enumerate(before)]
+    if types is not None and after is not None:
+        types.update({i: (before[i], after[i]) for i in range(len(faces)) if after[i] != expected[i]})
     return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
              "allowed_distance": _limit(allowed.get(index), measured[index]),
-             "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid} for index in sorted(replacements)]
+             "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid,
+             "surface_type": before[index], "surface_type_written": None if after is None else after[index]}
+            for index in sorted(replacements)]
+
+
+def _kind_of(net: ControlNet) -> str:
+    """The surface kind a replacement is written as (:func:`surface_kind`'s name): a B-spline."""
+    return "bspline"
+
+
+def _kinds_read_back(out: Path, count: int) -> list | None:
+    """The surface kind of each face of the written file as OCCT reads it back (None when the face count differs:
+    no face-by-face comparison)."""
+    shape = _read_source(out)[0]
+    kinds = [surface_kind(BRep_Tool.Surface_s(face))[0] for _, face in iter_faces(shape)]
+    return kinds if len(kinds) == count else None
 
 
 def _edges_only(record, limit) -> bool:

@@ -302,7 +302,9 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
         "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
         "edge_tolerance", "valid", "model_valid", ...}], "kept": [face indices left as they were],
-        "refused": [{"face", "reason", "measured"}], "valid": BRepCheck on the written model or None}], "path",
+        "refused": [{"face", "reason", "measured"}], "valid": BRepCheck on the written model or None,
+        "surface_types": [{"face", "before", "after"}] (model mode: every face OCCT's STEP writer turned into
+        another kind of surface than it was given, as the file reads back)}], "path",
         "faces"}`` (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
         faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
         untouched and are listed in ``kept``. Each replaced face is measured as written
@@ -328,6 +330,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         asked: dict = {}
         refused: dict = {}
         measurements: dict = {}
+        types: dict = {}
         if mode == "faces-only" and not brep:
             write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
@@ -343,7 +346,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
             units = next((net.unit for _, net, _ in items if getattr(net, "unit", None)), None) or "mm"
             faces = write_model(src, asked, target, provenance=provenance, refused=refused,
                                 allowed=allowed_distances(items), tolerance=_tolerance(items),
-                                measurements=measurements, edge_check=edge_rules(profile, units))
+                                measurements=measurements, edge_check=edge_rules(profile, units), types=types)
             kept_faces = sorted(set(by_face) - set(asked))
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
         # every replacement refused: nothing was written (the model would be today's)
@@ -352,6 +355,8 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
                       "refused": [{"face": i, "reason": why, "measured": _measured(measurements.get(i))}
                                   for i, why in refused.items()],
                       "valid": all(checks) if checks else None})
+        if mode == "model" and path is not None:  # faces OCCT's writer turned into another kind of surface
+            files[-1]["surface_types"] = [{"face": i, "before": a, "after": b} for i, (a, b) in sorted(types.items())]
     modes = {f["mode"] for f in files}
     return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,
             "path": files[0]["path"] if files else str(out), "faces": files[0]["faces"] if len(files) == 1 else

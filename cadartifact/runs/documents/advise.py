@@ -92,6 +92,11 @@ class WrittenFace(TypedDict, closed=True):
     kept (tried when the projected face measured unfaithful). Null: faces only."""
     model_valid: NotRequired[bool | None]
     """A B-rep source: whether the written model checks valid (absent for OBJ sources)."""
+    surface_type: NotRequired[str | None]
+    """Model mode: the kind of the input face's surface (``bspline``, ``torus``, ...)."""
+    surface_type_written: NotRequired[str | None]
+    """Model mode: the kind of the written face's surface as the file reads back (a replaced face is given as a
+    B-spline; null: the written file's faces could not be matched one to one)."""
     file: NotRequired[str]
     """Several input files: the output file this face was written to."""
 
@@ -142,6 +147,16 @@ class RefusedFace(TypedDict, closed=True):
     """What the replacement measured when it was refused on measured grounds (null: refused before it was built)."""
 
 
+class SurfaceTypeChange(TypedDict, closed=True):
+    """A face OCCT's STEP writer turned into another kind of surface than it was given."""
+
+    face: int
+    before: str
+    """The kind in the input (a replaced face: ``bspline``, what it was given)."""
+    after: str
+    """The kind the written file reads back with (e.g. ``revolution`` for a degenerate torus)."""
+
+
 class WrittenFile(TypedDict, closed=True):
     """One output file."""
 
@@ -156,6 +171,8 @@ class WrittenFile(TypedDict, closed=True):
     """Faces whose advised net cannot be written faithfully: kept as they were, with the reason; the other faces
     are written."""
     valid: bool | None
+    surface_types: NotRequired[list[SurfaceTypeChange]]
+    """Model mode, a file written: the faces whose surface kind the writer changed (replaced or not)."""
 
 
 class Written(TypedDict, closed=True):
