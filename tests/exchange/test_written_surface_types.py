@@ -104,3 +104,25 @@ def test_a_degenerate_torus_written_as_a_surface_of_revolution_is_said(major, mi
                                            "surface_types": [{"face": torus, "before": "torus",
                                                               "after": "revolution"}]}]}, "mm")
     assert any(f"face {torus}: a torus surface in the input, written as a revolution surface" in s for s in lines)
+
+
+@pytest.mark.realdata
+@pytest.mark.slow
+def test_ctc_02_degenerate_tori_are_listed(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from cadartifact.cli.app import app
+    from cadartifact.testing.paths import REAL_STEP, REALDATA_MISSING
+
+    source = REAL_STEP / "nist_ctc_02_asme1_ap242-1.stp"
+    if not source.exists():
+        pytest.skip(REALDATA_MISSING)
+    out = tmp_path / "ctc02.step"
+    result = CliRunner().invoke(app, ["advise", str(source), "--tol", "0.01", "--write-resampled", str(out), "--json"])
+    (f,) = json.loads(result.stdout)["written"]["files"]
+    assert f["path"] == str(out) and f["faces"]
+    changed = {c["face"]: (c["before"], c["after"]) for c in f["surface_types"]}
+    assert changed == {i: ("torus", "revolution") for i in (214, 311, 313, 315, 317, 319)}
+    assert all(r["surface_type"] == r["surface_type_written"] == "bspline" for r in f["faces"])

@@ -9,8 +9,9 @@ moved 0.005 is written (gap below the warn threshold); moved 0.015 or 0.04 it is
 continuity: gap ..." and the edges it made worse; two neighbours moved alike are written together only where no
 unmoved face borders them (three faces: the middle one is charged first, then the first one, two rounds). Second
 road: the gate's own edge measure on the written file as read back (``file_edges`` + ``judge_edges``) and
-``gate --profile default`` has no edge failure or warning that the input had not. The real files MAINBODY_BACK and
-linkrods the same way through ``advise --write-resampled``.
+``gate --profile default`` has no edge failure or warning that the input had not. The real files MAINBODY_BACK
+(t = 0.01: both advised faces written; t = 0.05: both kept on a 0.0424 mm gap) and linkrods the same way through
+``advise --write-resampled``.
 """
 
 from __future__ import annotations
@@ -132,8 +133,8 @@ def invoke(args):
     return CliRunner().invoke(app, [str(a) for a in args])
 
 
-def gate_edges(path):
-    result = invoke(["gate", path, "--tol", T, "--profile", "default", "-f", "json"])
+def gate_edges(path, tol=T):
+    result = invoke(["gate", path, "--tol", tol, "--profile", "default", "-f", "json"])
     (f,) = json.loads(result.stdout)["files"]
     return {(tuple(sorted(e["faces"])), k): e["verdict"] for k, e in enumerate(
         sorted(f["edges"] or [], key=lambda e: (sorted(e["faces"]), e["edge"])))}
@@ -141,13 +142,14 @@ def gate_edges(path):
 
 @pytest.mark.realdata
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["MAINBODY_BACK.stp", "linkrods.step"])
-def test_real_files_written_have_no_edge_failure_the_input_had_not(name, tmp_path):
+@pytest.mark.parametrize("name, tol", [("MAINBODY_BACK.stp", 0.01), ("MAINBODY_BACK.stp", 0.05),
+                                       ("linkrods.step", 0.05)])
+def test_real_files_written_have_no_edge_failure_the_input_had_not(name, tol, tmp_path):
     source = REAL_STEP / name
     if not source.exists():
         pytest.skip(REALDATA_MISSING)
     out = tmp_path / "written.step"
-    result = invoke(["advise", source, "--tol", T, "--write-resampled", out, "--json"])
+    result = invoke(["advise", source, "--tol", tol, "--write-resampled", out, "--json"])
     assert result.exit_code in (0, 1), result.output
     doc = json.loads(result.stdout)
     jsonschema = pytest.importorskip("jsonschema")
@@ -157,8 +159,10 @@ def test_real_files_written_have_no_edge_failure_the_input_had_not(name, tmp_pat
         if r["reason"].startswith("edge continuity") or "edge continuity" in r["reason"]:
             assert r["measured"]["edges"]
     if f["path"] is None:  # every replacement kept: nothing written, nothing worse
-        assert not out.exists()
+        assert not out.exists() and tol == 0.05
         return
-    before, after = gate_edges(source), gate_edges(out)
+    assert tol == 0.01 and [r["face"] for r in f["faces"]] == [12, 13]  # MAINBODY_BACK at 0.01: both written
+    before, after = gate_edges(source, tol), gate_edges(out, tol)
     order = {"pass": 0, "warn": 1, "fail": 2}
-    assert all(order[v] <= order[before.get(k, "fail")] for k, v in after.items() if v == "fail")
+    assert before.keys() == after.keys()
+    assert all(order[v] <= order[before[k]] for k, v in after.items())
