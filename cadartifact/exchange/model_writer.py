@@ -13,8 +13,13 @@ is measured against the old face by projection both ways with the trims respecte
 (:mod:`.face_distance`), with its edge tolerances and BRepCheck before and after. A face beyond its
 allowed distance (t + the old face's ripple + its edges' tolerance), with an edge tolerance beyond
 the input's + t, or that BRepCheck rejects where the input's passed, is kept as it was (with the reason and what it measured)
-and the model is built again without it. Untouched faces, face order, face and product names and the
-file's length unit and distance uncertainty are kept; the header carries the provenance.
+and the model is built again without it. Then the caller's ``edge_check`` (the gate's continuity rules between
+faces, passed down from :mod:`cadartifact.runs.advising`: this layer imports no analysis) names the replaced faces
+that make an edge's verdict worse than the input's; those are kept too, until it names none. Rational nets are
+written with their weights. Untouched faces, face order, face and product names and the file's length unit and
+distance uncertainty are kept; the header carries the provenance. The written file is read back and each face's
+kind of surface compared with what it was given (OCCT's STEP writer turns a degenerate torus into a surface of
+revolution).
 """
 
 from __future__ import annotations
@@ -369,7 +374,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
            provenance=provenance)
     before = [surface_kind(BRep_Tool.Surface_s(face))[0] for _, face in faces]
     after = _kinds_read_back(out, len(faces))
-    expected = [_kind_of(replacements[i]) if i in replacements else kind for i, kind in enumerate(before)]
+    expected = ["bspline" if i in replacements else kind for i, kind in enumerate(before)]  # what it was given
     if types is not None and after is not None:
         types.update({i: (before[i], after[i]) for i in range(len(faces)) if after[i] != expected[i]})
     return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
@@ -377,11 +382,6 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
              "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid,
              "surface_type": before[index], "surface_type_written": None if after is None else after[index]}
             for index in sorted(replacements)]
-
-
-def _kind_of(net: ControlNet) -> str:
-    """The surface kind a replacement is written as (:func:`surface_kind`'s name): a B-spline."""
-    return "bspline"
 
 
 def _kinds_read_back(out: Path, count: int) -> list | None:
