@@ -123,7 +123,7 @@ def _orientation_in(face, edge):
 
 
 def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDGE_SAMPLES,
-                flat_curvature: float = FLAT_CURVATURE) -> dict:
+                flat_curvature: float = FLAT_CURVATURE, faces=None) -> dict:
     """G0, G1 and G2 along every edge two faces of ``shape`` share.
 
     Parameters
@@ -137,6 +137,8 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
         Parameters along each edge (evenly spread over its range, the ends included).
     flat_curvature : float
         Where both faces' ``|k|`` are at most this (1 / model units), the relative jump is 0 (both flat).
+    faces : collection of int, optional
+        Only the edges of these faces (indices as ``origin.face``) are measured and counted; None: every edge.
 
     Returns
     -------
@@ -158,6 +160,7 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
     from OCP.TopoDS import TopoDS
     from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
+    only = None if faces is None else set(faces)
     faces, where = _faces(shape)
     ancestors = TopTools_IndexedDataMapOfShapeListOfShape()
     TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, ancestors)
@@ -165,6 +168,9 @@ def shape_edges(shape, *, face_entity=None, edge_entity=None, samples: int = EDG
     records = []
     for k in range(1, ancestors.Extent() + 1):
         edge = TopoDS.Edge_s(ancestors.FindKey(k))
+        if only is not None and not any(_index_of(TopoDS.Face_s(f), faces, where) in only
+                                        for f in ancestors.FindFromIndex(k)):
+            continue
         if BRep_Tool.Degenerated_s(edge):
             counted["degenerate"] += 1
             continue

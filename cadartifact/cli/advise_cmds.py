@@ -83,6 +83,10 @@ def advise_cmd(
         raise fail("--faces-only: expected together with --write-resampled, received it alone")
     keep = [] if write_resampled else None
     files = advise_inputs(files)
+    if write_resampled is not None:  # never over an input, whatever the spelling: before any work
+        from ..runs.advising import check_not_an_input
+
+        check_not_an_input(files, write_resampled)
     err = _console(stderr=True)
     with _progress(err, "advised", len(files)) as progress:
         doc = advise_files(files, tol, scheme=scheme, metric=metric, include_signal_error=include_signal_error,
@@ -141,6 +145,9 @@ def _print_written(written: dict, units: str) -> None:
                 " (as in the input)" if r.get("valid_before") is False else "")
             con.print(f"  face {label}: {r['max_distance']:.4g} {units} from the old face{allowed}, mean "
                       f"{r['mean_distance']:.4g} {units} (by projection, both ways){edges}; {valid}", soft_wrap=True)
+        for c in f.get("surface_types", []):
+            con.print(f"  face {c['face']}: a {c['before']} surface in the input, written as a {c['after']} surface "
+                      "by OCCT's STEP writer", soft_wrap=True)
         for r in f.get("refused", []):
             con.print(f"  face {r['face']} kept as it was, its advised net cannot be written: {escape(r['reason'])}",
                       soft_wrap=True)

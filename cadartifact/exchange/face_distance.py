@@ -1,6 +1,7 @@
 """How far one trimmed B-rep face lies from another, geometrically: by projection, both ways, trims respected.
 
-A face is sampled inside its trim: a ``GRID x GRID`` lattice of its uv box kept where OCCT's 2-D classifier
+A face is sampled inside its trim: a ``GRID x GRID`` lattice of its uv box (finer on a B-spline face of many knot
+spans: ``PER_SPAN`` points per span, so that no span's ripple peak falls between lattice points) kept where OCCT's 2-D classifier
 (``BRepTopAdaptor_FClass2d``) puts it inside the face, plus :data:`EDGE_SAMPLES` points along each of its edges
 (the edge's pcurve on the face's surface: the boundary as the face itself sees it). Each sample is projected onto
 the other face: onto its surface (``ShapeAnalysis_Surface.ValueOfUV``, the nearest point), and when that foot
@@ -31,6 +32,7 @@ from OCP.BRepCheck import BRepCheck_Analyzer  # noqa: E402
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape  # noqa: E402
 from OCP.BRepTools import BRepTools  # noqa: E402
 from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d  # noqa: E402
+from OCP.Geom import Geom_BSplineSurface  # noqa: E402
 from OCP.gp import gp_Pnt, gp_Pnt2d  # noqa: E402
 from OCP.ShapeAnalysis import ShapeAnalysis_Surface  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
@@ -46,12 +48,36 @@ __all__ = ["face_samples", "distance_to_face", "face_distance", "edge_tolerance"
 GRID = 41
 #: Points along each edge of a face.
 EDGE_SAMPLES = 32
+#: Lattice points per knot span of a B-spline face, when that gives more than :data:`GRID` (at most :data:`MAX_GRID`).
+PER_SPAN = 6
+MAX_GRID = 121
 
 
 def _edges(face) -> list:
     edges = TopTools_IndexedMapOfShape()
     TopExp.MapShapes_s(face, TopAbs_EDGE, edges)
     return [TopoDS.Edge_s(edges.FindKey(i)) for i in range(1, edges.Extent() + 1)]
+
+
+def _spans(surface, lo: float, hi: float, k: int) -> int:
+    """Knot spans of a B-spline ``surface`` along direction ``k`` inside ``[lo, hi]`` (1 for other surfaces)."""
+    from .occ import surface_kind
+
+    _, bspline = surface_kind(surface)
+    if not isinstance(bspline, Geom_BSplineSurface):
+        return 1
+    count = bspline.NbUKnots() if k == 0 else bspline.NbVKnots()
+    knots = [bspline.UKnot(i) if k == 0 else bspline.VKnot(i) for i in range(1, count + 1)]
+    return max(1, sum(1 for a, b in zip(knots, knots[1:]) if b > lo and a < hi))
+
+
+def _lattice(surface, box, grid: int) -> tuple[int, int]:
+    """Lattice points per direction: ``grid``, or :data:`PER_SPAN` per knot span of the face's surface inside its uv
+    box when that is more (a ripple peaks once or twice per span; a fixed lattice over many spans steps over them),
+    at most :data:`MAX_GRID`."""
+    u0, u1, v0, v1 = box
+    return tuple(int(min(MAX_GRID, max(grid, PER_SPAN * _spans(surface, lo, hi, k) + 1)))
+                 for k, (lo, hi) in enumerate(((u0, u1), (v0, v1))))
 
 
 def face_samples(face, grid: int = GRID, edge_samples: int = EDGE_SAMPLES) -> np.ndarray:
@@ -61,7 +87,8 @@ def face_samples(face, grid: int = GRID, edge_samples: int = EDGE_SAMPLES) -> np
     ----------
     face : TopoDS_Face
     grid : int
-        Lattice points per direction of the face's uv box.
+        Lattice points per direction of the face's uv box, at least (a B-spline face: :data:`PER_SPAN` per knot span
+        inside the box when that is more, at most :data:`MAX_GRID`).
     edge_samples : int
         Points along each edge (its pcurve on the face, evaluated on the face's surface).
 
@@ -74,9 +101,10 @@ def face_samples(face, grid: int = GRID, edge_samples: int = EDGE_SAMPLES) -> np
     u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
     tol = BRep_Tool.Tolerance_s(face)
     classifier = BRepTopAdaptor_FClass2d(face, tol)
+    nu, nv = _lattice(surface, (u0, u1, v0, v1), grid)
     points, p = [], gp_Pnt()
-    for u in np.linspace(u0, u1, grid).tolist():
-        for v in np.linspace(v0, v1, grid).tolist():
+    for u in np.linspace(u0, u1, nu).tolist():
+        for v in np.linspace(v0, v1, nv).tolist():
             if classifier.Perform(gp_Pnt2d(u, v)) in (TopAbs_IN, TopAbs_ON):
                 surface.D0(u, v, p)
                 points.append((p.X(), p.Y(), p.Z()))

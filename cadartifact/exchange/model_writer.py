@@ -13,8 +13,13 @@ is measured against the old face by projection both ways with the trims respecte
 (:mod:`.face_distance`), with its edge tolerances and BRepCheck before and after. A face beyond its
 allowed distance (t + the old face's ripple + its edges' tolerance), with an edge tolerance beyond
 the input's + t, or that BRepCheck rejects where the input's passed, is kept as it was (with the reason and what it measured)
-and the model is built again without it. Untouched faces, face order, face and product names and the
-file's length unit and distance uncertainty are kept; the header carries the provenance.
+and the model is built again without it. Then the caller's ``edge_check`` (the gate's continuity rules between
+faces, passed down from :mod:`cadartifact.runs.advising`: this layer imports no analysis) names the replaced faces
+that make an edge's verdict worse than the input's; those are kept too, until it names none. Rational nets are
+written with their weights. Untouched faces, face order, face and product names and the file's length unit and
+distance uncertainty are kept; the header carries the provenance. The written file is read back and each face's
+kind of surface compared with what it was given (OCCT's STEP writer turns a degenerate torus into a surface of
+revolution).
 """
 
 from __future__ import annotations
@@ -198,7 +203,8 @@ def _write(shape, out: Path, *, unit: str, uncertainty, names, products, source:
 
 def write_model(source, replacements: dict, out, *, provenance: dict | None = None,
                 faces_only: bool = False, refused: dict | None = None, allowed: dict | None = None,
-                tolerance: float | None = None, measurements: dict | None = None) -> list[dict]:
+                tolerance: float | None = None, measurements: dict | None = None, edge_check=None,
+                types: dict | None = None) -> list[dict]:
     """Write ``source`` to STEP with the surfaces of some faces replaced.
 
     Parameters
@@ -207,7 +213,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         The original STEP/IGES/BREP model.
     replacements : dict int -> ControlNet
         0-based face index (as ``ControlNet.origin.face`` of :func:`cadartifact.exchange.read`)
-        -> a non-rational B-spline net over the same parameter range as that face's surface.
+        -> a B-spline net (rational or not: its weights are written per pole) over the same parameter
+        range as that face's surface.
     out : str or path-like
         A ``.step``/``.stp`` file in an existing folder (checked before anything is read).
     provenance : dict str -> str or float, optional
@@ -217,8 +224,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         Write only the replacement nets, one untrimmed face each
         (:func:`cadartifact.exchange.step.write_step`), instead of the whole model.
     refused : dict, optional
-        Given (an empty dict to fill): a replacement the per-face checks refuse (a cage or rational
-        net, a face without a surface, a net that does not cover the face's trimmed region) is not
+        Given (an empty dict to fill): a replacement the per-face checks refuse (a cage, a face without a surface, a net that does not cover the face's trimmed region) is not
         raised but recorded here as ``face index -> reason`` and that face is kept as it is; the
         other faces are written. If every replacement is refused, nothing is written (``[]``).
         The same for a face the written model measures unfaithful (below).
@@ -231,7 +237,19 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         None: not checked. A face BRepCheck rejects where the input's passed is always refused.
     measurements : dict, optional
         Given (an empty dict to fill): face index -> the figures (as in the records) of a
-        replacement refused on measured grounds, with ``allowed_distance``.
+        replacement refused on measured grounds, with ``allowed_distance`` (and ``edges``: the
+        edges it made worse, when refused by ``edge_check``).
+    edge_check : callable, optional
+        ``edge_check(source shape, written shape, {face index: measured figures}) -> {face index:
+        (reason, [edge records])}``: the replaced faces that make the continuity between faces worse
+        than in the input (the layer above passes the gate's edge rules here; this layer measures
+        no continuity itself). Run once the other checks pass; a face it names is refused (kept) and
+        the model is built again without it, until it names none. None: not checked.
+    types : dict, optional
+        Given (an empty dict to fill): face index -> (surface kind in the input, kind read back from the
+        written file) of every face OCCT's STEP writer turned into another kind of surface than the one
+        it was given (a replaced face: a B-spline; another face: its input's own; e.g. a degenerate torus
+        written as a surface of revolution).
 
     Returns
     -------
@@ -239,19 +257,20 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         One per replaced face, in face order: ``{"face": int, "name": str | None,
         "distance_to_old", "distance_from_old", "max_distance", "mean_distance",
         "allowed_distance", "edge_tolerance_before", "edge_tolerance", "valid_before", "valid",
-        "pcurves", "model_valid"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
+        "pcurves", "model_valid", "surface_type", "surface_type_written"}`` (:func:`cadartifact.exchange.written_faces.measure`): the written face
         against the old one by projection both ways, trims respected (model units, mm for STEP),
         its edges' largest tolerance and BRepCheck's verdict on the face in the input and as
         written, ``model_valid`` on the whole written shape; ``pcurves``: ``"projected"`` (the edges'
         3-D curves projected onto the new surface) or ``"kept"`` (the old pcurves, tried when the
-        projected face measured unfaithful). ``faces_only``: the untrimmed new
+        projected face measured unfaithful); ``surface_type`` / ``surface_type_written``: the input face's
+        surface kind and the written face's as the file reads back (None: not compared). ``faces_only``: the untrimmed new
         face against the old one; no edge figures, ``model_valid`` None.
 
     Raises
     ------
     OptionError
         ``out`` not .step/.stp or not in an existing folder; a face index the model has not;
-        a net that is a cage, rational, or over another parameter range (unless ``refused`` is given);
+        a net that is a cage or over another parameter range (unless ``refused`` is given);
         an OBJ source.
     InputError
         The source cannot be read, or the file cannot be written (nothing is left behind); a face
@@ -259,6 +278,8 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
     """
     out = check_step_output(out)
     source = check_file(source)
+    if os.path.realpath(out) == os.path.realpath(source) or (out.exists() and os.path.samefile(out, source)):
+        raise InputError(out, f"is the source model {source}: writing would overwrite it (write to another file)")
     provenance = dict(provenance or {})
     asked = dict(replacements)
     refusals = {}
@@ -272,8 +293,6 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         if not isinstance(net, ControlNet) or not net.is_bspline:
             refuse(index, OptionError(f"replacements[{index}]", "a B-spline ControlNet (degrees and knots)",
                                       type(net).__name__))
-        elif net.rational:
-            refuse(index, OptionError(f"replacements[{index}]", "a non-rational net", "a net with weights"))
     shape, face_name, unit, products, uncertainty = _read_source(source)
     faces = list(iter_faces(shape))
     missing = sorted(set(asked) - set(range(len(faces))))
@@ -308,6 +327,10 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
         limits = {index: _limit(allowed.get(index), measured[index]) for index in replacements}
         failed = {index: why for index in replacements
                   if (why := refusal(measured[index], limits[index], tolerance)) is not None}
+        if not failed and edge_check is not None:  # the edges the replaced faces share, judged as the gate does
+            for index, (why, edges) in edge_check(shape, result, measured).items():
+                failed[index] = why
+                measured[index] = dict(measured[index], edges=edges)
         if not failed:
             break
         retry = set(failed) - kept_pcurves
@@ -322,7 +345,7 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
             if own and index not in own:
                 continue
             projected, best = first.get(index, (None, measured[index]))
-            if projected is not None:
+            if projected is not None and projected != why:
                 why = f"with its edges projected onto it: {projected}; with its old pcurves: {why}"
                 if measured[index]["max_distance"] + measured[index]["edge_tolerance"] < \
                         best["max_distance"] + best["edge_tolerance"]:
@@ -349,9 +372,24 @@ def write_model(source, replacements: dict, out, *, provenance: dict | None = No
                 names.append((after, name))
     _write(result, out, unit=unit, uncertainty=uncertainty, names=names, products=products, source=source,
            provenance=provenance)
+    before = [surface_kind(BRep_Tool.Surface_s(face))[0] for _, face in faces]
+    after = _kinds_read_back(out, len(faces))
+    expected = ["bspline" if i in replacements else kind for i, kind in enumerate(before)]  # what it was given
+    if types is not None and after is not None:
+        types.update({i: (before[i], after[i]) for i in range(len(faces)) if after[i] != expected[i]})
     return [{"face": index, "name": face_name(faces[index][1]) if face_name else None, **measured[index],
              "allowed_distance": _limit(allowed.get(index), measured[index]),
-             "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid} for index in sorted(replacements)]
+             "pcurves": "kept" if index in kept_pcurves else "projected", "model_valid": model_valid,
+             "surface_type": before[index], "surface_type_written": None if after is None else after[index]}
+            for index in sorted(replacements)]
+
+
+def _kinds_read_back(out: Path, count: int) -> list | None:
+    """The surface kind of each face of the written file as OCCT reads it back (None when the face count differs:
+    no face-by-face comparison)."""
+    shape = _read_source(out)[0]
+    kinds = [surface_kind(BRep_Tool.Surface_s(face))[0] for _, face in iter_faces(shape)]
+    return kinds if len(kinds) == count else None
 
 
 def _edges_only(record, limit) -> bool:

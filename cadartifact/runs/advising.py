@@ -10,7 +10,8 @@ from ..errors import FileFormatError, OptionError
 from ..exchange import formats
 from .records import SCHEMA, json_number, subdivided_record
 
-__all__ = ["advise_files", "resampled_nets", "advised_outputs", "allowed_distances", "write_advised"]
+__all__ = ["advise_files", "resampled_nets", "advised_outputs", "check_not_an_input", "allowed_distances", "edge_rules",
+           "write_advised"]
 
 
 def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", include_signal_error: bool = False,
@@ -186,6 +187,30 @@ def advised_outputs(kept, out) -> list:
     return [(src, out.with_name(f"{out.stem}_{src.stem}{out.suffix}"), items) for src, items in groups.items()]
 
 
+def check_not_an_input(paths, out) -> None:
+    """:class:`InputError` naming ``out`` when writing it (or, for several input files, ``OUT_<input stem>``:
+    :func:`advised_outputs`) would overwrite one of the input ``paths``: the same file under another spelling,
+    through a symbolic link or a hard link included. Checked before any file is read."""
+    import os
+
+    from ..errors import InputError
+
+    paths = [Path(p) for p in paths]
+    out = Path(out)
+    targets = [out] + ([out.with_name(f"{out.stem}_{p.stem}{out.suffix}") for p in paths] if len(paths) > 1 else [])
+    for target in targets:
+        for path in paths:
+            same = os.path.realpath(target) == os.path.realpath(path)
+            if not same and target.exists() and path.exists():
+                try:
+                    same = os.path.samefile(target, path)
+                except OSError:
+                    same = False
+            if same:
+                raise InputError(target, f"is the input file {path}: --write-resampled would overwrite it "
+                                 "(write to another file)")
+
+
 def allowed_distances(items) -> dict:
     """Per face of ``(path, net, advice)`` tuples, how far its written face may lie from the old one (model
     units): the tolerance plus the old face's ripple, the peak the advice read for today's net (the new surface
@@ -207,12 +232,53 @@ def _measured(record):
     """The figures a refused replacement measured (None: refused before it was built)."""
     if record is None:
         return None
-    return {key: json_number(record.get(key)) if not isinstance(record.get(key), bool) else record.get(key)
-            for key in ("distance_to_old", "distance_from_old", "max_distance", "allowed_distance",
-                        "edge_tolerance_before", "edge_tolerance", "valid_before", "valid")}
+    out = {key: json_number(record.get(key)) if not isinstance(record.get(key), bool) else record.get(key)
+           for key in ("distance_to_old", "distance_from_old", "max_distance", "allowed_distance",
+                       "edge_tolerance_before", "edge_tolerance", "valid_before", "valid")}
+    if record.get("edges"):
+        out["edges"] = record["edges"]
+    return out
 
 
-def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None) -> dict:
+def edge_rules(profile=None, units: str = "mm"):
+    """The check :func:`~cadartifact.exchange.model_writer.write_model` runs on a written model's edges: the
+    gate's continuity rules (G0 gap, G1 angle, G2 jump of ``profile``, the default profile when None) along the
+    edges of the replaced faces, against the input's own verdict per edge
+    (:mod:`cadartifact.analysis.edge_changes`). The input's verdicts are measured once per face and kept.
+
+    Returns
+    -------
+    callable
+        ``check(source shape, written shape, {face index: measured figures}) -> {face index: (reason, [edge
+        records])}``: the replaced faces charged with an edge whose verdict got worse.
+    """
+    from ..analysis.edge_changes import blame, edge_verdicts, reason, worse_edges
+    from ..analysis.quality import default_profile
+
+    profile = profile or default_profile()
+    before: dict = {}
+    seen: set = set()
+
+    def check(source, written, measured: dict) -> dict:
+        faces = set(measured)
+        if faces - seen:
+            before.update(edge_verdicts(source, faces - seen, profile))
+            seen.update(faces)
+        worse = worse_edges(before, edge_verdicts(written, faces, profile))
+        charged = blame(worse, faces, {i: r.get("max_distance") or 0.0 for i, r in measured.items()})
+        return {face: (reason(face, edges, units), [_edge_json(e) for e in edges]) for face, edges in charged.items()}
+
+    return check
+
+
+def _edge_json(edge: dict) -> dict:
+    """A worse edge as the ``refused[].measured.edges`` record (numbers JSON-safe)."""
+    return {"faces": edge["faces"], "criterion": edge["criterion"], "rule": edge["rule"],
+            "value": json_number(edge["value"]), "before": json_number(edge["before"]),
+            "verdict": edge["verdict"], "verdict_before": edge["verdict_before"], "limit": json_number(edge["limit"])}
+
+
+def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | None = None, profile=None) -> dict:
     """Write the advice of ``(path, net, advice)`` tuples: whole models, or the advised faces only.
 
     Parameters
@@ -226,6 +292,9 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         always written this way (a cage has no B-rep to keep).
     provenance : dict, optional
         Header provenance (tool, version, tolerance, intent).
+    profile : Profile, optional
+        The gate's thresholds whose continuity rules between faces a written model must keep (:func:`edge_rules`);
+        None: the default profile.
 
     Returns
     -------
@@ -233,7 +302,9 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         The document's ``written`` entry: ``{"mode": "model" | "faces-only" | "mixed", "files": [{"path",
         "source", "mode", "faces": [{"face", "name", "max_distance", "mean_distance",
         "edge_tolerance", "valid", "model_valid", ...}], "kept": [face indices left as they were],
-        "refused": [{"face", "reason", "measured"}], "valid": BRepCheck on the written model or None}], "path",
+        "refused": [{"face", "reason", "measured"}], "valid": BRepCheck on the written model or None,
+        "surface_types": [{"face", "before", "after"}] (model mode: every face OCCT's STEP writer turned into
+        another kind of surface than it was given, as the file reads back)}], "path",
         "faces"}`` (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
         faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
         untouched and are listed in ``kept``. Each replaced face is measured as written
@@ -249,6 +320,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
     from ..exchange.step import write_step
 
     check_step_output(out)
+    check_not_an_input(sorted({str(p) for p, _, _ in kept}), out)
     files = []
     for src, target, items in advised_outputs(kept, out):
         nets = resampled_nets(items)
@@ -258,6 +330,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         asked: dict = {}
         refused: dict = {}
         measurements: dict = {}
+        types: dict = {}
         if mode == "faces-only" and not brep:
             write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
@@ -270,9 +343,10 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         else:
             asked = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
                      if not getattr(adv, "kept_today", new.shape == net.shape)}
+            units = next((net.unit for _, net, _ in items if getattr(net, "unit", None)), None) or "mm"
             faces = write_model(src, asked, target, provenance=provenance, refused=refused,
                                 allowed=allowed_distances(items), tolerance=_tolerance(items),
-                                measurements=measurements)
+                                measurements=measurements, edge_check=edge_rules(profile, units), types=types)
             kept_faces = sorted(set(by_face) - set(asked))
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
         # every replacement refused: nothing was written (the model would be today's)
@@ -281,6 +355,8 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
                       "refused": [{"face": i, "reason": why, "measured": _measured(measurements.get(i))}
                                   for i, why in refused.items()],
                       "valid": all(checks) if checks else None})
+        if mode == "model" and path is not None:  # faces OCCT's writer turned into another kind of surface
+            files[-1]["surface_types"] = [{"face": i, "before": a, "after": b} for i, (a, b) in sorted(types.items())]
     modes = {f["mode"] for f in files}
     return {"mode": modes.pop() if len(modes) == 1 else "mixed", "files": files,
             "path": files[0]["path"] if files else str(out), "faces": files[0]["faces"] if len(files) == 1 else

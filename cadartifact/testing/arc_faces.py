@@ -37,27 +37,31 @@ def _profile(rng, n: int, radius: float, ripple: float) -> tuple[np.ndarray, np.
 
 
 def revolved_face(radius: float, angle_deg: float, degree: int, n: int, seed: int = 0, transpose: bool = False,
-                  ripple: float | None = None) -> ControlNet:
-    """A profile revolved about an axis by one rational quadratic arc (``angle_deg`` < 180).
+                  ripple: float | None = None, arcs: int = 1) -> ControlNet:
+    """A profile revolved about an axis by ``arcs`` rational quadratic arcs (each ``angle_deg / arcs`` < 180).
 
     Returns
     -------
     ControlNet
-        ``3 x n`` poles (``n x 3`` when ``transpose``): degree ``(2, degree)``, weights ``1, cos(theta/2), 1`` along
-        the arc; placed by :func:`placement` of ``seed``. Its axis is ``rotation[:, 2]`` through ``translation``.
+        ``(2 arcs + 1) x n`` poles (transposed when ``transpose``): degree ``(2, degree)``, weights ``1, cos(theta/2),
+        1, cos(theta/2), ...`` along the arcs (``theta`` each arc's angle), the arcs joined by double knots at
+        ``k / arcs``; placed by :func:`placement` of ``seed``. Its axis is ``rotation[:, 2]`` through ``translation``.
     """
     rng = np.random.default_rng(seed)
-    theta = np.radians(angle_deg)
+    theta = np.radians(angle_deg) / arcs
     r, z = _profile(rng, n, radius, radius * 0.01 if ripple is None else ripple)
-    pts = np.empty((3, n, 3))
-    for i, (phi, scale) in enumerate(((0.0, 1.0), (theta / 2, 1.0 / np.cos(theta / 2)), (theta, 1.0))):
+    m = 2 * arcs + 1
+    pts = np.empty((m, n, 3))
+    for i in range(m):
+        phi, scale = i * theta / 2, (1.0 if i % 2 == 0 else 1.0 / np.cos(theta / 2))
         pts[i, :, 0] = r * scale * np.cos(phi)
         pts[i, :, 1] = r * scale * np.sin(phi)
         pts[i, :, 2] = z
-    w = np.outer([1.0, np.cos(theta / 2), 1.0], np.ones(n))
+    w = np.outer([1.0 if i % 2 == 0 else np.cos(theta / 2) for i in range(m)], np.ones(n))
     rot, shift = placement(seed)
     pts = pts @ rot.T + shift
-    knots = (clamped_uniform_knots(3, 2), clamped_uniform_knots(n, degree))
+    arc_knots = np.r_[[0.0] * 3, np.repeat(np.arange(1, arcs) / arcs, 2), [1.0] * 3]
+    knots = (arc_knots, clamped_uniform_knots(n, degree))
     net = ControlNet(points=pts, weights=w, degrees=(2, degree), knots=knots)
     return transposed(net) if transpose else net
 

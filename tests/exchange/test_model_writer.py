@@ -225,7 +225,7 @@ def test_faces_only_writes_just_the_nets(tmp_path):
     assert "tool=cadartifact test" in out.read_text()
 
 
-@pytest.mark.parametrize("case", ["suffix", "folder", "face", "range", "rational", "cage", "obj"])
+@pytest.mark.parametrize("case", ["suffix", "folder", "face", "range", "cage", "obj"])
 def test_bad_arguments_are_option_errors_and_write_nothing(case, tmp_path):
     model = SAMPLES / "clean_panel.step"
     net = quiet_read(model).nets[0]
@@ -234,7 +234,6 @@ def test_bad_arguments_are_option_errors_and_write_nothing(case, tmp_path):
             "folder": (model, {0: net}, tmp_path / "missing" / "out.step"),
             "face": (model, {5: net}, out),
             "range": (model, {0: net.replace(knots=tuple(2 * k for k in net.knots))}, out),
-            "rational": (model, {0: net.replace(weights=np.ones(net.shape))}, out),
             "cage": (model, {0: net.replace(degrees=None, knots=None)}, out),
             "obj": (SAMPLES / "cage.obj", {0: net}, out)}[case]
     with pytest.raises(OptionError) as info:

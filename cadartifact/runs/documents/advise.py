@@ -92,8 +92,31 @@ class WrittenFace(TypedDict, closed=True):
     kept (tried when the projected face measured unfaithful). Null: faces only."""
     model_valid: NotRequired[bool | None]
     """A B-rep source: whether the written model checks valid (absent for OBJ sources)."""
+    surface_type: NotRequired[str | None]
+    """Model mode: the kind of the input face's surface (``bspline``, ``torus``, ...)."""
+    surface_type_written: NotRequired[str | None]
+    """Model mode: the kind of the written face's surface as the file reads back (a replaced face is given as a
+    B-spline; null: the written file's faces could not be matched one to one)."""
     file: NotRequired[str]
     """Several input files: the output file this face was written to."""
+
+
+class WorseEdge(TypedDict, closed=True):
+    """An edge of a refused face whose continuity verdict (the gate's edge rules) the replacement made worse."""
+
+    faces: list[int]
+    """The two faces of the edge."""
+    criterion: Literal["edge_gap", "edge_angle", "edge_curvature"]
+    rule: str
+    """The gate's rule id (CA131 G0, CA132 G1, CA133 G2)."""
+    value: float | None
+    """As written (model units, degrees or a share)."""
+    before: float | None
+    """In the input."""
+    verdict: Literal["pass", "warn", "fail"]
+    verdict_before: Literal["pass", "warn", "fail"]
+    limit: float | None
+    """The threshold crossed (when the input already failed: its value + a tenth of the fail threshold)."""
 
 
 class RefusedMeasure(TypedDict, closed=True):
@@ -107,6 +130,8 @@ class RefusedMeasure(TypedDict, closed=True):
     edge_tolerance: float | None
     valid_before: bool | None
     valid: bool | None
+    edges: NotRequired[list[WorseEdge]]
+    """Refused on the continuity between faces: the edges it made worse than in the input, the worst first."""
 
 
 class RefusedFace(TypedDict, closed=True):
@@ -115,10 +140,21 @@ class RefusedFace(TypedDict, closed=True):
     face: int
     reason: str
     """Why, as the writer's check says it (the net does not cover the face's trimmed region; written, it lies
-    beyond t + the old face's ripple of the old face, its edges beyond the input's tolerance + t, or BRepCheck
-    rejects it where the input's passed)."""
+    beyond t + the old face's ripple of the old face, its edges beyond the input's tolerance + t, BRepCheck
+    rejects it where the input's passed, or it makes an edge's continuity verdict worse than the input's:
+    "edge continuity: gap X mm > Y (input Z) ...")."""
     measured: NotRequired[RefusedMeasure | None]
     """What the replacement measured when it was refused on measured grounds (null: refused before it was built)."""
+
+
+class SurfaceTypeChange(TypedDict, closed=True):
+    """A face OCCT's STEP writer turned into another kind of surface than it was given."""
+
+    face: int
+    before: str
+    """The kind in the input (a replaced face: ``bspline``, what it was given)."""
+    after: str
+    """The kind the written file reads back with (e.g. ``revolution`` for a degenerate torus)."""
 
 
 class WrittenFile(TypedDict, closed=True):
@@ -135,6 +171,8 @@ class WrittenFile(TypedDict, closed=True):
     """Faces whose advised net cannot be written faithfully: kept as they were, with the reason; the other faces
     are written."""
     valid: bool | None
+    surface_types: NotRequired[list[SurfaceTypeChange]]
+    """Model mode, a file written: the faces whose surface kind the writer changed (replaced or not)."""
 
 
 class Written(TypedDict, closed=True):
