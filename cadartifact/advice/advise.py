@@ -346,7 +346,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         from .retry import verified_retry
 
         retried = verified_retry(fine, lambda x, y: value(fine, x, y, own_ripple=False), t, margin, low, high,
-                                 work.shape)
+                                 work.shape, best=(a, b))
         if retried is not None:
             own = _ripple_of(fine, *retried["net"], settings)
             retried["own_ripple"] = float(own)
@@ -461,7 +461,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         from .retry import retry_note
 
         notes.insert(0, retry_note(retried, retried["own_ripple"], margin, t))
-    return Advice(retried=retried if retried is not None and not kept else None, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
+    retried = retried if retried is not None and not kept else None
+    return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
                   uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), unc.peak, t),
                   today_decision=today_decision, verifiable=not hopeless,

@@ -13,7 +13,8 @@ bumps near a border, degrees 2, 3, 5:
 - where the retry answers, the claim is what a third road measures: the advised net evaluated with scipy's
   B-spline basis against the intent, along its normals, on the trimmed check grid;
 - where the advice still says no, no net in a window of three times today's counts per direction (the search's
-  range reaches eight) has a deviation within t - U that OCCT's surface confirms (brute force);
+  range reaches eight) has a deviation within t - U that OCCT's surface confirms (brute force); the first retry
+  (the deviation frontier only) failed this on two quintic faces, whose fitting net lies beside the search's best;
 - mirrored, reversed, transposed and moved copies get the same answer.
 """
 
@@ -33,24 +34,28 @@ from cadartifact.analysis.settings import RunSettings, resolve_scheme  # noqa: E
 from cadartifact.advice.density_search import _limits  # noqa: E402
 from cadartifact.advice.scorer import _make_scorer  # noqa: E402
 from cadartifact.advice.verification import measure_on_occt  # noqa: E402
-from cadartifact.testing.extended_faces import bordered_bump_face, extended_face, jointed_face, smooth_face  # noqa: E402
+from cadartifact.testing.extended_faces import (bordered_bump_face, extended_face, jointed_face,  # noqa: E402
+                                                 smooth_face)
 from cadartifact.testing.mirrored_faces import copies  # noqa: E402
 
 
-def quintic_extended():
-    return extended_face(smooth_face(n=(14, 8), degree=5, amplitude=6.0, seed=1), sides=("u0", "v1"), ext=0.03,
+def quintic_extended_seed(seed):
+    return extended_face(smooth_face(n=(14, 8), degree=5, amplitude=6.0, seed=seed), sides=("u0", "v1"), ext=0.03,
                          bend=0.02, trim="third")
 
 
-#: (face, tolerance) pairs the search answered "out of reach" before the retry, with the net that verifies.
-RETRIED = [(0.002, (14, 13)), (0.001, (21, 13))]
+#: (face's seed, tolerance, the net that verifies) the search answered "out of reach" before the retry: the
+#: deviation frontier finds the first two; the last two lie beside the search's best (18x15: b = 14 fits 0.00074
+#: and 0.00099, b = 15-17 0.00102-0.00107; the join plan moves the deviation from one count to the next).
+RETRIED = [(1, 0.002, (14, 13)), (1, 0.001, (21, 13)), (5, 0.001, (15, 14)), (7, 0.001, (15, 14))]
 
 FAMILY = {
     "quadratic extended, bent": lambda: extended_face(smooth_face(n=(11, 8), degree=2, amplitude=6.0, seed=1),
                                                       sides=("u0", "v1"), ext=0.03, bend=0.02, trim="third"),
     "cubic extended all sides, p-1": lambda: extended_face(smooth_face(n=(12, 8), degree=3, amplitude=5.0, seed=0),
                                                            sides=("u0", "u1", "v0", "v1"), ext=0.02, mult=2),
-    "quintic extended, bent": quintic_extended,
+    "quintic extended, bent": lambda: quintic_extended_seed(1),
+    "quintic extended, bent, seed 5": lambda: quintic_extended_seed(5),
     "quintic jointed": lambda: jointed_face(pieces=2, degree=5, seed=1),
     "quintic bump at a border, p-1": lambda: extended_face(bordered_bump_face(n=(13, 13), degree=5, seed=1),
                                                            sides=("u0",), ext=0.02, mult=4),
@@ -74,9 +79,9 @@ def _scipy_surface(net, u, v):
     return np.einsum("ai,ijk,bj->abk", Bu, np.asarray(net.points), Bv)
 
 
-@pytest.mark.parametrize("t, shape", RETRIED)
-def test_the_retry_advises_the_net_its_verification_supports(t, shape):
-    advice = ca.advise(quintic_extended(), tolerance=t)
+@pytest.mark.parametrize("seed, t, shape", RETRIED)
+def test_the_retry_advises_the_net_its_verification_supports(seed, t, shape):
+    advice = ca.advise(quintic_extended_seed(seed), tolerance=t)
     d = advice.to_dict()
     u = advice.uncertainty.peak
     assert advice.meets_tolerance and d["no_density"] is None and advice.shape == shape
@@ -96,9 +101,9 @@ def test_the_retry_advises_the_net_its_verification_supports(t, shape):
     assert road + u <= t
 
 
-@pytest.mark.parametrize("t", [0.002])
-def test_copies_get_the_same_answer_after_a_retry(t):
-    net = quintic_extended()
+@pytest.mark.parametrize("seed, t", [(1, 0.002), pytest.param(5, 0.001, marks=pytest.mark.slow)])
+def test_copies_get_the_same_answer_after_a_retry(seed, t):
+    net = quintic_extended_seed(seed)
     first = ca.advise(net, tolerance=t)
     assert first.retried is not None
     for name, copy in copies(net).items():
