@@ -133,6 +133,9 @@ class Advice:
     joins: dict = field(default_factory=dict)
     outside_trim: dict | None = None
     no_density: dict | None = None
+    #: When the search's own-ripple reading found no density and the deviation verified on OCCT found one
+    #: (:func:`cadartifact.advice.retry.verified_retry`): ``{"net", "value", "read", "own_ripple", "tried"}``.
+    retried: dict | None = None
     #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
     pending: object = field(default=None, repr=False, compare=False)
 
@@ -182,6 +185,8 @@ class Advice:
         }
         if self.comparison_note:
             d["comparison_note"] = self.comparison_note
+        if self.retried is not None:
+            d["retried"] = {k: _f(v) if isinstance(v, float) else v for k, v in self.retried.items()}
         return d
 
 
@@ -288,14 +293,17 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     hopeless = unverifiable(unc.peak, t)
     margin = unc.peak
 
+    reading = {"own ripple": objective == "deviation" and intent == "surface"}
+
     def value(sc, a, b, own_ripple=True):
         """The candidate's value plus the intent's uncertainty, against the tolerance: its error against the
         intent and, for the surface reading, its own ripple as the gate will read it (so the advice passes the
-        gate; a budget per candidate, so only where the fine grid confirms)."""
+        gate; a budget per candidate, so only where the fine grid confirms). After a verified retry
+        (:mod:`.retry`) the deviation alone."""
         if objective == "ripple":
             return _ripple_of(sc, a, b, settings) + margin
         dev = sc.value(a, b) + margin
-        if dev > t or intent == "net" or not own_ripple:  # the net reading bounds the deviation from the shape
+        if dev > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
             return dev
         return max(dev, _ripple_of(sc, a, b, settings) + margin)
 
@@ -332,6 +340,17 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             if b > low[1] and value(fine, a, b - 1) <= t:
                 b, changed = gallop(lambda y, x=a: value(fine, x, y) <= t, low[1], b - 1, b - 1), True
     meets = value(fine, a, b) <= t and not hopeless
+    retried = None
+    if not meets and not hopeless and not exact_face and reading["own ripple"]:
+        # before an honest no, the nets a write-and-measure check would accept: the deviation verified on OCCT
+        from .retry import verified_retry
+
+        retried = verified_retry(fine, lambda x, y: value(fine, x, y, own_ripple=False), t, margin, low, high,
+                                 work.shape, best=(a, b))
+        if retried is not None:
+            own = _ripple_of(fine, *retried["net"], settings)
+            retried["own_ripple"] = float(own)
+            (a, b), meets, reading["own ripple"] = retried["net"], True, False
     proportional = None
     if meets and any(fine.plans):  # each piece's spans on their own: whichever plan has fewer points
         from .per_piece import per_piece
@@ -404,7 +423,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         def check():
             try:
-                own = None if objective == "ripple" or intent == "net" else (
+                own = None if not reading["own ripple"] else (
                     lambda x, y: _ripple_of(fine, x, y, settings))  # the search's reading (see value())
                 got = verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin, own)
                 unconfirmed(reasons, binding, got)
@@ -441,7 +460,12 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         notes.insert(0, unverifiable_note(unc.peak, t, net.unit or "model units"))
     raw = stats["deviation" if objective == "deviation" else "total"].get(metric)
     joins = _joins_report(fine, shape, kept, proportional, tolerance - margin, notes)
-    return Advice(joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
+    if retried is not None and not kept:
+        from .retry import retry_note
+
+        notes.insert(0, retry_note(retried, retried["own_ripple"], margin, t))
+    retried = retried if retried is not None and not kept else None
+    return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
                   uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), unc.peak, t),
                   today_decision=today_decision, verifiable=not hopeless,

@@ -8,7 +8,12 @@ hull). Each edge's pcurve on the new surface is instead rebuilt by projecting th
 in space. An edge shared with another face keeps its 3-D curve (the neighbour's pcurves and the shared edge stay
 consistent; its tolerance becomes its gap to the new surface). An edge bounding this face only (a free border)
 takes the new surface's curve: its 3-D curve is rebuilt from the projected pcurve (``BRepLib.BuildCurve3d``).
-Seams and degenerate edges keep their old pcurves (the new surface spans the old one's parameter range there).
+Seams keep their old pcurves (the new surface spans the old one's parameter range there). A degenerate edge (one
+point in space) keeps its old pcurve where that still maps to its vertex on the new surface (a pole the refit
+kept); elsewhere it is left out of its wire, which stays closed through its vertex, where its neighbours'
+projected pcurves end: a sewn shell's degenerate slivers reaching 0.005 into an extension (in uv) otherwise
+addressed points of the new surface 0.235 mm past the old face (and a constant pcurve in their place leaves a
+wire BRepCheck calls not closed).
 A face that measures unfaithful so is tried once more with its old pcurves kept (the other explicit map: the new
 surface addressed in the old one's parameters, right where the refit kept the parametrisation).
 
@@ -33,7 +38,7 @@ from OCP.ShapeFix import ShapeFix_Edge  # noqa: E402
 from OCP.Standard import Standard_Failure  # noqa: E402
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_FORWARD, TopAbs_REVERSED  # noqa: E402
 from OCP.TopExp import TopExp  # noqa: E402
-from OCP.TopoDS import TopoDS, TopoDS_Iterator  # noqa: E402
+from OCP.TopoDS import TopoDS, TopoDS_Iterator, TopoDS_Wire  # noqa: E402
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape, TopTools_IndexedMapOfShape  # noqa: E402
 
 from ..errors import InputError  # noqa: E402
@@ -88,9 +93,10 @@ def replace_surface(face, surface, free=None, project: bool = True):
     """
     builder = BRep_Builder()
     new_face = TopoDS.Face_s(face.EmptyCopied())
+    collapsed = [edge for edge in _edges(face) if BRep_Tool.Degenerated_s(edge) and not _on_vertex(edge, face, surface)]
     it = TopoDS_Iterator(face, False, False)  # the wires as stored: relative orientation and location
     while it.More():
-        builder.Add(new_face, it.Value())
+        builder.Add(new_face, _without(it.Value(), collapsed) if collapsed else it.Value())
         it.Next()
     local = surface
     if not face.Location().IsIdentity():
@@ -106,9 +112,11 @@ def replace_surface(face, surface, free=None, project: bool = True):
             c1 = BRep_Tool.CurveOnSurface_s(forward, face, 0.0, 0.0)
             c2 = BRep_Tool.CurveOnSurface_s(TopoDS.Edge_s(edge.Oriented(TopAbs_REVERSED)), face, 0.0, 0.0)
             builder.UpdateEdge(forward, c1, c2, new_face, tol)
+        elif BRep_Tool.Degenerated_s(edge):  # a pole the refit kept: its old pcurve maps to its vertex still
+            builder.UpdateEdge(edge, BRep_Tool.CurveOnSurface_s(edge, face, 0.0, 0.0), new_face, tol)
         else:
             projected = False
-            if project and not BRep_Tool.Degenerated_s(edge):
+            if project:
                 try:
                     projected = fix.FixAddPCurve(edge, new_face, False)
                 except Standard_Failure:
@@ -118,8 +126,7 @@ def replace_surface(face, surface, free=None, project: bool = True):
                 if old is None:
                     raise InputError(None, "an edge of the face has no curve on its surface")
                 builder.UpdateEdge(edge, old, new_face, tol)
-            if (projected or not project) and not BRep_Tool.Degenerated_s(edge) and free is not None \
-                    and free.Contains(edge):
+            if (projected or not project) and free is not None and free.Contains(edge):
                 # a free border follows the new surface: drop the old pcurve and 3-D curve, rebuild it from the new
                 builder.UpdateEdge(edge, None, old_surface, location, tol)
                 builder.UpdateEdge(edge, None, tol)
@@ -128,6 +135,43 @@ def replace_surface(face, surface, free=None, project: bool = True):
         builder.SameParameter(edge, False)
         edges.append(edge)
     return new_face, edges
+
+
+def _on_vertex(edge, old_face, surface) -> bool:
+    """Whether a degenerate edge's old pcurve maps to its vertex on ``surface`` (global coordinates), within the
+    edge's tolerance at 9 points: a pole the refit kept."""
+    old = BRep_Tool.CurveOnSurface_s(edge, old_face, 0.0, 0.0)
+    if old is None:
+        return True  # nothing to map: the edge is left as it is
+    first, last = BRep_Tool.Range_s(edge, old_face)
+    vertex = BRep_Tool.Pnt_s(TopExp.FirstVertex_s(edge))
+    reach = max(BRep_Tool.Tolerance_s(edge), 1e-7)
+    return all(surface.Value(uv.X(), uv.Y()).Distance(vertex) <= reach
+               for uv in (old.Value(s) for s in np.linspace(first, last, 9).tolist()))
+
+
+def _without(wire, edges):
+    """``wire`` (as the face stores it) without ``edges``: degenerate edges of one vertex, so the wire stays closed
+    through that vertex. The wire itself when it has none of them."""
+    it = TopoDS_Iterator(wire, False, False)
+    kept, dropped = [], False
+    while it.More():
+        edge = it.Value()
+        if any(edge.IsSame(e) for e in edges):
+            dropped = True
+        else:
+            kept.append(edge)
+        it.Next()
+    if not dropped:
+        return wire
+    builder = BRep_Builder()
+    new = TopoDS_Wire()
+    builder.MakeWire(new)
+    for edge in kept:
+        builder.Add(new, edge)
+    new.Closed(wire.Closed())
+    new.Location(wire.Location())
+    return new.Oriented(wire.Orientation())
 
 
 def measure(old_face, new_face) -> dict:

@@ -27,6 +27,16 @@ def smooth_face(n=(9, 8), degree=3, size=100.0, amplitude=4.0, seed=0) -> Contro
     return ControlNet(points=np.stack([size * X, size * Y, Z], -1), degrees=(degree, degree), knots=(tu, tv))
 
 
+def bordered_bump_face(n=(10, 9), degree=3, size=100.0, amplitude=2.0, where=0.06, width=0.06, seed=0) -> ControlNet:
+    """:func:`smooth_face` (amplitude 1) with a Gaussian bump of ``amplitude`` and ``width`` (of the face's side)
+    centred ``where`` from its ``u = 0`` border, half way along it: content near an open border."""
+    face = smooth_face(n, degree, size, 1.0, seed)
+    P = np.array(face.points, float)
+    X, Y = P[..., 0] / size, P[..., 1] / size
+    P[..., 2] += amplitude * np.exp(-((X - where) ** 2 + (Y - 0.5) ** 2) / (2.0 * width ** 2))
+    return face.replace(points=P)
+
+
 def _extend_axis(P, t, p, ext, sides, bend, normal_sign):
     """Extend one direction (axis 0 of ``P``) at its start/end by ``ext`` of the range with a Bezier span joined
     at multiplicity ``p`` (C1 along the tangent, then bent by ``bend`` of the extension's length)."""

@@ -17,7 +17,7 @@ from .keys import Pair, Triple, TypedDict
 __all__ = ["SummaryCounts", "Metric", "Reading", "Decision", "PeakRms", "Budget", "Shares", "AdvisedBudget", "AdvisedShares",
            "UncertaintyRecord", "OutsideTrim", "PeakAt", "FaceRecord", "AdviseFace", "AdviceRecord", "TodayScore",
            "Reason", "Reasons", "Verification", "CoarserCheck", "ComparisonRow", "JoinPiece", "Join", "Joins",
-           "NoDensity", "BestFound"]
+           "NoDensity", "BestFound", "Retried"]
 
 #: The statistic a tolerance is compared with.
 Metric = Literal["peak", "rms"]
@@ -234,6 +234,21 @@ class NoDensity(TypedDict, closed=True):
     reason: str
 
 
+class Retried(TypedDict, closed=True):
+    """The search's own-ripple reading found no density; the deviation alone, verified on OCCT's surface, did."""
+
+    net: Annotated[list[int], Pair]
+    """The net that verified (the advice, unless each piece's spans found on their own saved points since)."""
+    value: float
+    """Its deviation from the intent on OCCT's surface."""
+    read: float
+    """Its deviation as the search's check grid reads it."""
+    own_ripple: float
+    """Its own ripple as its budget reads it (what kept the search from it)."""
+    tried: list[Annotated[list[int], Pair]]
+    """The nets measured on OCCT, in order."""
+
+
 class AdviceRecord(TypedDict, closed=True):
     """The density advice: the fewest control points whose best net stays within the tolerance."""
 
@@ -265,6 +280,8 @@ class AdviceRecord(TypedDict, closed=True):
     no_density: NoDensity | None
     comparison_note: NotRequired[str]
     """Why the schemes were not compared."""
+    retried: NotRequired[Retried]
+    """Present when the advice was found by the retry before an honest no (the verified deviation)."""
 
 
 class FaceRecord(TypedDict):
