@@ -5,7 +5,7 @@ Run:  python benchmarks/surface_convention.py [--seed 2] [--cases 60] [--margin 
 The family of ``surface_split_truth.py`` (a clamped face cut exactly from one ``margin`` spans longer at every
 border; known shapes, degrees 2-5, nets 6-40, a third rational). Per face, through
 :func:`cadartifact.analysis.border_convention.variant_values`: the convention's value ``v`` (the face's peak
-ripple along the normal), the spread ``D`` over the admissible periods (``T + 1``, ``T + 2``, each direction
+ripple along the normal), the spread ``D`` over the admissible periods (``T + 2``, ``T + 4``, each direction
 alone and both), the grid term ``G`` and ``U = D + G``; then
 
 * the grid's latitude: the same reading on a grid twice as fine (``levels`` 4), ``|v_16 - v|``;
