@@ -289,9 +289,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     exact_face = all(fine.kept)
     t = tolerance
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
-    unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine)
-    hopeless = unverifiable(unc.peak, t)
-    margin = unc.peak
+    unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine, settings, current)
+    # the surface reading's U is today's reading's border latitude (analysis.border_convention), which decides
+    # today's net; a candidate's own latitude is not read (a split per variant and candidate): scored as before
+    margin = unc.peak if unc.reading == "net" else 0.0
+    hopeless = unverifiable(margin, t)
 
     reading = {"own ripple": objective == "deviation" and intent == "surface"}
 
@@ -425,7 +427,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             try:
                 own = None if not reading["own ripple"] else (
                     lambda x, y: _ripple_of(fine, x, y, settings))  # the search's reading (see value())
-                got = verify_advice(fine, shape, binding, tolerance - unc.peak, advised, tolerance - margin, own)
+                got = verify_advice(fine, shape, binding, tolerance - margin, advised, tolerance - margin, own)
                 unconfirmed(reasons, binding, got)
                 return got
             finally:
@@ -457,7 +459,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     for sc in (coarse, fine):  # what the search kept of the intent's evaluation (the fields themselves stay)
         release(sc.fields)
     if hopeless:
-        notes.insert(0, unverifiable_note(unc.peak, t, net.unit or "model units"))
+        notes.insert(0, unverifiable_note(margin, t, net.unit or "model units"))
     raw = stats["deviation" if objective == "deviation" else "total"].get(metric)
     joins = _joins_report(fine, shape, kept, proportional, tolerance - margin, notes)
     if retried is not None and not kept:
@@ -467,7 +469,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     retried = retried if retried is not None and not kept else None
     return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), unc.peak, t),
+                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,

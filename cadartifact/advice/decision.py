@@ -59,9 +59,12 @@ def unverifiable_note(uncertainty: float, tolerance: float, unit: str = "mm") ->
             "cannot be verified from these control points")
 
 
-def scorer_uncertainty(scorer):
+def scorer_uncertainty(scorer, settings=None, current=None):
     """The :class:`~cadartifact.analysis.uncertainty.Uncertainty` of a density search's intent (its reading,
-    over the trimmed face)."""
+    over the trimmed face); the ``surface`` reading's is today's reading's border latitude
+    (:func:`face_uncertainty`, which needs the run's ``settings`` and today's budget ``current``)."""
+    if scorer.reading == "surface" and settings is not None:
+        return face_uncertainty(scorer.net, settings, current)
     return _of_intent(scorer.intent, scorer.work, scorer.scheme, scorer.reading)
 
 
@@ -73,8 +76,12 @@ def face_uncertainty(net, settings, current=None):
     from ..analysis.settings import resolve_scheme
     from ..analysis.uncertainty import intent_uncertainty
 
-    if settings.reading == "surface":  # answered without an intent: do not build one for it
-        return intent_uncertainty(None, None, "surface")
+    if settings.reading == "surface":  # the border convention's latitude: no intent of the net reading needed
+        from ..analysis.border_convention import surface_uncertainty
+
+        value = None if current is None else current.value(settings.include_signal_error)
+        return surface_uncertainty(net, settings, value, getattr(current, "work", None),
+                                   getattr(current, "scalar_fields", None), getattr(current, "region", None))
     sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch)
     fields = getattr(current, "fields", None)

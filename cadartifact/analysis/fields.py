@@ -30,6 +30,8 @@ other surfaces defined by quadrilateral polyhedra*, CAGD 2011.
 
 from __future__ import annotations
 
+import dataclasses
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -249,8 +251,15 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
                      {"separable": (lu, lv), "points": P})
 
 
-#: The measured road's period, in multiples of the net's points: a longer bridge is a smoother one.
+#: The measured road's period before its border convention had a fixed gap, in multiples of the spans (kept for
+#: the benchmarks that compare with it; the measured road reads :data:`MEASURED_GAP`).
 MEASURED_EXTENSION = 3
+
+#: The measured road's continuation past the open borders, in spans: one period is the domain plus this gap,
+#: rounded up to an even count (a lattice bin at exactly half a cycle per span). A fixed gap keeps the reading
+#: within a few per cent when the period grows by a few lattice points, where a gap of twice the face moved it
+#: by up to half of itself (the `surface` reading's border convention: docs/model.md, analysis.border_convention).
+MEASURED_GAP = 32
 
 
 def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool = True) -> ArtifactFields:
@@ -272,9 +281,15 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
         # the surface is its own intent (no split needed)
         return _assemble(intent, {k: np.zeros_like(real) for k in ("x1", "x2", "diagonal", "lateral", "total")},
                          real, real, "measured", reading, {"evaluate": _surface_of(intent)})
-    wide = tuple(f.with_extension(MEASURED_EXTENSION) for f in (fu, fv))
+    wide = measured_frames(intent.frames)
     bands, smooth, baseband = _bridged_bands(real, wide, scheme, lateral)
     return _assemble(intent, bands, smooth, real, "measured", reading, baseband)
+
+
+def measured_frames(frames, pads=(0, 0)) -> tuple:
+    """The measured road's frames: each open direction's period the domain plus :data:`MEASURED_GAP` spans,
+    rounded up to even, plus ``pads`` lattice points (the convention's latitude)."""
+    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p) for f, p in zip(frames, pads))
 
 
 def _surface_of(intent: Intent):

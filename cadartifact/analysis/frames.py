@@ -48,6 +48,13 @@ class AxisFrame:
         Parameter of ``x = 0`` and of one span: ``u = u0 + h x`` (cages: ``u0 = 0, h = 1``).
     extension : int
         Open directions: period of the extended data in multiples of the spans.
+    gap : int
+        Open directions, when positive: the period is the domain plus this many lattice points of continuation,
+        rounded up to an even count (the measured road's border convention, ``fields.MEASURED_GAP``), instead
+        of ``extension`` times the spans.
+    pad : int
+        Open directions: lattice points added to that period (the border convention's latitude,
+        :mod:`cadartifact.analysis.border_convention`; 0 in every reading).
     exact : bool
         The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
     polynomial : bool
@@ -66,6 +73,8 @@ class AxisFrame:
     h: float = 1.0
     extension: int = 2
     exact: bool = False
+    gap: int = 0
+    pad: int = 0
     polynomial: bool = False
 
     @property
@@ -82,8 +91,14 @@ class AxisFrame:
     @property
     def period(self) -> int:
         """Lattice points in one period of the extended data: ``n`` periodic, ``extension * L`` open
-        (at least ``n + 4``: room for every point and a gap)."""
-        return self.spans if self.periodic else max(self.extension * self.spans, self.n + 4)
+        (at least ``n + 4``: room for every point and a gap), or with :attr:`gap` ``L + gap`` rounded up to
+        even; plus :attr:`pad`."""
+        if self.periodic:
+            return self.spans
+        if self.gap > 0:
+            T = max(self.spans + self.gap, self.n + 4)
+            return T + T % 2 + self.pad
+        return max(self.extension * self.spans, self.n + 4) + self.pad
 
     @property
     def fine_count(self) -> int:

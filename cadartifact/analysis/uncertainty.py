@@ -37,19 +37,10 @@ alternate surface is contracted in the cheaper order (:func:`_applied`). On the 
 10); ``benchmarks/bench_uncertainty.py`` measures U's share of the advice (docs/uncertainty.md).
 
 For the ``surface`` reading (the surface less its ripple) the surface is known, and so are the control
-points the scheme aliases: an intent that moves between the points moves nothing the split reads. What would
-be uncertain is the split itself at the borders (the continuation past them). No estimate of it has been
-validated yet, so this reading reports ``U = 0`` with ``estimated = False`` and its decisions are the plain
-comparison with the tolerance, as before. Two constructions were tried and left (docs/uncertainty.md): the
-net reading's alternates pushed through the scheme's synthesis of the lattice move with the lattice's
-continuation past the borders, which the real clamped surface never reads (up to 100 times the real ripple);
-the measured road's split with the bridge over 2 or 5 times the span instead of 3 moved the samples' ripple by
-more than its own size (0.22 mm on a 0.095 mm ripple). A border-free truth now exists
-(``benchmarks/surface_split_truth.py``: a face cut exactly from a longer one, its reading against the longer
-face's on the same region) and says the split's border uncertainty is about the size of the ripple read at
-the border, not far smaller: an estimate that covers it (twice the ripple within one span of a border, on
-non-rational faces) would leave most real faces, whose ripple peaks at a border, undecided. Wiring it is the
-lead's decision (docs/uncertainty.md); rational faces differ across the whole face and have no estimate.
+points the scheme aliases: an intent that moves between the points moves nothing the split reads. What is left
+open is the split's border convention: its ``U`` is :func:`cadartifact.analysis.border_convention.surface_uncertainty`
+(the decision's callers ask it there); :func:`intent_uncertainty` answers that reading with zero,
+``estimated = False``, as for a cage.
 
 Periodic directions (a closed net samples a whole period: its trigonometric interpolant is unique below the
 Nyquist limit) and exact lines and circles add no spread.
@@ -303,7 +294,7 @@ def intent_uncertainty(intent, scheme=None, reading: str = "net", keep=None) -> 
         :data:`COVERAGE_FACTOR`, ``s`` = :data:`SPREAD_SCALE`; the ``surface`` reading: zero,
         ``estimated=False``.
     """
-    if reading == "surface":  # not estimated yet (module docstring)
+    if reading == "surface":  # the border convention's U needs the face and the run (module docstring)
         return Uncertainty.zero("surface")
     factor = COVERAGE_FACTOR
     pieces = getattr(intent, "pieces", None)

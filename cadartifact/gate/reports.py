@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..runs.face_instances import NOTE as REPEAT_NOTE
-from ..runs.records import plural, unit_name
+from ..runs.records import estimated_u, plural, unit_name
 from .edge_reports import edge_junit, edge_lines
 from .rules import CRITERION_RULES, RULES, SARIF_SCHEMA
 
@@ -173,7 +173,7 @@ def face_numbers(doc: GateDocument, entry: GateFile, face: GateFace) -> str:
     what = f"canonical {face['canonical']}; " if face.get("canonical") else ""
     unc = face.get("uncertainty")
     u = (f"; uncertainty U {_num(unc['peak'])} {units} (u {_num(unc['u'])}, v {_num(unc['v'])}), "
-         f"decision: {face.get('decision')}") if unc else ""
+         f"decision: {face.get('decision')}") if estimated_u(face) is not None else ""
     return (f"{what}{face['verdict_reason']}; peaks {peaks} {units}{u}; net {_net(face['net'])}, "
             f"scheme {face['scheme']}, {face['method']}; {_advice_text(face)}; metric {pol['metric']}, "
             f"warn at {pol['warn_fraction']:g} of tolerance" + (f"; {where}" if where else ""))
@@ -189,9 +189,9 @@ def _advised_cell(adv: AdviceRecord | None) -> str:
 
 
 def _u_cell(face: GateFace) -> str:
-    """The intent's uncertainty U of a face (``-`` without one)."""
-    unc = face.get("uncertainty")
-    return "-" if not unc else f"{unc['peak']:.2g}"
+    """The intent's uncertainty U of a face (``-`` where none is estimated)."""
+    u = estimated_u(face)
+    return "-" if u is None else f"{u:.2g}"
 
 
 def _share(x) -> str:
@@ -389,9 +389,9 @@ def to_junit(doc: GateDocument) -> str:
         for f in entry["faces"]:
             case = ET.SubElement(suite, "testcase", name=face_label(entry["path"], f), classname="cadartifact.gate.run")
             props = ET.SubElement(case, "properties")
-            unc = f.get("uncertainty") or {}
+            unc = estimated_u(f)
             for name, value in (("verdict", f["verdict"]), ("value", f"{f['value']:.9g}"),
-                                ("uncertainty", "" if unc.get("peak") is None else f"{unc['peak']:.9g}"),
+                                ("uncertainty", "" if unc is None else f"{unc:.9g}"),
                                 ("decision", f.get("decision") or ""),
                                 ("tolerance", f"{pol['tolerance']:.9g}"), ("units", file_units(doc, entry)),
                                 ("advised_net", _net(f["advice"]["net"]) if f["advice"] else "")):

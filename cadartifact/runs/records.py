@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .documents.face import PeakAt, UncertaintyRecord
 
-__all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "uncertainty_record", "peak_location", "face_record",
+__all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "uncertainty_record", "estimated_u", "peak_location", "face_record",
            "analysed_share", "analysed_faces", "polygon_areas", "subdivided_record", "coverage_text", "kind_count",
            "plural", "unit_name"]
 
@@ -129,6 +129,15 @@ def uncertainty_record(u) -> UncertaintyRecord:
     (numbers rounded as every number of the document)."""
     return {"peak": json_number(u.peak), "u": json_number(u.u), "v": json_number(u.v), "reading": u.reading,
             "coverage_factor": json_number(u.factor), "estimated": bool(u.estimated)}
+
+
+def estimated_u(record: dict) -> float | None:
+    """A face record's estimated ``U`` (``uncertainty.peak``), or None where none is estimated (no uncertainty, or
+    ``estimated: false``: a cage's ``surface`` reading): the doors print "-" there, never 0."""
+    unc = record.get("uncertainty") or {}
+    if unc.get("peak") is None or not unc.get("estimated", True):
+        return None
+    return float(unc["peak"])
 
 
 def face_record(net, advice) -> dict:

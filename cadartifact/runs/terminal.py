@@ -13,7 +13,7 @@ import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .records import coverage_text, kind_count, plural, unit_name
+from .records import coverage_text, estimated_u, kind_count, plural, unit_name
 
 if TYPE_CHECKING:  # the records the tables read (runs/documents: docs/schema.md)
     from collections.abc import Iterable
@@ -215,7 +215,7 @@ def render(doc: AdviseDocument, console, wide: bool | None = None) -> None:
             if r.get("kind") == "quad-chart" and f.get("cage_advice"):  # a cage's density changes by levels
                 k = next((g["level"] for g in f["cage_advice"]["regions"] if g["face"] == r["face"]), None)
                 advised = "more control" if k is None else f"level {k}"
-            unc = f"{r['uncertainty']['peak']:.2g}" if r.get("uncertainty") else "-"
+            unc = "-" if estimated_u(r) is None else f"{estimated_u(r):.2g}"
             ver = adv.get("verification")
             if ver is not None and not ver.get("meets", True):
                 advised += " [yellow]?[/]"

@@ -177,8 +177,10 @@ def _face_rows(faces: list[Face], doc: Document, unit: str, warn_fraction: float
         cells = [label, "×".join(map(str, f.get("net", []))), _e(f.get("scheme")),
                  f'<span title="{_e(f.get("reason", ""))}">{_e(f.get("method"))}</span>']
         cells += [_bar(share.get(k), (budget.get(k) or {}).get(metric), unit, warn_fraction) for k, _ in _DIRECTIONS]
+        from ..runs.records import estimated_u
+
         unc = f.get("uncertainty") or {}
-        u = ("–" if unc.get("peak") is None else
+        u = ("–" if estimated_u(f) is None else
              f'<span title="the intent\'s expanded uncertainty U (u {_num(unc.get("u"))}, v {_num(unc.get("v"))} '
              f'{_e(unit)}); decision: {_e(f.get("decision"))}">{_num(unc["peak"])}</span>')
         cells += [_bar(share.get(key), (budget.get(key) or {}).get(metric), unit, warn_fraction), u, _advised(f), badge]

@@ -46,16 +46,6 @@ def test_U_is_small_for_a_polynomial_net_and_grows_near_the_nyquist_limit():
     assert us[0] < us[1] < us[2], us
 
 
-def test_the_surface_reading_says_its_U_is_not_estimated():
-    """The surface reading has no validated estimate of its split's uncertainty yet: U = 0, said so in the
-    record, and its decisions are the plain comparison with the tolerance."""
-    net, _ = known_face((3, 3), (14, 12), shape_function("cosine", 0.3, 0.5, 0.0, (11, 9)))
-    a = advise(net, 0.02, compare=False, verify=False)
-    assert a.uncertainty.peak == 0 and not a.uncertainty.estimated
-    assert a.to_dict()["uncertainty"]["estimated"] is False
-    assert a.today_decision == (CONFORMS if a.today["peak"] <= 0.02 else NONCONFORMING)
-
-
 def test_advice_states_U_and_today_s_decision():
     """The advice carries U (peak and per direction), the decision for the advised net and today's."""
     net, _ = known_face((3, 3), (14, 12), shape_function("cosine", 0.2, 0.5, 0.0, (11, 9)))

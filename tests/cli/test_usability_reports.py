@@ -114,7 +114,10 @@ def test_one_unit_per_file_in_every_format(gate_doc):
         unit = "model units" if e["path"].endswith(".obj") else "mm"
         for f in e["faces"]:
             if f["verdict"] != "pass":
-                assert f"{f['value']:.4g} {unit} exceeds tolerance 0.05 {unit}" in f["verdict_reason"]
+                # the value, its U where one is estimated (every B-rep face), then the unit once
+                u = (f.get("uncertainty") or {}).get("peak") or 0.0
+                pm = f" +/- {u:.2g}" if u > 0 else ""
+                assert f"{f['value']:.4g}{pm} {unit} exceeds tolerance 0.05 {unit}" in f["verdict_reason"]
     junit = to_junit(gate_doc)
     assert "') mm" not in junit and "') model" not in junit
     suites = {s.get("name"): s for s in ET.fromstring(junit.split("?>", 1)[1]).iter("testsuite")}
