@@ -23,45 +23,20 @@ import time
 
 import numpy as np
 
-from surface_split_truth import cut, split
+from surface_split_truth import draw, split
 from cadartifact.analysis.border_convention import RELATIVE_BOUND, variant_values
 from cadartifact.analysis.settings import RunSettings
-from cadartifact.net import ControlNet, clamped_uniform_knots, greville
-from cadartifact.testing.known_shapes import DIRECTIONS, shape_function
 
 
 def case(rng, margin: int) -> dict:
-    p, q = (int(d) for d in rng.integers(2, 6, 2))
-    nu, nv = (int(rng.integers(max(6, d + 2), 41)) for d in (p, q))
-    f = float(rng.uniform(0.05, 0.45))
-    dname = str(rng.choice(list(DIRECTIONS)))
-    kind = str(rng.choice(("cosine", "sum", "bump", "polynomial")))
-    rational = bool(rng.random() < 0.3)
-    Lu, Lv = nu - p + 2 * margin, nv - q + 2 * margin
-    NU, NV = Lu + p, Lv + q
-    ku, kv = clamped_uniform_knots(NU, p), clamped_uniform_knots(NV, q)
-    gu, gv = greville(ku, p, NU), greville(kv, q, NV)
-    g = shape_function(kind, f, DIRECTIONS[dname], float(rng.uniform(0, 2 * np.pi)), (Lu, Lv), rng)
-    P = np.zeros((NU, NV, 3))
-    P[..., 0], P[..., 1] = 100 * gu[:, None], 80 * gv[None, :]
-    P[..., 2] = g(gu[:, None] * Lu, gv[None, :] * Lv)
-    W = None
-    if rational:
-        fa, fb, ph = rng.uniform(0.02, 0.15), rng.uniform(0.02, 0.15), rng.uniform(0, 6)
-        W = np.exp(0.3 * np.cos(2 * np.pi * (fa * np.arange(NU)[:, None] + fb * np.arange(NV)[None, :]) + ph))
-    whole = ControlNet(points=P, degrees=(p, q), knots=(ku, kv), weights=W)
-    face = cut(whole, (margin, margin))
-    K = 8
-    R_whole, _ = split(whole)
-    truth = R_whole[margin * K: margin * K + (nu - p) * K + 1, margin * K: margin * K + (nv - q) * K + 1]
+    face, truth, _, text, (*_, rational) = draw(rng, margin)
     _, normal = split(face)
     settings = RunSettings()
     v, both, alone, G = variant_values(face, settings)
     D = max([abs(x - v) for x in both] + [abs(x - v) for a in alone for x in a])
     v16 = variant_values(face, settings.replace(levels=4), pads=())[0]
     true = float(np.abs(np.sum(truth * normal, axis=-1)).max())
-    return {"text": f"{kind} f={f:.2f} {dname} degrees=({p},{q}) net={nu}x{nv} rational={rational}",
-            "rational": rational, "v": v, "D": D, "G": G, "U": D + G, "grid": abs(v16 - v), "true": true,
+    return {"text": text, "rational": rational, "v": v, "D": D, "G": G, "U": D + G, "grid": abs(v16 - v), "true": true,
             "Epk": abs(v - true)}
 
 

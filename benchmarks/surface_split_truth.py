@@ -79,7 +79,10 @@ def split(net, extension=3, ddeg=0, levels=3):
     return bands["total"], intent_normals(smooth, it.frames[0].K)
 
 
-def case(rng, margin: int) -> dict:
+def draw(rng, margin: int):
+    """One face of the family cut from a longer one, and the longer face's own reading over it (the truth).
+
+    Returns ``(face, truth, K, text, (p, q, nu, nv, rational))``."""
     p, q = (int(d) for d in rng.integers(2, 6, 2))
     nu, nv = (int(rng.integers(max(6, d + 2), 41)) for d in (p, q))
     f = float(rng.uniform(0.05, 0.45))
@@ -103,14 +106,19 @@ def case(rng, margin: int) -> dict:
     K = 8
     R_whole, _ = split(whole)
     truth = R_whole[margin * K: margin * K + (nu - p) * K + 1, margin * K: margin * K + (nv - q) * K + 1]
+    text = f"{kind} f={f:.2f} {dname} degrees=({p},{q}) net={nu}x{nv} rational={rational}"
+    return face, truth, K, text, (p, q, nu, nv, rational)
+
+
+def case(rng, margin: int) -> dict:
+    face, truth, K, text, (p, q, nu, nv, rational) = draw(rng, margin)
     R, normal = split(face)
     along = lambda a: np.abs(np.sum(a * normal, axis=-1))  # noqa: E731
     err = along(R - truth)
     border = np.zeros(err.shape, bool)
     border[: K + 1] = border[-K - 1:] = True
     border[:, : K + 1] = border[:, -K - 1:] = True
-    row = {"text": f"{kind} f={f:.2f} {dname} degrees=({p},{q}) net={nu}x{nv} rational={rational}",
-           "rational": rational, "E": float(err.max()), "true": float(along(truth).max()),
+    row = {"text": text, "rational": rational, "E": float(err.max()), "true": float(along(truth).max()),
            "read": float(along(R).max()), "bord": float(along(R)[border].max())}
     row["Epk"] = abs(row["read"] - row["true"])
     for d in (1, 2, 4):
