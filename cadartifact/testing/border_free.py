@@ -20,7 +20,7 @@ import numpy as np
 from cadartifact.net import ControlNet, clamped_uniform_knots, greville
 from cadartifact.testing.known_shapes import DIRECTIONS, shape_function
 
-__all__ = ["homogeneous", "cut", "long_face", "split", "compare"]
+__all__ = ["homogeneous", "cut", "long_face", "split", "compare", "unmoved_surface"]
 
 
 def homogeneous(net) -> np.ndarray:
@@ -84,12 +84,45 @@ def long_face(rng, margin: int, rational: bool | None = None) -> tuple[ControlNe
     return whole, cut(whole, (margin, margin)), info
 
 
+def unmoved_surface(net, u: np.ndarray, v: np.ndarray, steps: int = 60) -> np.ndarray:
+    """A rational face read where its weights have not moved it: ``(len(u), len(v), 3)``.
+
+    The weights move a rational face along itself: the rational basis ``R`` applied to the Greville abscissae,
+    ``(R xi_u, R xi_v)(s, t)``, is not ``(s, t)`` (for equal weights it is: linear precision). The surface is read
+    at the ``(s, t)`` where that map gives the grid ``(u, v)`` (fixed-point steps ``(s, t) -= map - (u, v)``), so
+    the weights' tangential motion, whose harmonics lie near half a cycle per span, is not split. A measurement
+    candidate (dense bases: slow on long faces), not the road's.
+    """
+    from cadartifact.numerics.splines import basis_matrix
+
+    (p, q), (nu, nv) = net.degrees, net.shape
+    ku, kv = (np.asarray(k, float) for k in net.knots)
+    W = np.ones(net.shape) if net.weights is None else np.asarray(net.weights, float)
+    gu, gv = greville(ku, p, nu), greville(kv, q, nv)
+    H = np.concatenate([homogeneous(net), (W * gu[:, None])[..., None], (W * gv[None, :])[..., None]], axis=-1)
+    X, Y = np.meshgrid(u, v, indexing="ij")
+    S, T = X.copy(), Y.copy()
+
+    def at(S, T):
+        Bu, Bv = basis_matrix(ku, p, S.ravel(), nu), basis_matrix(kv, q, T.ravel(), nv)
+        return np.einsum("ki,ijc,kj->kc", Bu, H, Bv).reshape(S.shape + (6,))
+
+    for _ in range(steps):
+        E = at(S, T)
+        du, dv = E[..., 4] / E[..., 3] - X, E[..., 5] / E[..., 3] - Y
+        S, T = np.clip(S - du, u[0], u[-1]), np.clip(T - dv, v[0], v[-1])
+        if max(np.abs(du).max(), np.abs(dv).max()) <= 1e-13:
+            break
+    E = at(S, T)
+    return E[..., :3] / E[..., 3:4]
+
+
 def split(net, extension: int = 3, ddeg: int = 0, levels: int = 3, rational_split: str | None = None):
     """The measured road's ripple (``total``, ``(a, b, 3)``) and the smooth part's normals of a face.
 
     ``extension``, ``ddeg``: alternate splits (bridge period, polynomial degree). ``rational_split``:
     ``"homogeneous"`` or ``"cartesian"`` (:func:`cadartifact.analysis.fields.split_coordinates`; default the
-    road's own).
+    road's own), or ``"unmoved"``: the Cartesian split of :func:`unmoved_surface` (a candidate).
     """
     from cadartifact.analysis.fields import _bridged_bands, _from_lifted, intent_normals, split_coordinates
     from cadartifact.analysis.intent import design_intent
@@ -98,8 +131,11 @@ def split(net, extension: int = 3, ddeg: int = 0, levels: int = 3, rational_spli
 
     sch = bspline(*net.degrees)
     it = design_intent(net, sch, levels)
-    real = real_surface(it, sch)
-    real = split_coordinates(real, it.frames, rational_split)
+    if rational_split == "unmoved" and net.weights is not None:
+        fu, fv = it.frames
+        real = unmoved_surface(net, fu.param(fu.x), fv.param(fv.x))
+    else:
+        real = split_coordinates(real_surface(it, sch), it.frames, rational_split)
     wide = tuple(f.with_extension(extension) for f in it.frames)
     degs = tuple(d + ddeg for d in net.degrees)
     bands, smooth, _ = _bridged_bands(real, wide, SimpleNamespace(degrees=degs, reproduction_degree=max(degs)),
