@@ -19,8 +19,9 @@ in the parameter, so the grids coincide), along the cut face's normal (the gated
 
 Printed per case: ``E`` (largest pointwise difference), ``Epk`` (difference of the peaks, what a decision
 reads), the true ripple peak, the cut face's reading, the reading within one span of a border (``bord``),
-``E`` beyond 1, 2, 4 spans from the border (``E>2 / E`` is the reading's locality), the largest change of the reading under alternate splits (bridge
-period 2x instead of 3x, polynomial degree - 1); then the coverage of candidate estimates ``U = k * bord``.
+``E`` beyond 1, 2, 4 spans from the border (``E>2 / E`` is the reading's locality), the largest change of the
+reading under alternate splits (bridge period 2x instead of 3x, polynomial degree - 1); then the coverage of
+candidate estimates ``U = k * bord``.
 About 2 s per case (the long face is read too).
 """
 
