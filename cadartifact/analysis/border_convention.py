@@ -90,7 +90,7 @@ def variant_values(net, settings, pads=None, work=None) -> tuple[float, list, li
         ``G`` (module docstring).
     """
     from .budget import analysis_net, border_margin, region_mask
-    from .fields import _bridged_bands, _from_lifted, intent_normals, measured_frames, project
+    from .fields import _bridged_bands, _from_lifted, intent_normals, measured_frames, project, split_coordinates
     from .intent import design_intent
     from .measure import real_surface
     from .settings import resolve_scheme
@@ -107,7 +107,7 @@ def variant_values(net, settings, pads=None, work=None) -> tuple[float, list, li
         fu, fv = it.frames
         if fu.ripple_free and fv.ripple_free:  # nothing can alias: no ripple under any continuation
             continue
-        real = real_surface(it, sch)
+        real = split_coordinates(real_surface(it, sch), it.frames)  # as the road splits it
         keep = region_mask(piece, it.frames, fu.x, fv.x, region, border_margin(piece, sch))
         for c in combos:
             if c != (0, 0) and ((c[0] and fu.periodic and not c[1]) or (c[1] and fv.periodic and not c[0])):

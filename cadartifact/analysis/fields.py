@@ -48,8 +48,8 @@ from ..numerics.operator_cache import OperatorCache
 from ..numerics.tensor import sandwich
 
 __all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "predicted_fields", "measured_fields",
-           "artifact_fields", "band_split", "lateral_factors", "project", "intent_normals", "trend_image_coef",
-           "baseband_at"]
+           "artifact_fields", "split_coordinates", "band_split", "lateral_factors", "project", "intent_normals",
+           "trend_image_coef", "baseband_at"]
 
 #: The fields a budget reports, in report order.
 FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
@@ -281,6 +281,7 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
         # the surface is its own intent (no split needed)
         return _assemble(intent, {k: np.zeros_like(real) for k in ("x1", "x2", "diagonal", "lateral", "total")},
                          real, real, "measured", reading, {"evaluate": _surface_of(intent)})
+    real = split_coordinates(real, intent.frames)
     wide = measured_frames(intent.frames)
     bands, smooth, baseband = _bridged_bands(real, wide, scheme, lateral)
     return _assemble(intent, bands, smooth, real, "measured", reading, baseband)
@@ -290,6 +291,46 @@ def measured_frames(frames, pads=(0, 0)) -> tuple:
     """The measured road's frames: each open direction's period the domain plus :data:`MEASURED_GAP` spans,
     rounded up to even, plus ``pads`` lattice points (the convention's latitude)."""
     return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p) for f, p in zip(frames, pads))
+
+
+#: How the measured road splits a rational face with an open direction: ``"homogeneous"`` (the non-rational
+#: B-spline of ``(w P, w)``, each band projected to first order, SPEC §4) or ``"cartesian"`` (the surface as it
+#: stands, like a non-rational face). Measured both ways on faces cut from longer ones (docs/model.md, "Rational
+#: faces"): the Cartesian split is more local but not as local as a non-rational face's, and reads short faces
+#: with strongly varying weights up to 3x more; the homogeneous split stays.
+RATIONAL_SPLIT = "homogeneous"
+
+
+def split_coordinates(real: np.ndarray, frames, rational_split: str | None = None) -> np.ndarray:
+    """The field the measured road splits.
+
+    Parameters
+    ----------
+    real : (a, b, 3) or (a, b, 4) float
+        The real surface on the fine grid; 4 components: homogeneous ``(w S, w)``.
+    frames : (AxisFrame, AxisFrame)
+    rational_split : {"homogeneous", "cartesian"}, optional
+        Default :data:`RATIONAL_SPLIT`.
+
+    Returns
+    -------
+    (a, b, 3) or (a, b, 4) float
+        ``S = H_xyz / H_w`` for ``"cartesian"`` when ``real`` is homogeneous and a direction is open; ``real``
+        otherwise (both directions periodic: no border, the homogeneous split is the uniform theory's exactly).
+
+    Notes
+    -----
+    The band split's high-pass kernel decays like ``1/d`` with the distance ``d``. Split in homogeneous
+    coordinates and projected to first order, ``dS = (dH_xyz - S dH_w) / H_w``, a rational face's ripple holds
+    the commutator ``L(w S) - S L(w)`` (``L`` the split), whose kernel is ``(S(y) - S(x)) k(x - y)``: about ``d``
+    times the split's, so it does not decay, and a border's continuation reaches across the whole face.
+    """
+    how = RATIONAL_SPLIT if rational_split is None else rational_split
+    check_option("rational_split", how, ("homogeneous", "cartesian"))
+    fu, fv = frames
+    if how == "cartesian" and real.shape[-1] == 4 and not (fu.periodic and fv.periodic):
+        return from_homogeneous(real)
+    return real
 
 
 def _surface_of(intent: Intent):
