@@ -32,7 +32,7 @@ import time
 
 import numpy as np
 
-from cadartifact.testing.border_free import compare, long_face, split
+from cadartifact.testing.border_free import compare, long_face, split, truth_over
 
 #: How rational faces are split (``fields.split_coordinates``): None (the road's own), "homogeneous", "cartesian".
 RATIONAL_SPLIT = None
@@ -44,9 +44,7 @@ def draw(rng, margin: int):
     Returns ``(face, truth, K, text, (p, q, nu, nv, rational))``."""
     whole, face, info = long_face(rng, margin)
     (nu, nv), (p, q), K = info["shape"], info["degrees"], 8
-    R_whole, _ = split(whole)
-    truth = R_whole[margin * K: margin * K + (nu - p) * K + 1, margin * K: margin * K + (nv - q) * K + 1]
-    return face, truth, K, info["text"], (p, q, nu, nv, info["rational"])
+    return face, truth_over(whole, face, margin, K), K, info["text"], (p, q, nu, nv, info["rational"])
 
 
 def case(rng, margin: int) -> dict:

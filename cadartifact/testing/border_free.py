@@ -20,7 +20,7 @@ import numpy as np
 from cadartifact.net import ControlNet, clamped_uniform_knots, greville
 from cadartifact.testing.known_shapes import DIRECTIONS, shape_function
 
-__all__ = ["homogeneous", "cut", "long_face", "split", "compare", "unmoved_surface"]
+__all__ = ["homogeneous", "cut", "long_face", "split", "truth_over", "compare", "unmoved_surface"]
 
 
 def homogeneous(net) -> np.ndarray:
@@ -145,6 +145,14 @@ def split(net, extension: int = 3, ddeg: int = 0, levels: int = 3, rational_spli
     return bands["total"], intent_normals(smooth, it.frames[0].K)
 
 
+def truth_over(whole, face, margin: int, K: int = 8, **options) -> np.ndarray:
+    """The long face's ripple (:func:`split`) on the region ``face`` was cut from: ``(a, b, 3)`` on the cut
+    face's fine grid (``K`` points per span). ``options`` go to :func:`split`."""
+    (nu, nv), (p, q) = face.shape, face.degrees
+    R_whole, _ = split(whole, **options)
+    return R_whole[margin * K: margin * K + (nu - p) * K + 1, margin * K: margin * K + (nv - q) * K + 1]
+
+
 def compare(whole, face, margin: int, K: int = 8, **options) -> dict:
     """The cut face's reading against the long face's on the cut region, along the cut face's normal.
 
@@ -154,8 +162,7 @@ def compare(whole, face, margin: int, K: int = 8, **options) -> dict:
     ``options`` go to :func:`split`.
     """
     (nu, nv), (p, q) = face.shape, face.degrees
-    R_whole, _ = split(whole, **options)
-    truth = R_whole[margin * K: margin * K + (nu - p) * K + 1, margin * K: margin * K + (nv - q) * K + 1]
+    truth = truth_over(whole, face, margin, K, **options)
     R, normal = split(face, **options)
 
     def along(a):
