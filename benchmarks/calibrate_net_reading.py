@@ -31,6 +31,7 @@ FAMILIES = {
     "held out: degree 5": (3902, 0.5, {"degrees": (5,)}, False),
     "held out: 30 degrees": (3903, 0.5, {"directions": ("30deg",)}, False),
     "held out: nets 28-40": (3904, 0.3, {"nets": (28, 40)}, False),
+    "held out: nets 28-40, seed 3914": (3914, 0.5, {"nets": (28, 40)}, False),
     "held out: the issue's mix": (3905, 0.6, {}, False),
 }
 
