@@ -34,7 +34,7 @@ from ..analysis.pieces import face_kind
 from .exact import kept_phrase
 from .honest import unverified_note
 from .verification import unconfirmed
-from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
+from .decision import CONFORMS, advised_uncertainty, candidate_margin, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
@@ -124,6 +124,9 @@ class Advice:
     #: The intent's expanded uncertainty (:class:`~cadartifact.analysis.uncertainty.Uncertainty`), the decision
     #: for the advised net and for today's (:mod:`cadartifact.advice.decision`), and whether any net can conform.
     uncertainty: object = None
+    #: The U the advised net's decision used (``{"peak", "reading", "coverage_factor", "estimated",
+    #: "construction"}``), where it is not today's ``uncertainty.peak`` alone: the ``net`` reading's.
+    advised_uncertainty: dict | None = None
     decision: str | None = None
     today_decision: str | None = None
     verifiable: bool = True
@@ -185,6 +188,9 @@ class Advice:
         }
         if self.comparison_note:
             d["comparison_note"] = self.comparison_note
+        if self.advised_uncertainty is not None:
+            d["advised_uncertainty"] = {k: _f(v) if isinstance(v, float) else v
+                                        for k, v in self.advised_uncertainty.items()}
         if self.retried is not None:
             d["retried"] = {k: _f(v) if isinstance(v, float) else v for k, v in self.retried.items()}
         return d
@@ -290,9 +296,10 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     t = tolerance
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine, settings, current)
+    # a candidate's U: the net reading's bound on any value against the intent (wider than today's value's);
     # the surface reading's U is today's reading's border latitude (analysis.border_convention), which decides
     # today's net; a candidate's own latitude is not read (a split per variant and candidate): scored as before
-    margin = unc.peak if unc.reading == "net" else 0.0
+    margin = candidate_margin(unc)
     hopeless = unverifiable(margin, t)
 
     reading = {"own ripple": objective == "deviation" and intent == "surface"}
@@ -467,9 +474,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         notes.insert(0, retry_note(retried, retried["own_ripple"], margin, t))
     retried = retried if retried is not None and not kept else None
-    return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
+    advised_u = advised_uncertainty(unc, kept, margin)
+    return Advice(advised_uncertainty=advised_u, retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
+                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw),
+                                                                          advised_u["peak"] if advised_u else margin, t),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,

@@ -23,7 +23,8 @@ from __future__ import annotations
 import math
 
 __all__ = ["DECISIONS", "CONFORMS", "UNDECIDED", "NONCONFORMING", "UNVERIFIABLE_SHARE", "decide", "unverifiable",
-           "unverifiable_note", "scorer_uncertainty", "face_uncertainty"]
+           "unverifiable_note", "scorer_uncertainty", "face_uncertainty", "candidate_margin",
+           "advised_uncertainty"]
 
 CONFORMS, UNDECIDED, NONCONFORMING = "conforms", "undecided", "does not conform"
 #: The three outcomes of the rule, best first.
@@ -57,6 +58,28 @@ def unverifiable_note(uncertainty: float, tolerance: float, unit: str = "mm") ->
     """The advice's honest no when the intent's uncertainty leaves no room (SPEC §5)."""
     return (f"the net determines its shape only to +/-{uncertainty:.3g} {unit}: a tolerance of {tolerance:g} {unit} "
             "cannot be verified from these control points")
+
+
+def candidate_margin(uncertainty) -> float:
+    """The ``U`` a candidate net's value carries (model units): the ``net`` reading's ``Uncertainty.candidate``
+    (the intent's own error bounds any net's value against it, ``k SPREAD_SCALE D``), wider than today's value's
+    ``Uncertainty.peak`` (``k TODAY_SCALE D``: :mod:`cadartifact.analysis.uncertainty`). The ``surface`` reading
+    scores candidates with none (today's U there is the border convention's latitude of today's reading)."""
+    if uncertainty is None or uncertainty.reading != "net":
+        return 0.0
+    return float(uncertainty.peak if uncertainty.candidate is None else uncertainty.candidate)
+
+
+def advised_uncertainty(uncertainty, kept: bool, margin: float) -> dict | None:
+    """The U the advised net's decision used, for the record (``{"peak", "reading", "coverage_factor",
+    "estimated", "construction"}``), under the ``net`` reading: today's value's when today's net is kept, else
+    the candidates' ``margin`` (:func:`candidate_margin`). None for the ``surface`` reading."""
+    if uncertainty is None or uncertainty.reading != "net" or not uncertainty.estimated:
+        return None
+    peak, construction = ((uncertainty.peak, "today's net: today's value's U") if kept else
+                          (margin, "a candidate's value against the intent: k SPREAD_SCALE D"))
+    return {"peak": float(peak), "reading": "net", "coverage_factor": float(uncertainty.factor), "estimated": True,
+            "construction": construction}
 
 
 def scorer_uncertainty(scorer, settings=None, current=None):

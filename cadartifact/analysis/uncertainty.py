@@ -17,7 +17,7 @@ one direction at a time. Per direction ``d`` and check-grid point ``z`` the spre
 
     U = k * s * max_z sqrt(D_u(z)^2 + D_v(z)^2),      U_d = k * s * max_z D_d(z)
 
-over the (trimmed) face: ``s D`` is the standard uncertainty (``s`` = :data:`SPREAD_SCALE`), ``k`` =
+over the (trimmed) face: ``s D`` is the standard uncertainty (``s``: :data:`TODAY_SCALE` or :data:`SPREAD_SCALE`), ``k`` =
 :data:`COVERAGE_FACTOR` = 2 (about 95 %). ``s`` is calibrated on known shapes (issue 39, docs/uncertainty.md
 "A sharper U", ``benchmarks/calibrate_net_reading.py``): clamped faces sampling a known shape, nets of 10-28
 points, degrees 2-3, 0.1-0.4 cycles per point along u, v or the diagonal, cosines, sums of cosines, bumps.
@@ -25,8 +25,13 @@ points, degrees 2-3, 0.1-0.4 cycles per point along u, v or the diagonal, cosine
 intent (today's net's and every candidate's): ``|true - value| <= max |intent - shape|``. On 120 cases the
 97.5 % quantile of that error over ``2 D`` is 0.48 (the 95 % quantile, 0.37, let the advice claim a net 1.37 t
 from the shape, a bump at 0.37 cycles per point: the alternates see least of content spread up to the band
-edge), hence ``s`` = 0.5: ``U`` is half the first calibration's (issue 22, ``s`` = 1). Validated on families
-held out of it (degree 5, the 30 degree direction, the issue's whole mix on another seed).
+edge), hence ``s`` = 0.5 (:data:`SPREAD_SCALE`) for every value the advice reads against the intent: a
+candidate's, and the advised net's. Today's value needs less: today's net samples the shape, so its deviation
+from the intent and the intent's own error largely cancel; the 97.5 % quantile of today's error
+(``true - value``) over ``2 D`` is 0.27 on the same cases, hence ``s`` = 0.27 (:data:`TODAY_SCALE`) for today's
+value, which the gate and today's decision read (``Uncertainty.peak``; the candidates' is
+``Uncertainty.candidate``). Both are validated on families held out of the calibration (degree 5, the 30 degree
+direction, the issue's whole mix on another seed).
 
 **Cost.** The alternates' operators depend on a direction's geometry only and are cached
 (:data:`_CACHE`). Each band-limit, ridge or period alternate is built by :func:`_fourier_part`: its Gram matrix
@@ -61,7 +66,8 @@ import numpy as np
 from .intent import F_MAX, RIDGE, SOBOLEV, AxisIntent, Intent, axis_intent
 from ..numerics.operator_cache import OperatorCache
 
-__all__ = ["Uncertainty", "intent_uncertainty", "intent_spread", "ALTERNATES", "COVERAGE_FACTOR", "SPREAD_SCALE"]
+__all__ = ["Uncertainty", "intent_uncertainty", "intent_spread", "ALTERNATES", "COVERAGE_FACTOR", "SPREAD_SCALE",
+           "TODAY_SCALE"]
 
 #: The admissible reconstructions, per direction: (name, band limit, ridge, trend degree change, extension).
 ALTERNATES = (
@@ -77,9 +83,17 @@ ALTERNATES = (
 #: Coverage factor ``k`` of the ``net`` reading (about 95 %: ISO/IEC Guide 98-3 §6).
 COVERAGE_FACTOR = 2.0
 
-#: The standard uncertainty per unit of the alternates' spread, ``u = SPREAD_SCALE * D`` (calibrated on known
-#: shapes so that ``U = k u`` covers 95 % of the ``net`` reading's errors: docs/uncertainty.md "A sharper U").
+#: The standard uncertainty of a value read against the intent, per unit of the alternates' spread,
+#: ``u = SPREAD_SCALE * D``: ``U = k u`` covers the intent's own whole-face error on 97.5 % of the calibration
+#: family, which bounds the error of every candidate's value (docs/uncertainty.md "A sharper U").
 SPREAD_SCALE = 0.5
+
+#: The standard uncertainty of today's value (today's net against its own intent) per unit of the same spread:
+#: ``U = k TODAY_SCALE D`` covers today's error (today's surface's true distance from the shape minus the reported
+#: deviation) on 97.5 % of the calibration family. Today's error is far smaller than the intent's whole-face
+#: error that bounds it (today's net samples the shape: its deviation and the intent's error largely cancel),
+#: so the gate's decision on today's net reads a U about half the candidates' (docs/uncertainty.md).
+TODAY_SCALE = 0.27
 
 
 
@@ -99,6 +113,10 @@ class Uncertainty:
         The coverage factor ``k`` applied to the spread.
     estimated : bool
         False where no estimate exists (the ``surface`` reading): ``U`` is then 0.
+    candidate : float or None
+        The ``net`` reading's ``U`` of a value read against the intent by any other net (a candidate of the
+        advice): ``k SPREAD_SCALE D``, where ``peak`` is today's value's, ``k TODAY_SCALE D``. None where the
+        reading gives no such U (the ``surface`` reading: :func:`cadartifact.advice.decision.candidate_margin`).
     """
 
     peak: float
@@ -107,6 +125,7 @@ class Uncertainty:
     reading: str
     factor: float
     estimated: bool = True
+    candidate: float | None = None
 
     def to_dict(self) -> dict:
         return {"peak": float(self.peak), "u": float(self.u), "v": float(self.v), "reading": self.reading,
@@ -290,8 +309,9 @@ def intent_uncertainty(intent, scheme=None, reading: str = "net", keep=None) -> 
     Returns
     -------
     Uncertainty
-        ``U = k s max_z sqrt(D_u^2 + D_v^2)`` and ``U_d = k s max_z D_d`` (module docstring), ``k`` =
-        :data:`COVERAGE_FACTOR`, ``s`` = :data:`SPREAD_SCALE`; the ``surface`` reading: zero,
+        Today's value's ``U = k s max_z sqrt(D_u^2 + D_v^2)`` and ``U_d = k s max_z D_d`` (module docstring),
+        ``k`` = :data:`COVERAGE_FACTOR`, ``s`` = :data:`TODAY_SCALE`; ``candidate``: the same with ``s`` =
+        :data:`SPREAD_SCALE` (any other net's value against the intent); the ``surface`` reading: zero,
         ``estimated=False``.
     """
     if reading == "surface":  # the border convention's U needs the face and the run (module docstring)
@@ -304,18 +324,19 @@ def intent_uncertainty(intent, scheme=None, reading: str = "net", keep=None) -> 
         parts = [intent_uncertainty(design_intent(p.net, scheme_of(p.net), intent.levels), scheme_of(p.net),
                                     reading) for p in pieces]
         return Uncertainty(max(p.peak for p in parts), max(p.u for p in parts), max(p.v for p in parts),
-                           reading, factor)
+                           reading, factor, candidate=max(p.candidate or 0.0 for p in parts))
     if not isinstance(intent, Intent) or not isinstance(intent.axes[0], AxisIntent):
         return Uncertainty.zero(reading)
-    scale = factor * SPREAD_SCALE
+    scale = factor * TODAY_SCALE
     D, Du, Dv = intent_spread(intent, keep)
-    return Uncertainty(scale * D, scale * Du, scale * Dv, reading, factor)
+    return Uncertainty(scale * D, scale * Du, scale * Dv, reading, factor, candidate=factor * SPREAD_SCALE * D)
 
 
 def intent_spread(intent: Intent, keep=None) -> tuple[float, float, float]:
     """The alternates' spread ``(D, D_u, D_v)`` of an (unsplit) intent over the (trimmed) face, model units:
     ``D = max_z sqrt(D_u(z)^2 + D_v(z)^2)`` and ``D_d = max_z D_d(z)`` (module docstring); ``U`` is
-    ``COVERAGE_FACTOR * SPREAD_SCALE`` times these."""
+    ``COVERAGE_FACTOR * TODAY_SCALE`` times these (today's value), ``COVERAGE_FACTOR * SPREAD_SCALE`` times ``D`` (a
+    candidate's)."""
     x, y = (_grid(f) for f in intent.frames)
     Du, Dv = _spread_net(intent, x, y)
     D = np.sqrt(Du ** 2 + Dv ** 2)

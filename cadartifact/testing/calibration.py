@@ -65,10 +65,17 @@ def calibration(seed, count, **family):
         (nu, nv), f = info["shape"], info["f"]
         eligible = min(nu, nv) >= 16 and f <= 0.3 and t >= 0.02
         fit = independent_fit_error(truth, a.shape, net.degrees, u, v) if eligible else None
-        rows.append({"info": info, "claim": bool(a.meets_tolerance), "true": true, "t": t, "U": a.uncertainty.peak,
-                     "intent_error": intent_error, "eligible": eligible and fit <= t / 2,
+        rows.append({"info": info, "claim": bool(a.meets_tolerance), "true": true, "t": t, "U": _claims_u(a),
+                     "U_today": a.uncertainty.peak, "intent_error": intent_error, "eligible": eligible and fit <= t / 2,
                      "today": a.today_decision})
     return rows
+
+
+def _claims_u(advice) -> float:
+    """The ``U`` an advice's claim is made with: a candidate's (:attr:`Uncertainty.candidate`, which covers the
+    intent's own error), today's where there is none."""
+    unc = advice.uncertainty
+    return float(unc.peak if unc.candidate is None else unc.candidate)
 
 
 def summary(rows) -> str:
@@ -114,7 +121,8 @@ def net_reading_rows(cases) -> list:
 
     Per case, through the tool's own path (:func:`~cadartifact.analysis.budget.budget_for`, then
     :func:`~cadartifact.advice.decision.face_uncertainty`, as a gate run): the reported ``value`` (the
-    deviation's peak), ``U`` and the alternates' ``spread`` (``U / (k * SPREAD_SCALE)``); from the known shape,
+    deviation's peak), today's ``U``, the candidates' ``U_candidate`` and the alternates' ``spread``
+    (``U_candidate / (k * SPREAD_SCALE)``); from the known shape,
     on the value's own check grid (``2**levels`` per span: the value is the peak on that grid, SPEC §4, and
     a finer truth would add the grid's reading of the peak, about 0.5 % of a value far above any tolerance,
     which is no part of the intent's U) with scipy's B-spline basis: the ``true`` error (the surface's largest
@@ -139,8 +147,8 @@ def net_reading_rows(cases) -> list:
         T = truth(u, v)
         true = float(normal_distance(scipy_surface(net, u, v), T).max())
         intent_error = float(normal_distance(it.evaluate(fu.x, fv.x), T).max())
-        rows.append({"info": info, "t": t, "value": value, "U": unc.peak,
-                     "spread": unc.peak / (COVERAGE_FACTOR * SPREAD_SCALE), "true": true,
+        rows.append({"info": info, "t": t, "value": value, "U": unc.peak, "U_candidate": unc.candidate,
+                     "spread": unc.candidate / (COVERAGE_FACTOR * SPREAD_SCALE), "true": true,
                      "error": true - value, "intent_error": intent_error})
     return rows
 
@@ -160,9 +168,9 @@ def error_ratios(rows, scale: float | None = None, key: str = "error") -> np.nda
 
 
 def calibrated_scale(rows, coverage: float = 0.975, key: str = "intent_error") -> float:
-    """The ``SPREAD_SCALE`` whose ``U = k * scale * spread`` covers ``key`` (default: the intent's own error,
-    which bounds every value's) on exactly the ``coverage`` share of ``rows``: the empirical quantile of
-    ``|key| / spread``, over ``k``."""
+    """The scale whose ``U = k * scale * spread`` covers ``key`` on exactly the ``coverage`` share of ``rows``:
+    the empirical quantile of ``|key| / spread``, over ``k``. ``key="intent_error"`` (the intent's own error,
+    which bounds every value's) calibrates ``SPREAD_SCALE``; ``key="error"`` (today's value's) ``TODAY_SCALE``."""
     from cadartifact.analysis.uncertainty import COVERAGE_FACTOR
 
     return float(np.quantile(error_ratios(rows, 1.0 / COVERAGE_FACTOR, key), coverage)) / COVERAGE_FACTOR
@@ -180,5 +188,5 @@ def net_reading_claims(cases) -> list:
         res = a.resampled()
         u, v = (np.linspace(0, 1, TRUTH_PER_SPAN * max(n - 1, 1) + 1) for n in res.shape)
         true = float(normal_distance(scipy_surface(res, u, v), truth(u, v)).max())
-        rows.append({"info": info, "t": t, "claim": bool(a.meets_tolerance), "true": true, "U": a.uncertainty.peak})
+        rows.append({"info": info, "t": t, "claim": bool(a.meets_tolerance), "true": true, "U": _claims_u(a)})
     return rows

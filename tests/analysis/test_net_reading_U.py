@@ -2,11 +2,13 @@
 
 ``U = k s D``: ``D`` the alternates' spread, ``s`` the standard uncertainty per unit of it, calibrated on known
 shapes (nets 10-28, degrees 2-3, cosines, sums, bumps along u, v, the diagonal: benchmarks/calibrate_net_reading.py,
-docs/uncertainty.md "A sharper U"), ``k`` = 2. Checked here on families the calibration did not see: the
-reading's error (today's net's true distance from the known shape minus the reported deviation, scipy's basis)
-within U on at least 95 % of cases, U twice as sharp as the first calibration's (the 95th percentile of
-``|error| / U`` at least 0.3; the issue's 0.6 is not reached: strict xfail with the numbers), and no
-conformance claimed for a net more than 1.1 t from the known shape.
+docs/uncertainty.md "A sharper U"), ``k`` = 2; two scales of one spread: today's value's (``TODAY_SCALE``, what
+the gate decides with) and any candidate's (``SPREAD_SCALE``: the intent's own error, which bounds every value
+against it, what the advice claims with). Checked here on families the calibration did not see: today's error
+(today's net's true distance from the known shape minus the reported deviation, scipy's basis) within today's U
+on at least 95 % of cases, and U sharp (the 95th percentile of ``|error| / U`` at least 0.6); the intent's own
+error within the candidates' U on at least 95 %; and no conformance claimed for a net more than 1.1 t from the
+known shape.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ import numpy as np
 import pytest
 
 from cadartifact.analysis.intent import design_intent
-from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, SPREAD_SCALE, intent_spread, intent_uncertainty
+from cadartifact.analysis.uncertainty import (COVERAGE_FACTOR, SPREAD_SCALE, TODAY_SCALE, intent_spread,
+                                              intent_uncertainty)
 from cadartifact.testing.calibration import error_ratios, net_reading_claims, net_reading_rows
 from cadartifact.testing.known_shapes import known_face, net_reading_family, shape_function
 from cadartifact.theory.catalogue import bspline
@@ -24,15 +27,17 @@ from cadartifact.theory.catalogue import bspline
 @pytest.mark.parametrize("degrees, shape, f", [((2, 2), (12, 14), 0.15), ((3, 5), (20, 16), 0.3),
                                                ((5, 3), (26, 11), 0.38)])
 def test_U_is_k_times_the_calibrated_standard_uncertainty(degrees, shape, f):
-    """U = k s D on the face and per direction, k = 2 (about 95 %), s below the first calibration's 1."""
+    """Today's U = k TODAY_SCALE D on the face and per direction, a candidate's k SPREAD_SCALE D, k = 2 (about
+    95 %), both scales below the first calibration's 1, today's the sharper."""
     spans = (shape[0] - degrees[0], shape[1] - degrees[1])
     net, _ = known_face(degrees, shape, shape_function("cosine", f, 0.4, 1.0, spans))
     it = design_intent(net, bspline(*degrees), 3)
     U = intent_uncertainty(it, bspline(*degrees))
     D = intent_spread(it)
-    assert COVERAGE_FACTOR == 2.0 and 0 < SPREAD_SCALE < 1
+    assert COVERAGE_FACTOR == 2.0 and 0 < TODAY_SCALE < SPREAD_SCALE < 1
     assert U.factor == COVERAGE_FACTOR
-    np.testing.assert_allclose((U.peak, U.u, U.v), np.multiply(D, COVERAGE_FACTOR * SPREAD_SCALE), rtol=1e-12)
+    np.testing.assert_allclose((U.peak, U.u, U.v), np.multiply(D, COVERAGE_FACTOR * TODAY_SCALE), rtol=1e-12)
+    np.testing.assert_allclose(U.candidate, D[0] * COVERAGE_FACTOR * SPREAD_SCALE, rtol=1e-12)
 
 
 HELD_OUT = {"30 degrees": (3913, {"directions": ("30deg",)}), "the issue's mix, degrees 2/3/5": (3915, {})}
@@ -41,24 +46,21 @@ HELD_OUT = {"30 degrees": (3913, {"directions": ("30deg",)}), "the issue's mix, 
 @pytest.fixture(scope="module", params=list(HELD_OUT))
 def held_out(request):
     seed, kw = HELD_OUT[request.param]
-    return request.param, error_ratios(net_reading_rows(net_reading_family(seed, 40, **kw)))
+    rows = net_reading_rows(net_reading_family(seed, 40, **kw))
+    return request.param, error_ratios(rows), error_ratios(rows, SPREAD_SCALE, key="intent_error")
 
 
 @pytest.mark.slow
-def test_U_covers_on_a_held_out_family_and_is_sharper(held_out):
-    """Families held out of the calibration (another direction; degree 5 and other seeds): coverage >= 95 %,
-    95th percentile of |error| / U >= 0.3 (the first calibration's U read 0.16-0.22 on such families)."""
-    name, r = held_out
+def test_U_covers_on_a_held_out_family_and_is_sharp(held_out):
+    """Families held out of the calibration (another direction; degree 5 and other seeds): today's U covers
+    today's error on >= 95 % and the 95th percentile of |error| / U is >= 0.6 (2026-12-06: 30 degrees 97.5 % and
+    0.677, the mix 95.0 % and 0.931; the benchmark's families 97.5-100 % and 0.60-0.81; the first calibration's U
+    read 0.16-0.22, one scale of 0.5 for both values 0.32-0.44); the candidates' U covers the intent's own error on
+    >= 95 % (100 %, 95 %)."""
+    name, r, intent = held_out
     assert np.mean(r <= 1.0) >= 0.95, (name, np.sort(r)[-4:])
-    assert np.percentile(r, 95) >= 0.3, (name, np.percentile(r, [50, 90, 95]))
-
-
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 39's sharpness (95th percentile of |error| / U >= 0.6) needs "
-                   "s = 0.25, which let the advice claim bump nets 1.22-1.35 t from the shape (docs/uncertainty.md)")
-def test_U_meets_the_issue_s_sharpness(held_out):
-    name, r = held_out
     assert np.percentile(r, 95) >= 0.6, (name, np.percentile(r, [50, 90, 95]))
+    assert np.mean(intent <= 1.0) >= 0.95, (name, np.sort(intent)[-4:])
 
 
 @pytest.mark.slow

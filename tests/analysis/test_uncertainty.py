@@ -15,7 +15,7 @@ import pytest
 from cadartifact.advice.advise import advise
 from cadartifact.advice.decision import CONFORMS, NONCONFORMING, UNDECIDED, decide, unverifiable_note
 from cadartifact.analysis.intent import design_intent
-from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, SPREAD_SCALE, intent_uncertainty
+from cadartifact.analysis.uncertainty import COVERAGE_FACTOR, SPREAD_SCALE, TODAY_SCALE, intent_uncertainty
 from cadartifact.testing.calibration import SEED, calibration, false_claims, not_refused, summary
 from cadartifact.testing.known_shapes import calibration_family, known_face, shape_function
 from cadartifact.testing.paths import SAMPLES
@@ -97,7 +97,7 @@ def _direct_U(it) -> tuple[float, float, float]:
                 diff = from_homogeneous(sandwich(alt[0], P, alt[1])) - base
                 Dd = np.maximum(Dd, np.linalg.norm(diff, axis=-1))
         D.append(Dd)
-    k = COVERAGE_FACTOR * SPREAD_SCALE
+    k = COVERAGE_FACTOR * TODAY_SCALE  # today's value's U (a candidate's: SPREAD_SCALE)
     return k * float(np.sqrt(D[0] ** 2 + D[1] ** 2).max()), k * float(D[0].max()), k * float(D[1].max())
 
 
@@ -120,6 +120,7 @@ def test_U_equals_its_definition_computed_the_slow_way():
         want = _direct_U(it)
         for a, b in zip((got.peak, got.u, got.v), want):
             assert abs(a - b) <= 3e-3 * want[0] + 2e-4, (info["text"], (got.peak, got.u, got.v), want)
+        assert got.candidate == pytest.approx(got.peak * SPREAD_SCALE / TODAY_SCALE, rel=1e-12)
 
 
 #: The default run's share of the campaign: the first ``SUBSET`` cases of each of ``CHUNKS`` seeds (the same cases

@@ -234,6 +234,19 @@ class NoDensity(TypedDict, closed=True):
     reason: str
 
 
+class AdvisedUncertainty(TypedDict, closed=True):
+    """The expanded uncertainty U the advised net's decision used, where it is not today's ``uncertainty.peak``
+    (model units)."""
+
+    peak: Number
+    reading: Reading
+    coverage_factor: Number
+    estimated: bool
+    construction: str
+    """How U was formed (the ``net`` reading: a candidate's value against the intent, ``k SPREAD_SCALE D``; or
+    today's value's, for a kept net)."""
+
+
 class Retried(TypedDict, closed=True):
     """The search's own-ripple reading found no density; the deviation alone, verified on OCCT's surface, did."""
 
@@ -282,6 +295,8 @@ class AdviceRecord(TypedDict, closed=True):
     """Why the schemes were not compared."""
     retried: NotRequired[Retried]
     """Present when the advice was found by the retry before an honest no (the verified deviation)."""
+    advised_uncertainty: NotRequired[AdvisedUncertainty]
+    """The U of the advised net's decision (``net`` reading: a candidate's, wider than today's value's)."""
 
 
 class FaceRecord(TypedDict):
