@@ -200,5 +200,9 @@ class AdviseDocument(TypedDict, closed=True):
     include_signal_error: bool
     files: list[AdviseFile]
     summary: AdviseSummary
+    exit_code: Literal[0, 1]
+    """The exit code of ``cadartifact advise`` for this document, which the command exits with: 0 when every face
+    meets the tolerance today, 1 when some face does not (it needs another density, or it is undecided). Usage
+    and input errors exit 2 and write no document; ``cadartifact demo`` exits 0 whatever it says."""
     written: NotRequired[Written]
     """Only with ``--write-resampled``."""
