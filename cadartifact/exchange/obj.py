@@ -7,6 +7,10 @@ their sharpness, the rest as generic tags). Every other statement (``vt``, ``vn`
 ``o``, ``g``, ``s``, ``usemtl``, ``l``, comments, unknown keywords) is skipped.
 A trailing ``\\`` continues a statement on the next line.
 
+Every statement keeps the line it starts on (1-based, lines ended by LF, CR or CRLF as editors and SARIF count
+them; comments and blank lines counted, a continued statement at its first line): :attr:`ObjData.vertex_lines`
+and :attr:`ObjData.face_lines` locate a vertex or face in the file (the gate's findings point there).
+
 Errors are :class:`~cadartifact.errors.FileFormatError` with the file and line:
 non-finite or missing coordinates, a face index out of range, a face with fewer
 than 3 vertices or a repeated vertex.
@@ -16,7 +20,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -44,26 +48,37 @@ def _float(token: str) -> float:
         raise ValueError(token)
     return float(token)
 
-__all__ = ["ObjData", "Tag", "parse_obj"]
+__all__ = ["ObjData", "Tag", "parse_obj", "statement_lines"]
+
+#: Line ends: LF, CR and CRLF only (str.splitlines also splits at form feeds, U+2028 and others, which editors
+#: and SARIF viewers do not count as lines).
+_LINE_END = re.compile(r"\r\n|\r|\n")
 
 
 @dataclass
 class ObjData:
-    """What :func:`parse_obj` found: vertices ``(n, 3)``, faces (0-based ids) and tags."""
+    """What :func:`parse_obj` found: vertices ``(n, 3)``, faces (0-based ids) and tags.
+
+    ``vertex_lines[i]`` and ``face_lines[j]`` are the 1-based lines of vertex ``i``'s ``v`` statement and face
+    ``j``'s ``f`` statement (:func:`statement_lines`).
+    """
 
     vertices: np.ndarray
     faces: list[tuple[int, ...]]
     tags: list[Tag] = field(default_factory=list)
     face_lines: list[int] = field(default_factory=list)
+    vertex_lines: list[int] = field(default_factory=list)
     #: Whether the text ends with a line break (a file cut short usually does not).
     ends_with_line_break: bool = True
 
 
-def _statements(text: str):
-    """Yield ``(line_number, tokens)`` with continuation lines joined and comments removed."""
+def statement_lines(text: str):
+    """Yield ``(line, tokens)`` per statement of an OBJ text: ``line`` the 1-based line it starts on, ``tokens``
+    its words with continuation lines (a trailing ``\\``) joined and comments (``#`` to the line's end)
+    removed; blank and comment-only lines yield nothing but are counted."""
     pending: list[str] = []
     start = 0
-    for number, raw in enumerate(text.splitlines(), start=1):
+    for number, raw in enumerate(_LINE_END.split(text), start=1):
         line = raw.split("#", 1)[0].rstrip()
         if not pending:
             start = number
@@ -107,7 +122,8 @@ def parse_obj(path) -> ObjData:
     -------
     ObjData
         ``vertices (n, 3) float``; ``faces`` as tuples of 0-based vertex ids in file
-        order; ``tags``; ``face_lines`` the line number of each face.
+        order; ``tags``; ``vertex_lines`` and ``face_lines`` the 1-based line of each vertex's and face's
+        statement.
     """
     path = Path(path)
     try:
@@ -119,8 +135,9 @@ def parse_obj(path) -> ObjData:
     coords: list[tuple[float, float, float]] = []
     faces: list[tuple[int, ...]] = []
     face_lines: list[int] = []
+    vertex_lines: list[int] = []
     tags: list[Tag] = []
-    for number, tokens in _statements(text):
+    for number, tokens in statement_lines(text):
         key = tokens[0]
         if key == "v":
             try:
@@ -132,6 +149,7 @@ def parse_obj(path) -> ObjData:
             if not all(math.isfinite(c) for c in xyz):
                 raise FileFormatError(path, f"line {number}: vertex {len(coords) + 1} has a NaN or infinite coordinate")
             coords.append(xyz)
+            vertex_lines.append(number)
         elif key == "f":
             ids = []
             for item in tokens[1:]:
@@ -157,7 +175,7 @@ def parse_obj(path) -> ObjData:
             tags.append(_tag(path, number, tokens))
         # everything else (vt, vn, vp, o, g, s, l, usemtl, mtllib, ...) carries no net data
     vertices = np.array(coords, dtype=float).reshape(-1, 3)
-    return ObjData(vertices=vertices, faces=faces, tags=tags, face_lines=face_lines,
+    return ObjData(vertices=vertices, faces=faces, tags=tags, face_lines=face_lines, vertex_lines=vertex_lines,
                    ends_with_line_break=not text or text.endswith(("\n", "\r")))
 
 
@@ -194,6 +212,8 @@ def read_obj(path):
     if not data.faces:
         raise InputError(path, "no faces in the OBJ file")
     mesh, topology = build_quadmesh(path, data.vertices, data.faces, data.tags)
+    # where each vertex and face stands in the file, for findings about them (an extraordinary vertex's line)
+    mesh = replace(mesh, vertex_lines=tuple(data.vertex_lines), face_lines=tuple(data.face_lines))
     if mesh.n_quads == 0:
         raise InputError(path, f"no quad faces ({mesh.n_triangles} triangles, {mesh.n_ngons} n-gons): "
                          "a quad cage is needed")

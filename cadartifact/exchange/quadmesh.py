@@ -80,6 +80,9 @@ class QuadMesh:
     tags : tuple of Tag
         Every ``t`` statement as read (creases included).
     path : str or None
+    vertex_lines, face_lines : tuple of int
+        The 1-based line of each vertex's ``v`` and each face's ``f`` statement in the file (empty: a mesh not
+        read from a file, or a subdivided one).
     """
 
     vertices: np.ndarray
@@ -94,6 +97,8 @@ class QuadMesh:
     crease_sharpness: np.ndarray
     tags: tuple[Tag, ...] = ()
     path: str | None = None
+    vertex_lines: tuple[int, ...] = ()
+    face_lines: tuple[int, ...] = ()
 
     @property
     def n_faces(self) -> int:

@@ -10,7 +10,9 @@ run must never share it. So it is a hash of three things only:
   it (a CI job runs in its checkout), else the deepest folder holding every file;
 - the record the finding is about: a STEP face's entity (``#1234``, the ``ADVANCED_FACE`` record; an edge's
   finding names its edge's record the same way), a face without an entity by its index (``face 3``: OBJ
-  charts, BREP files), the file itself ``""``;
+  charts, BREP files), an OBJ cage's extraordinary vertex by its OBJ index (``vertex 12``, 1-based as the
+  file's ``f`` statements count; a triangle's or n-gon's centre, which the file does not hold, ``centre of
+  polygon 5``: the file's 5th ``f`` statement), the file itself ``""``;
 - the criterion: ``ripple`` (CA001 and CA002 alike, so that a face moving from warn to fail stays one alert),
   else the rule's name (``unreadable-file``, ``pdq-waviness``...).
 
@@ -23,7 +25,8 @@ import hashlib
 import os
 from pathlib import Path
 
-__all__ = ["FINGERPRINT_KEY", "ROOT_ID", "run_root", "relative", "face_record", "fingerprint", "Fingerprints"]
+__all__ = ["FINGERPRINT_KEY", "ROOT_ID", "run_root", "relative", "face_record", "vertex_record", "fingerprint",
+           "Fingerprints"]
 
 #: The key of the fingerprint in SARIF ``partialFingerprints`` (v2: path relative to the root, record, criterion).
 FINGERPRINT_KEY = "cadartifactFinding/v2"
@@ -65,6 +68,15 @@ def face_record(face: dict | None) -> str:
     if face is None:
         return ""
     return f"#{face['entity']}" if face.get("entity") is not None else f"face {face['face']}"
+
+
+def vertex_record(vertex: dict) -> str:
+    """The record an extraordinary vertex's finding is about (an ``extraordinary`` entry of the document, whose
+    ids are 0-based): ``"vertex 12"``, its OBJ index, or ``"centre of polygon 5"``, its face's ordinal in the
+    file (1-based both, as a user finds them in the file)."""
+    if vertex.get("face") is None:
+        return f"vertex {int(vertex['vertex']) + 1}"
+    return f"centre of polygon {int(vertex['face']) + 1}"
 
 
 def fingerprint(path: str, record: str, criterion: str) -> str:

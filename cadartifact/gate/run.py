@@ -32,7 +32,7 @@ from .policy import FileSettings, Policy
 __all__ = ["GATE_SCHEMA", "INVALID_SKIPS", "VERDICTS", "build_document", "face_verdict", "file_verdict", "gate_file",
            "merge_parts", "run_gate"]
 
-GATE_SCHEMA = "cadartifact.gate/3"  # 3: PDQ criteria (issue 25): "profile", per face "criteria", "ripple_verdict"
+GATE_SCHEMA = "cadartifact.gate/4"  # versions: runs/documents/gate.py
 
 
 def _child_imports() -> tuple:
@@ -392,7 +392,7 @@ def build_document(entries: list, base: dict, policy: Policy) -> dict:
     Returns
     -------
     dict
-        ``{"schema": "cadartifact.advise/3", "gate": "cadartifact.gate/3", "tolerance", "units",
+        ``{"schema": "cadartifact.advise/4", "gate": "cadartifact.gate/4", "tolerance", "units",
         "metric", "include_signal_error", "warn_fraction", "measured", "undecided",
         "profile": the PDQ profile's thresholds (:func:`cadartifact.gate.profiles.profile_dict`) | None,
         "policy": source | None,

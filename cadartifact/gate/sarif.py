@@ -65,8 +65,7 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
             add("CA005", "error", f"{path}: {entry['share_failure']}", path, None,
                 {"verdict": "fail", "analysed_share": entry.get("analysed_share")})
         if entry.get("extraordinary_failure"):
-            add("CA007", "error", f"{path}: {entry['extraordinary_failure']}", path, None,
-                {"verdict": "fail", "vertices": [v["vertex"] for v in entry["extraordinary"] if v["within"] is False]})
+            _vertex_results(add, entry, path, file_units(doc, entry))
         if not entry["faces"] and not entry.get("edges"):
             add("CA004", "note", f"{path}: " + "; ".join(entry["notes"] + entry["warnings"]), path, None,
                 {"verdict": entry["verdict"]})
@@ -102,6 +101,31 @@ def to_sarif(doc: GateDocument, cwd: str | None = None) -> str:
         }],
     }
     return json.dumps(log, indent=2, allow_nan=False) + "\n"
+
+
+def _vertex_results(add, entry, path: str, units: str) -> None:
+    """SARIF results of a cage's extraordinary vertices beyond the tolerance: one per vertex, at the line of its
+    ``v`` statement (a triangle's or n-gon's centre: its ``f`` statement's), recorded by its OBJ index, not its
+    line, so that a baseline still matches it when lines are inserted above it."""
+    from .locations import vertex_record
+
+    tolerance = entry["policy"]["tolerance"]
+    for v in entry["extraordinary"]:
+        if v["within"] is not False:  # within, or a crease ends here (reported, not gated)
+            continue
+        record = vertex_record(v)
+        level = ("needs more control (no level up to 6 brings it within)" if v["level"] is None
+                 else f"level {v['level']} around it brings it within")
+        line = f", line {v['line']}" if v.get("line") is not None else ""
+        defect = "not finite" if v["defect"] is None else f"{v['defect']:.4g} {units}"
+        text = (f"{path}: extraordinary {record}{line} (valence {v['valence']}): defect {defect} beyond the "
+                f"tolerance {tolerance:g}; {level}")
+        # "vertex" and "polygon" are the document's 0-based ids (its "extraordinary" entry), "record" the file's
+        add("CA007", "error", text, path, None,
+            {"verdict": "fail", "vertex": v["vertex"], "polygon": v["face"], "valence": v["valence"],
+             "value": v["defect"], "tolerance": tolerance, "units": units, "level": v["level"], "line": v.get("line")},
+            record=record, line=v.get("line"), logical={"name": record, "fullyQualifiedName": f"{path} {record}",
+                                                         "kind": "element"})
 
 
 def _criteria_results(add, f: GateFace, path: str, units: str) -> None:

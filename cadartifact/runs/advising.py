@@ -10,7 +10,7 @@ from ..errors import FileFormatError, OptionError
 from ..exchange import formats
 from .records import SCHEMA, json_number, subdivided_record
 
-__all__ = ["advise_files", "resampled_nets", "advised_outputs", "check_not_an_input", "allowed_distances", "edge_rules",
+__all__ = ["advise_files", "exit_code", "resampled_nets", "advised_outputs", "check_not_an_input", "allowed_distances", "edge_rules",
            "write_advised"]
 
 
@@ -142,7 +142,18 @@ def advise_files(paths, tolerance: float, *, scheme=None, metric: str = "peak", 
         units = next((r.nets[0].unit for r in loaded if r.nets), "mm")
         return {"schema": SCHEMA, "tolerance": settings.tolerance, "units": units, "metric": settings.metric,
                 "intent": settings.reading, "include_signal_error": settings.include_signal_error,
-                "files": doc_files, "summary": summary}
+                "files": doc_files, "summary": summary, "exit_code": exit_code(doc_files)}
+
+
+def exit_code(files: list) -> int:
+    """``cadartifact advise``'s exit code for a document's ``files``: 0 when every face meets the tolerance today
+    (no face at all included), else 1.
+
+    The document carries it (``exit_code``) and the command exits with the document's value, so that a pipeline
+    reading the JSON and one reading the exit code see the same outcome. Usage and input errors exit 2 and write
+    no document.
+    """
+    return 0 if all(f["meets_tolerance"] for entry in files for f in entry["faces"]) else 1
 
 
 def _summary_key(rec: dict) -> str:

@@ -22,7 +22,8 @@ def vertex_records(mesh, tolerance: float | None) -> list:
 
     out = []
     for v in cage_vertex_defects(mesh):
-        out.append({"vertex": v.vertex, "face": v.face, "valence": v.valence, "boundary": v.boundary,
+        out.append({"vertex": v.vertex, "face": v.face, "line": _line(mesh, v.vertex, v.face),
+                    "valence": v.valence, "boundary": v.boundary,
                     "crease": v.crease, "position": [json_number(c) for c in v.position],
                     "subdominant": json_number(v.lam), "subsubdominant": json_number(v.mu),
                     "curvature": v.curvature, "defects": [json_number(d) for d in v.defects],
@@ -31,6 +32,13 @@ def vertex_records(mesh, tolerance: float | None) -> list:
                     "within": None if tolerance is None or v.crease else bool(v.defect <= tolerance),
                     "level": None if tolerance is None or v.crease else v.level_within(tolerance)})
     return out
+
+
+def _line(mesh, vertex: int, face: int | None) -> int | None:
+    """The line of a vertex's ``v`` statement, or for a triangle's or n-gon's centre (not in the file) its face's
+    ``f`` statement; None for a mesh not read from a file."""
+    lines, index = (mesh.vertex_lines, vertex) if face is None else (mesh.face_lines, face)
+    return int(lines[index]) if 0 <= index < len(lines) else None
 
 
 def cage_advice_record(face_records: list, vertices: list) -> dict:

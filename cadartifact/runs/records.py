@@ -25,7 +25,7 @@ __all__ = ["SCHEMA", "DIRECTIONS", "json_number", "budget_record", "uncertainty_
            "analysed_share", "analysed_faces", "polygon_areas", "subdivided_record", "coverage_text", "kind_count",
            "plural", "unit_name"]
 
-SCHEMA = "cadartifact.advise/3"
+SCHEMA = "cadartifact.advise/4"
 
 
 DIRECTIONS = ("x1", "x2", "diagonal", "lateral", "total", "signal_error", "deviation")

@@ -59,8 +59,9 @@ def test_failing_cage_in_text_sarif_and_junit(torus5, tmp_path):
     assert "1 extraordinary vertex beyond the tolerance" in text and "advice: vertex 0 (valence 5): level 1 around it" in text
     sarif = json.loads(run("gate", path, "--tol", tol, "--format", "sarif", "--jobs", "1").stdout)
     results = sarif["runs"][0]["results"]
-    assert [r["ruleId"] for r in results if r["ruleId"] == "CA007"] == ["CA007"]
-    assert next(r for r in results if r["ruleId"] == "CA007")["properties"]["vertices"] == [0]
+    (ca007,) = [r for r in results if r["ruleId"] == "CA007"]  # one per vertex beyond the tolerance
+    assert (ca007["properties"]["vertex"], ca007["properties"]["record"]) == (0, "vertex 1")
+    assert ca007["locations"][0]["physicalLocation"]["region"]["startLine"] == 1  # write_obj: vertex 1 first
     run("gate", path, "--tol", tol, "--format", "junit", "--output", tmp_path / "g.xml", "--jobs", "1")
     fails = ET.parse(tmp_path / "g.xml").getroot().findall(".//failure")
     assert [f.get("type") for f in fails] == ["CA007 extraordinary-vertex-defect"]

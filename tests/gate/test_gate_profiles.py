@@ -53,7 +53,7 @@ def files(tmp_path_factory):
 # ---------------------------------------------------------------- verdicts and exit codes
 def test_without_a_profile_the_gate_is_the_ripples_alone(files):
     result, doc = gate_json(files["wavy"], "--tol", "10")
-    assert result.exit_code == 0 and doc["gate"] == "cadartifact.gate/3" and doc["profile"] is None
+    assert result.exit_code == 0 and doc["gate"] == "cadartifact.gate/4" and doc["profile"] is None
     face = doc["files"][0]["faces"][0]
     assert face["criteria"] is None and face["verdict"] == face["ripple_verdict"] == "pass"
 

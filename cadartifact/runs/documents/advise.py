@@ -4,7 +4,9 @@ files, their faces (:mod:`.face`), the summary and, with ``--write-resampled``, 
 Versions: 2 added ``uncertainty`` and ``decision`` (``meets_tolerance`` true only for what conforms,
 ``value + U <= t``); 3 analyses and advises the spans the trimmed face uses (``advice.reasons.*.today`` counts
 those spans' points) and adds ``outside_trim``, ``advice.joins``, ``advice.no_density``, ``advice.outside_trim``
-and the comparison's ``advice`` flag.
+and the comparison's ``advice`` flag; 4 is 3 with the keys added after 3's schema was published (a file's
+``subdivided``, ``extraordinary`` and ``cage_advice``, the advice's ``retried``, ``written``'s refused faces,
+surface types and measured figures; CHANGELOG.md lists them).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ __all__ = ["ADVISE_SCHEMA", "SubdividedRecord", "AdviseFile", "AdviseSummary", "
            "RefusedFace", "WrittenFile", "Written", "AdviseDocument"]
 
 #: The ``schema`` key of the advise document (and of the gate document, which extends it).
-ADVISE_SCHEMA = "cadartifact.advise/3"
+ADVISE_SCHEMA = "cadartifact.advise/4"
 
 
 class SubdividedRecord(TypedDict, closed=True):
@@ -190,7 +192,7 @@ class AdviseDocument(TypedDict, closed=True):
     """The advise document: per file and face, today's ripple budget against the tolerance and the density
     advice."""
 
-    schema: Literal["cadartifact.advise/3"]
+    schema: Literal["cadartifact.advise/4"]
     tolerance: float
     units: Literal["mm", "model"]
     metric: Metric
@@ -198,5 +200,9 @@ class AdviseDocument(TypedDict, closed=True):
     include_signal_error: bool
     files: list[AdviseFile]
     summary: AdviseSummary
+    exit_code: Literal[0, 1]
+    """The exit code of ``cadartifact advise`` for this document, which the command exits with: 0 when every face
+    meets the tolerance today, 1 when some face does not (it needs another density, or it is undecided). Usage
+    and input errors exit 2 and write no document; ``cadartifact demo`` exits 0 whatever it says."""
     written: NotRequired[Written]
     """Only with ``--write-resampled``."""

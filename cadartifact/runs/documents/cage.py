@@ -20,6 +20,9 @@ class ExtraordinaryVertexRecord(TypedDict, closed=True):
     the face's index."""
     face: int | None
     """The triangle or n-gon whose centre this is (null: a vertex of the cage)."""
+    line: int | None
+    """Where it is in the OBJ file: the 1-based line of the vertex's ``v`` statement, or for a centre (which the
+    file does not hold) of its face's ``f`` statement (null: a cage not read from a file)."""
     valence: int
     boundary: bool
     crease: bool

@@ -2,7 +2,10 @@
 document's keys, each face's verdict and PDQ criteria, each file's policy and verdict, the summary and the exit
 code.
 
-Versions: 3 added the PDQ criteria (``profile``, per face ``criteria`` and ``ripple_verdict``).
+Versions: 3 added the PDQ criteria (``profile``, per face ``criteria`` and ``ripple_verdict``); 4 is 3 with the
+keys added after 3's schema was published (``baseline``, a file's ``edges``, ``edges_counted``, ``extraordinary``,
+``extraordinary_failure``, ``subdivided`` and ``cage_advice``, ``summary.edges``, the profile's ``flat_ratio`` and
+``sharp_angle``; CHANGELOG.md lists them).
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ __all__ = ["GATE_SCHEMA", "FaceVerdict", "Verdict", "Sense", "Threshold", "Crite
            "VerdictCounts", "GateSummary", "BaselineFinding", "BaselineRecord", "GateDocument"]
 
 #: The ``gate`` key of the gate document.
-GATE_SCHEMA = "cadartifact.gate/3"
+GATE_SCHEMA = "cadartifact.gate/4"
 
 #: A face's verdict.
 FaceVerdict = Literal["pass", "warn", "fail"]
@@ -330,8 +333,8 @@ class BaselineRecord(TypedDict, closed=True):
 class GateDocument(TypedDict, closed=True):
     """The gate document: pass / warn / fail per face and file, and the exit code."""
 
-    schema: Literal["cadartifact.advise/3"]
-    gate: Literal["cadartifact.gate/3"]
+    schema: Literal["cadartifact.advise/4"]
+    gate: Literal["cadartifact.gate/4"]
     tolerance: float | None
     """The run's tolerance (with tolerances only in the policy's overrides, the first file's)."""
     units: Literal["mm", "model"]

@@ -29,7 +29,7 @@ def json_schema(kind: str) -> dict[str, Any]:
     Returns
     -------
     dict
-        The schema: ``title`` the document's version (``cadartifact.advise/3``), every record a ``$defs`` entry,
+        The schema: ``title`` the document's version (``cadartifact.advise/4``), every record a ``$defs`` entry,
         closed (``additionalProperties: false``: a key the record does not list fails), each record and each
         documented key described by its docstring (:func:`key_docstrings`).
 
