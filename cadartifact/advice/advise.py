@@ -36,6 +36,7 @@ from .honest import unverified_note
 from .verification import unconfirmed
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
+from .surface_margin import candidate_uncertainty, kept_uncertainty
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
@@ -136,6 +137,8 @@ class Advice:
     #: When the search's own-ripple reading found no density and the deviation verified on OCCT found one
     #: (:func:`cadartifact.advice.retry.verified_retry`): ``{"net", "value", "read", "own_ripple", "tried"}``.
     retried: dict | None = None
+    #: The ``U`` the claim on the advised net used: :class:`.surface_margin.CandidateUncertainty` (``surface``)
+    advised_uncertainty: object = None
     #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
     pending: object = field(default=None, repr=False, compare=False)
 
@@ -185,6 +188,9 @@ class Advice:
         }
         if self.comparison_note:
             d["comparison_note"] = self.comparison_note
+        if self.advised_uncertainty is not None:
+            d["advised_uncertainty"] = {k: _f(v) if isinstance(v, float) else v
+                                        for k, v in self.advised_uncertainty.to_dict().items()}
         if self.retried is not None:
             d["retried"] = {k: _f(v) if isinstance(v, float) else v for k, v in self.retried.items()}
         return d
@@ -290,9 +296,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     t = tolerance
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine, settings, current)
-    # the surface reading's U is today's reading's border latitude (analysis.border_convention), which decides
-    # today's net; a candidate's own latitude is not read (a split per variant and candidate): scored as before
-    margin = unc.peak if unc.reading == "net" else 0.0
+    # the surface reading's U decides today's net; a candidate's is how far the intent moves under the convention
+    cand_unc = None if unc.reading == "net" or exact_face else candidate_uncertainty(net, settings, work)
+    margin = unc.peak if unc.reading == "net" else 0.0 if cand_unc is None else cand_unc.peak
     hopeless = unverifiable(margin, t)
 
     reading = {"own ripple": objective == "deviation" and intent == "surface"}
@@ -469,7 +475,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     retried = retried if retried is not None and not kept else None
     return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
+                  uncertainty=unc, advised_uncertainty=kept_uncertainty(unc) if kept and cand_unc else cand_unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,

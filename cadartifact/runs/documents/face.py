@@ -17,7 +17,7 @@ from .keys import Pair, Triple, TypedDict
 __all__ = ["SummaryCounts", "Metric", "Reading", "Decision", "PeakRms", "Budget", "Shares", "AdvisedBudget", "AdvisedShares",
            "UncertaintyRecord", "OutsideTrim", "PeakAt", "FaceRecord", "AdviseFace", "AdviceRecord", "TodayScore",
            "Reason", "Reasons", "Verification", "CoarserCheck", "ComparisonRow", "JoinPiece", "Join", "Joins",
-           "NoDensity", "BestFound", "Retried"]
+           "NoDensity", "BestFound", "Retried", "AdvisedUncertainty"]
 
 #: The statistic a tolerance is compared with.
 Metric = Literal["peak", "rms"]
@@ -249,6 +249,22 @@ class Retried(TypedDict, closed=True):
     """The nets measured on OCCT, in order."""
 
 
+class AdvisedUncertainty(TypedDict, closed=True):
+    """The expanded uncertainty U (model units) the claim on the advised net used: a candidate conforms at
+    value + U <= t."""
+
+    peak: Number
+    """U of the advised net's value."""
+    reading: Reading
+    coverage_factor: Number
+    """The coverage factor k reported with it."""
+    estimated: bool
+    """False: no estimate exists (a cage's surface reading), U is 0."""
+    construction: str
+    """How U was built (surface reading: the largest change of the intent over the border convention's period
+    variants plus its grid term, which bounds every candidate's change of value; or today's U, today's net kept)."""
+
+
 class AdviceRecord(TypedDict, closed=True):
     """The density advice: the fewest control points whose best net stays within the tolerance."""
 
@@ -280,6 +296,8 @@ class AdviceRecord(TypedDict, closed=True):
     no_density: NoDensity | None
     comparison_note: NotRequired[str]
     """Why the schemes were not compared."""
+    advised_uncertainty: NotRequired[AdvisedUncertainty]
+    """Present under the surface reading for a face the search reads: the U the claim on the advised net used."""
     retried: NotRequired[Retried]
     """Present when the advice was found by the retry before an honest no (the verified deviation)."""
 
