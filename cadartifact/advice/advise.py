@@ -36,7 +36,7 @@ from .honest import unverified_note
 from .verification import unconfirmed
 from .decision import CONFORMS, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
-from .surface_margin import candidate_uncertainty, kept_uncertainty
+from .surface_margin import LazyMargin, kept_uncertainty
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
@@ -296,12 +296,16 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     t = tolerance
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine, settings, current)
-    # the surface reading's U decides today's net; a candidate's is how far the intent moves under the convention
-    cand_unc = None if unc.reading == "net" or exact_face else candidate_uncertainty(net, settings, work)
-    margin = unc.peak if unc.reading == "net" else 0.0 if cand_unc is None else cand_unc.peak
+    # the surface reading's U decides today's net; a candidate's is how far the intent moves (.surface_margin)
+    lazy = None if unc.reading == "net" or exact_face else LazyMargin(net, settings, work, current.fields, t)
+    margin = unc.peak if unc.reading == "net" else 0.0 if lazy is None else (
+        lazy.exact() if unverifiable(lazy.bound, t) else lazy.bound)
     hopeless = unverifiable(margin, t)
 
     reading = {"own ripple": objective == "deviation" and intent == "surface"}
+
+    def m(x):  # the margin deciding a value x as U would (U_c read only where B does not decide)
+        return margin if lazy is None else lazy.margin(x)
 
     def value(sc, a, b, own_ripple=True):
         """The candidate's value plus the intent's uncertainty, against the tolerance: its error against the
@@ -309,11 +313,13 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         gate; a budget per candidate, so only where the fine grid confirms). After a verified retry
         (:mod:`.retry`) the deviation alone."""
         if objective == "ripple":
-            return _ripple_of(sc, a, b, settings) + margin
-        dev = sc.value(a, b) + margin
-        if dev > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
-            return dev
-        return max(dev, _ripple_of(sc, a, b, settings) + margin)
+            r = _ripple_of(sc, a, b, settings)
+            return r + m(r)
+        d = sc.value(a, b)
+        if d + m(d) > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
+            return d + m(d)
+        x = max(d, _ripple_of(sc, a, b, settings))
+        return x + m(x)
 
     trail = {}
     if hopeless or exact_face:  # no density can conform (SPEC §5 "an honest no"), or the face is exact as it is:
@@ -353,12 +359,14 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         # before an honest no, the nets a write-and-measure check would accept: the deviation verified on OCCT
         from .retry import verified_retry
 
+        margin = margin if lazy is None else lazy.exact()  # near the tolerance: U_c itself
         retried = verified_retry(fine, lambda x, y: value(fine, x, y, own_ripple=False), t, margin, low, high,
                                  work.shape, best=(a, b))
         if retried is not None:
             own = _ripple_of(fine, *retried["net"], settings)
             retried["own_ripple"] = float(own)
             (a, b), meets, reading["own ripple"] = retried["net"], True, False
+    margin = margin if lazy is None else lazy.settle()  # the claim's U from here on
     proportional = None
     if meets and any(fine.plans):  # each piece's spans on their own: whichever plan has fewer points
         from .per_piece import per_piece
@@ -475,7 +483,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     retried = retried if retried is not None and not kept else None
     return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, advised_uncertainty=kept_uncertainty(unc) if kept and cand_unc else cand_unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
+                  uncertainty=unc, advised_uncertainty=lazy and (kept_uncertainty(unc) if kept else lazy.record()), decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
