@@ -297,15 +297,13 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine, settings, current)
     # the surface reading's U decides today's net; a candidate's is how far the intent moves (.surface_margin)
-    lazy = None if unc.reading == "net" or exact_face else LazyMargin(net, settings, work, current.fields, t)
+    lazy = None if unc.reading == "net" or exact_face or objective == "ripple" else LazyMargin(
+        net, settings, work, current.fields, t)
     margin = unc.peak if unc.reading == "net" else 0.0 if lazy is None else (
         lazy.exact() if unverifiable(lazy.bound, t) else lazy.bound)
     hopeless = unverifiable(margin, t)
 
     reading = {"own ripple": objective == "deviation" and intent == "surface"}
-
-    def m(x):  # the margin deciding a value x as U would (U_c read only where B does not decide)
-        return margin if lazy is None else lazy.margin(x)
 
     def value(sc, a, b, own_ripple=True):
         """The candidate's value plus the intent's uncertainty, against the tolerance: its error against the
@@ -313,13 +311,12 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         gate; a budget per candidate, so only where the fine grid confirms). After a verified retry
         (:mod:`.retry`) the deviation alone."""
         if objective == "ripple":
-            r = _ripple_of(sc, a, b, settings)
-            return r + m(r)
+            return _ripple_of(sc, a, b, settings) + margin
         d = sc.value(a, b)
-        if d + m(d) > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
-            return d + m(d)
-        x = max(d, _ripple_of(sc, a, b, settings))
-        return x + m(x)
+        dev = d + (margin if lazy is None else lazy.margin(d))  # U_c read only where the bound B does not decide
+        if dev > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
+            return dev
+        return max(dev, _ripple_of(sc, a, b, settings))  # U_c bounds the deviation's change, not the own ripple's
 
     trail = {}
     if hopeless or exact_face:  # no density can conform (SPEC §5 "an honest no"), or the face is exact as it is:
@@ -407,7 +404,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     if not meets and not hopeless:  # SPEC §5 "an answer or an honest no": the best found, and why none conforms
         from .honest import explain
 
-        no_density = explain(fine, shape, trail, value(fine, a, b) - margin, margin, t, net.unit or "model units")
+        best = value(fine, a, b)  # the deviation with U, or the own ripple (which carries none) where it is larger
+        best = best - margin if best == value(fine, a, b, own_ripple=False) else best
+        no_density = explain(fine, shape, trail, best, margin, t, net.unit or "model units")
         notes.insert(0, no_density["reason"])
         binding = None
         for d in reasons.values():
@@ -483,7 +482,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     retried = retried if retried is not None and not kept else None
     return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, advised_uncertainty=lazy and (kept_uncertainty(unc) if kept else lazy.record()), decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
+                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw), margin, t),
+                  advised_uncertainty=lazy and (kept_uncertainty(unc) if kept else lazy.record()),
                   today_decision=today_decision, verifiable=not hopeless,
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
