@@ -171,7 +171,8 @@ def test_advice_keeps_the_joins_and_every_piece_conforms_on_occt(pieces, kind, d
 
 
 # ---------------------------------------------------------------- an answer or an honest no (item 3)
-@pytest.mark.parametrize("pieces,kind,seed,tol", [(2, "C0", 1, 1e-5), (3, "G1", 5, 2e-5)])
+# (at 1e-5 and 2e-5 the candidates' own U, 2.5e-5 and 1.4e-3 (advice/surface_margin.py), leaves no net verifiable)
+@pytest.mark.parametrize("pieces,kind,seed,tol", [(2, "C0", 1, 5e-5), (3, "G1", 5, 2e-3)])
 def test_no_density_conforms_is_said_with_why_and_the_best_found(pieces, kind, seed, tol, monkeypatch):
     """Tolerances far below what the piecewise intent allows: the advice says no, gives the best density found
     and why, and the search stays bounded (distinct candidates scored)."""
