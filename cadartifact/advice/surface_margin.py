@@ -20,9 +20,9 @@ Along the intent's normal the normal itself tilts with the intent by ``|n' - n|`
 a second-order term (about 1e-4 of the value on the retry family) that the bound leaves out and the tests measure
 with the rest (tests/advice/test_surface_margin.py reads each variant's advised value by the measurement itself).
 
-**Cost.** One band split per variant of the real surface (evaluated once per piece), up to seven per piece: on a
-100x100 face about three times the whole advice without them. So they are read only where a decision depends on
-them (:class:`LazyMargin`). First the triangle inequality: the intent is the surface less its ripple ``r``, so
+**Cost.** The variants' intents share their ``u`` passes (:func:`_intent_fields`): on the 100x100 face of
+``benchmarks/bench_advise.py`` about 1.1 s, as much as the rest of its advice. So they are read only where a
+decision depends on them (:class:`LazyMargin`). First the triangle inequality: the intent is the surface less its ripple ``r``, so
 ``|I' - I| = |r' - r| <= |r'| + |r|``, and with the variants' ripple no larger than ``(1 + RELATIVE_BOUND)``
 today's (what the face's own ``U`` assumes, :data:`~cadartifact.analysis.border_convention.RELATIVE_BOUND`),
 ``U_c <= B = (2 + RELATIVE_BOUND) (max |r| + G_r)`` (``G_r`` today's ripple's grid term). A candidate with
