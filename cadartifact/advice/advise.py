@@ -34,8 +34,10 @@ from ..analysis.pieces import face_kind
 from .exact import kept_phrase
 from .honest import unverified_note
 from .verification import unconfirmed
-from .decision import CONFORMS, advised_uncertainty, candidate_margin, decide, scorer_uncertainty, unverifiable, unverifiable_note
+from .decision import (CONFORMS, advised_uncertainty, candidate_margin, decide, scorer_uncertainty, unverifiable,
+                       unverifiable_note)
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
+from .surface_margin import LazyMargin
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 
@@ -124,9 +126,6 @@ class Advice:
     #: The intent's expanded uncertainty (:class:`~cadartifact.analysis.uncertainty.Uncertainty`), the decision
     #: for the advised net and for today's (:mod:`cadartifact.advice.decision`), and whether any net can conform.
     uncertainty: object = None
-    #: The U the advised net's decision used (``{"peak", "reading", "coverage_factor", "estimated",
-    #: "construction"}``), where it is not today's ``uncertainty.peak`` alone: the ``net`` reading's.
-    advised_uncertainty: dict | None = None
     decision: str | None = None
     today_decision: str | None = None
     verifiable: bool = True
@@ -139,6 +138,8 @@ class Advice:
     #: When the search's own-ripple reading found no density and the deviation verified on OCCT found one
     #: (:func:`cadartifact.advice.retry.verified_retry`): ``{"net", "value", "read", "own_ripple", "tried"}``.
     retried: dict | None = None
+    #: The ``U`` the claim on the advised net used: :class:`.surface_margin.CandidateUncertainty` (``surface``)
+    advised_uncertainty: object = None
     #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
     pending: object = field(default=None, repr=False, compare=False)
 
@@ -190,7 +191,7 @@ class Advice:
             d["comparison_note"] = self.comparison_note
         if self.advised_uncertainty is not None:
             d["advised_uncertainty"] = {k: _f(v) if isinstance(v, float) else v
-                                        for k, v in self.advised_uncertainty.items()}
+                                        for k, v in self.advised_uncertainty.to_dict().items()}
         if self.retried is not None:
             d["retried"] = {k: _f(v) if isinstance(v, float) else v for k, v in self.retried.items()}
         return d
@@ -296,10 +297,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     t = tolerance
     # the intent's own uncertainty U (SPEC §4): a candidate conforms at value + U <= t
     unc = uncertainty if uncertainty is not None else scorer_uncertainty(fine, settings, current)
-    # a candidate's U: the net reading's bound on any value against the intent (wider than today's value's);
-    # the surface reading's U is today's reading's border latitude (analysis.border_convention), which decides
-    # today's net; a candidate's own latitude is not read (a split per variant and candidate): scored as before
-    margin = candidate_margin(unc)
+    # a candidate's U: the net reading's intent error (wider than today's U), or how far the intent moves (surface)
+    lazy = None if unc.reading == "net" or exact_face or objective == "ripple" else LazyMargin(
+        net, settings, work, current.fields, t)
+    margin = candidate_margin(unc) if unc.reading == "net" else 0.0 if lazy is None else (
+        lazy.exact() if unverifiable(lazy.bound, t) else lazy.bound)
     hopeless = unverifiable(margin, t)
 
     reading = {"own ripple": objective == "deviation" and intent == "surface"}
@@ -311,10 +313,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         (:mod:`.retry`) the deviation alone."""
         if objective == "ripple":
             return _ripple_of(sc, a, b, settings) + margin
-        dev = sc.value(a, b) + margin
+        d = sc.value(a, b)
+        dev = d + (margin if lazy is None else lazy.margin(d))  # U_c read only where the bound B does not decide
         if dev > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
             return dev
-        return max(dev, _ripple_of(sc, a, b, settings) + margin)
+        return max(dev, _ripple_of(sc, a, b, settings))  # U_c bounds the deviation's change, not the own ripple's
 
     trail = {}
     if hopeless or exact_face:  # no density can conform (SPEC §5 "an honest no"), or the face is exact as it is:
@@ -354,12 +357,14 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         # before an honest no, the nets a write-and-measure check would accept: the deviation verified on OCCT
         from .retry import verified_retry
 
+        margin = margin if lazy is None else lazy.exact()  # near the tolerance: U_c itself
         retried = verified_retry(fine, lambda x, y: value(fine, x, y, own_ripple=False), t, margin, low, high,
                                  work.shape, best=(a, b))
         if retried is not None:
             own = _ripple_of(fine, *retried["net"], settings)
             retried["own_ripple"] = float(own)
             (a, b), meets, reading["own ripple"] = retried["net"], True, False
+    margin = margin if lazy is None else lazy.settle()  # the claim's U from here on
     proportional = None
     if meets and any(fine.plans):  # each piece's spans on their own: whichever plan has fewer points
         from .per_piece import per_piece
@@ -400,7 +405,9 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     if not meets and not hopeless:  # SPEC §5 "an answer or an honest no": the best found, and why none conforms
         from .honest import explain
 
-        no_density = explain(fine, shape, trail, value(fine, a, b) - margin, margin, t, net.unit or "model units")
+        best = value(fine, a, b)  # the deviation with U, or the own ripple (which carries none) where it is larger
+        best = best - margin if best == value(fine, a, b, own_ripple=False) else best
+        no_density = explain(fine, shape, trail, best, margin, t, net.unit or "model units")
         notes.insert(0, no_density["reason"])
         binding = None
         for d in reasons.values():
@@ -474,12 +481,11 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         notes.insert(0, retry_note(retried, retried["own_ripple"], margin, t))
     retried = retried if retried is not None and not kept else None
-    advised_u = advised_uncertainty(unc, kept, margin)
-    return Advice(advised_uncertainty=advised_u, retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
+    advised_u = advised_uncertainty(unc, kept, margin, lazy)
+    return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
-                  uncertainty=unc, decision=CONFORMS if meets else decide(max(raw, checked or raw),
-                                                                          advised_u["peak"] if advised_u else margin, t),
-                  today_decision=today_decision, verifiable=not hopeless,
+                  uncertainty=unc, advised_uncertainty=advised_u, today_decision=today_decision, verifiable=not hopeless,
+                  decision=CONFORMS if meets else decide(max(raw, checked or raw), getattr(advised_u, "peak", margin), t),
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
                   verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,

@@ -70,16 +70,22 @@ def candidate_margin(uncertainty) -> float:
     return float(uncertainty.peak if uncertainty.candidate is None else uncertainty.candidate)
 
 
-def advised_uncertainty(uncertainty, kept: bool, margin: float) -> dict | None:
-    """The U the advised net's decision used, for the record (``{"peak", "reading", "coverage_factor",
-    "estimated", "construction"}``), under the ``net`` reading: today's value's when today's net is kept, else
-    the candidates' ``margin`` (:func:`candidate_margin`). None for the ``surface`` reading."""
-    if uncertainty is None or uncertainty.reading != "net" or not uncertainty.estimated:
+def advised_uncertainty(uncertainty, kept: bool, margin: float, lazy=None):
+    """The U the advised net's decision used, for the record
+    (:class:`~cadartifact.advice.surface_margin.CandidateUncertainty`), or None where none is estimated.
+
+    ``net`` reading: today's value's U when today's net is kept, else the candidates' ``margin``
+    (:func:`candidate_margin`). ``surface`` reading: today's U when kept, else what the candidates' margin
+    ``lazy`` (:class:`~cadartifact.advice.surface_margin.LazyMargin`) read: ``U_c`` or its bound."""
+    from .surface_margin import CandidateUncertainty, kept_uncertainty
+
+    if uncertainty is not None and uncertainty.reading != "net":
+        return lazy and (kept_uncertainty(uncertainty) if kept else lazy.record())
+    if uncertainty is None or not uncertainty.estimated:
         return None
-    peak, construction = ((uncertainty.peak, "today's net: today's value's U") if kept else
+    peak, construction = ((uncertainty.peak, "today's net kept: today's value's U") if kept else
                           (margin, "a candidate's value against the intent: k SPREAD_SCALE D"))
-    return {"peak": float(peak), "reading": "net", "coverage_factor": float(uncertainty.factor), "estimated": True,
-            "construction": construction}
+    return CandidateUncertainty(float(peak), "net", float(uncertainty.factor), True, construction)
 
 
 def scorer_uncertainty(scorer, settings=None, current=None):

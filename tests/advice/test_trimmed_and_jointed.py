@@ -171,7 +171,8 @@ def test_advice_keeps_the_joins_and_every_piece_conforms_on_occt(pieces, kind, d
 
 
 # ---------------------------------------------------------------- an answer or an honest no (item 3)
-@pytest.mark.parametrize("pieces,kind,seed,tol", [(2, "C0", 1, 1e-5), (3, "G1", 5, 2e-5)])
+# (at 1e-5 and 2e-5 the candidates' own U, 2.5e-5 and 1.4e-3 (advice/surface_margin.py), leaves no net verifiable)
+@pytest.mark.parametrize("pieces,kind,seed,tol", [(2, "C0", 1, 5e-5), (3, "G1", 5, 2e-3)])
 def test_no_density_conforms_is_said_with_why_and_the_best_found(pieces, kind, seed, tol, monkeypatch):
     """Tolerances far below what the piecewise intent allows: the advice says no, gives the best density found
     and why, and the search stays bounded (distinct candidates scored)."""
@@ -398,12 +399,17 @@ def _scored(monkeypatch):
 def test_a_jointed_face_at_a_very_tight_tolerance_ends_within_a_normal_faces_cost(pieces, kind, degree, spans, seed,
                                                                                  monkeypatch):
     """t = 1e-5 on jointed faces (a C0 join had stalled the search): an answer or an honest no, scoring no more
-    candidates than a few times what a smooth face of the same size scores at the same tolerance."""
+    candidates than a few times what a smooth face of the same size scores at the same tolerance. The search's
+    cost is the subject: the candidates' own U (:mod:`cadartifact.advice.surface_margin`) is taken as 0 (at 1e-5
+    it leaves these faces no verifiable net, and the advice then makes no search)."""
+    from cadartifact.advice import surface_margin
+
+    monkeypatch.setattr(surface_margin, "ripple_bound", lambda fields: 0.0)  # B = 0 decides every candidate
     f = jointed_face(pieces, seed % 2, kind, degree=degree, spans=spans, seed=seed)
     scored = _scored(monkeypatch)
     a = advise(f, 1e-5, compare=False, verify=False)
     jointed = len(scored)
-    assert a.meets_tolerance or a.no_density is not None
+    assert a.verifiable and (a.meets_tolerance or a.no_density is not None)
     scored.clear()
     advise(smooth_face(n=f.shape, degree=degree, seed=seed), 1e-5, compare=False, verify=False)
     assert jointed <= 3 * max(len(scored), 20)

@@ -17,7 +17,7 @@ from .keys import Pair, Triple, TypedDict
 __all__ = ["SummaryCounts", "Metric", "Reading", "Decision", "PeakRms", "Budget", "Shares", "AdvisedBudget", "AdvisedShares",
            "UncertaintyRecord", "OutsideTrim", "PeakAt", "FaceRecord", "AdviseFace", "AdviceRecord", "TodayScore",
            "Reason", "Reasons", "Verification", "CoarserCheck", "ComparisonRow", "JoinPiece", "Join", "Joins",
-           "NoDensity", "BestFound", "Retried"]
+           "NoDensity", "BestFound", "Retried", "AdvisedUncertainty"]
 
 #: The statistic a tolerance is compared with.
 Metric = Literal["peak", "rms"]
@@ -234,19 +234,6 @@ class NoDensity(TypedDict, closed=True):
     reason: str
 
 
-class AdvisedUncertainty(TypedDict, closed=True):
-    """The expanded uncertainty U the advised net's decision used, where it is not today's ``uncertainty.peak``
-    (model units)."""
-
-    peak: Number
-    reading: Reading
-    coverage_factor: Number
-    estimated: bool
-    construction: str
-    """How U was formed (the ``net`` reading: a candidate's value against the intent, ``k SPREAD_SCALE D``; or
-    today's value's, for a kept net)."""
-
-
 class Retried(TypedDict, closed=True):
     """The search's own-ripple reading found no density; the deviation alone, verified on OCCT's surface, did."""
 
@@ -260,6 +247,24 @@ class Retried(TypedDict, closed=True):
     """Its own ripple as its budget reads it (what kept the search from it)."""
     tried: list[Annotated[list[int], Pair]]
     """The nets measured on OCCT, in order."""
+
+
+class AdvisedUncertainty(TypedDict, closed=True):
+    """The expanded uncertainty U (model units) the claim on the advised net used: a candidate conforms at
+    value + U <= t."""
+
+    peak: Number
+    """U of the advised net's value."""
+    reading: Reading
+    coverage_factor: Number
+    """The coverage factor k reported with it."""
+    estimated: bool
+    """False: no estimate exists (a cage's surface reading), U is 0."""
+    construction: str
+    """How U was built: surface reading, the largest change of the intent over the border convention's period
+    variants plus its grid term, which bounds every candidate's change of value, or its bound; net reading, a
+    candidate's value against the intent (``k SPREAD_SCALE D``, wider than today's value's U); or today's U,
+    today's net kept."""
 
 
 class AdviceRecord(TypedDict, closed=True):
@@ -293,10 +298,11 @@ class AdviceRecord(TypedDict, closed=True):
     no_density: NoDensity | None
     comparison_note: NotRequired[str]
     """Why the schemes were not compared."""
+    advised_uncertainty: NotRequired[AdvisedUncertainty]
+    """The U of the advised net's decision: present where it is not today's ``uncertainty.peak`` alone (the
+    surface reading, for a face the search reads; the net reading, a candidate's U)."""
     retried: NotRequired[Retried]
     """Present when the advice was found by the retry before an honest no (the verified deviation)."""
-    advised_uncertainty: NotRequired[AdvisedUncertainty]
-    """The U of the advised net's decision (``net`` reading: a candidate's, wider than today's value's)."""
 
 
 class FaceRecord(TypedDict):
