@@ -146,11 +146,11 @@ def _intent_fields(real: np.ndarray, frames, scheme, combos):
     band split per variant made seven and fourteen. A periodic direction has no period latitude: its pad is 0.
     """
     from ..analysis.bands import _one_piece
-    from ..analysis.fields import _bridge, _poly_fit, measured_frames
+    from ..analysis.fields import _bridge, _poly_fit, measured_frames, split_degrees
     from ..numerics.tensor import sandwich
 
     fu, fv = frames
-    own = scheme.degrees or (int(scheme.reproduction_degree),) * 2
+    own = split_degrees(scheme)
     V, poly = _poly_fit(real, measured_frames(frames), own)
     trend = sandwich(V[0], poly, V[1])
     rest = real - trend

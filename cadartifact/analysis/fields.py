@@ -346,6 +346,12 @@ def _surface_of(intent: Intent):
     return at
 
 
+def split_degrees(scheme) -> tuple[int, int]:
+    """The degrees the measured road's split takes per direction (its trend's least degree and the bridge's
+    derivative fit): the scheme's B-spline degrees, else its reproduction degree both ways."""
+    return tuple(scheme.degrees or (int(scheme.reproduction_degree),) * 2)
+
+
 def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> tuple[dict, np.ndarray, dict]:
     """Bands of a field on the domain, split after a polynomial fit and a smooth periodic bridge.
 
@@ -364,7 +370,7 @@ def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> t
         the smooth part in the form :func:`baseband_at` evaluates anywhere.
     """
     fu, fv = frames
-    own = scheme.degrees or (int(scheme.reproduction_degree),) * 2
+    own = split_degrees(scheme)
     V, poly = _poly_fit(field, frames, own)
     rest = field - sandwich(V[0], poly, V[1])
     one = _one_piece(fu, fv)

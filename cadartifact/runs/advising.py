@@ -317,8 +317,8 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         "surface_types": [{"face", "before", "after"}] (model mode: every face OCCT's STEP writer turned into
         another kind of surface than it was given, as the file reads back)}], "path",
         "faces"}`` (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
-        faces whose advice is a new net are replaced; faces whose advice keeps today's net stay
-        untouched and are listed in ``kept``. Each replaced face is measured as written
+        faces whose advice is a new net that conforms are replaced; faces whose advice keeps today's net, or
+        finds none that conforms (an honest no), stay untouched and are listed in ``kept``. Each replaced face is measured as written
         (:func:`cadartifact.exchange.model_writer.write_model`): within ``t`` + the old face's ripple (the
         value the advice read for today's net) + its edge tolerance of the old face by projection both
         ways, edge tolerances within the input's + ``t``, BRepCheck no worse than the input's. A face whose new net the writer
@@ -352,8 +352,11 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
             faces = write_model(src, by_face, target, provenance=provenance, faces_only=True, refused=refused)
             kept_faces = []
         else:
+            # only a verified advice replaces a face (SPEC §5): an honest no (undecided, or no net verifiable)
+            # leaves the face as it stands
             asked = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
-                     if not getattr(adv, "kept_today", new.shape == net.shape)}
+                     if not getattr(adv, "kept_today", new.shape == net.shape)
+                     and getattr(adv, "meets_tolerance", True)}
             units = next((net.unit for _, net, _ in items if getattr(net, "unit", None)), None) or "mm"
             faces = write_model(src, asked, target, provenance=provenance, refused=refused,
                                 allowed=allowed_distances(items), tolerance=_tolerance(items),
