@@ -34,8 +34,7 @@ from ..analysis.pieces import face_kind
 from .exact import kept_phrase
 from .honest import unverified_note
 from .verification import unconfirmed
-from .decision import (CONFORMS, advised_uncertainty, candidate_margin, decide, scorer_uncertainty, unverifiable,
-                       unverifiable_note)
+from .decision import CONFORMS, advised_uncertainty, candidate_margin, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from .surface_margin import LazyMargin
 from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
@@ -138,7 +137,7 @@ class Advice:
     #: When the search's own-ripple reading found no density and the deviation verified on OCCT found one
     #: (:func:`cadartifact.advice.retry.verified_retry`): ``{"net", "value", "read", "own_ripple", "tried"}``.
     retried: dict | None = None
-    #: The ``U`` the claim on the advised net used: :class:`.surface_margin.CandidateUncertainty` (``surface``)
+    #: The ``U`` the claim on the advised net used (:class:`.surface_margin.CandidateUncertainty`, either reading)
     advised_uncertainty: object = None
     #: ``verify="later"``: the verification still to run (:func:`cadartifact.advice.verification.complete`)
     pending: object = field(default=None, repr=False, compare=False)
@@ -300,7 +299,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     # a candidate's U: the net reading's intent error (wider than today's U), or how far the intent moves (surface)
     lazy = None if unc.reading == "net" or exact_face or objective == "ripple" else LazyMargin(
         net, settings, work, current.fields, t)
-    margin = candidate_margin(unc) if unc.reading == "net" else 0.0 if lazy is None else (
+    margin = candidate_margin(unc) if lazy is None else (
         lazy.exact() if unverifiable(lazy.bound, t) else lazy.bound)
     hopeless = unverifiable(margin, t)
 
@@ -433,6 +432,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         notes.append(f"this {work.shape[0]}x{work.shape[1]} {what} face is carried by a {shape[0]}x{shape[1]} {kind} "
                      f"net within {stats['deviation'].get(metric):.3g} (tolerance {t:g})")
 
+    advised_u = advised_uncertainty(unc, kept, margin, lazy)
+    claim = getattr(advised_u, "peak", margin)  # the U of the advised net's claim (a kept net's: today's)
     verification = pending = checked = None
     if verify:
         from .verification import verify_advice
@@ -441,7 +442,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             try:
                 own = None if not reading["own ripple"] else (
                     lambda x, y: _ripple_of(fine, x, y, settings))  # the search's reading (see value())
-                got = verify_advice(fine, shape, binding, tolerance - margin, advised, tolerance - margin, own)
+                got = verify_advice(fine, shape, binding, tolerance - claim, advised, tolerance - margin, own)
                 unconfirmed(reasons, binding, got)
                 return got
             finally:
@@ -453,7 +454,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
             verification = check()
             if not verification.get("meets", True) and meets:  # an answer only where it is verified (SPEC §5)
                 meets, checked = False, verification["value"]
-                notes.insert(0, unverified_note(verification, tolerance - margin))
+                notes.insert(0, unverified_note(verification, tolerance - claim))
     comparison, comparison_note = {}, None
     if compare == "auto":
         if net.is_bspline and named is None:
@@ -481,11 +482,10 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         notes.insert(0, retry_note(retried, retried["own_ripple"], margin, t))
     retried = retried if retried is not None and not kept else None
-    advised_u = advised_uncertainty(unc, kept, margin, lazy)
     return Advice(retried=retried, joins=joins, no_density=no_density, outside_trim=None if current.used is None else current.used.to_dict(),
                   net=net, scheme=sch.name, tolerance=tolerance, metric=metric, intent=intent, objective=objective,
                   uncertainty=unc, advised_uncertainty=advised_u, today_decision=today_decision, verifiable=not hopeless,
-                  decision=CONFORMS if meets else decide(max(raw, checked or raw), getattr(advised_u, "peak", margin), t),
+                  decision=CONFORMS if meets else decide(max(raw, checked or raw), claim, t),
                   current=current, today=today, shape=shape, stats=stats, meets_tolerance=bool(meets),
                   binding=binding, reasons=reasons, kept_today=kept, advised_net=advised,
                   verification=verification, comparison=comparison, comparison_note=comparison_note, notes=notes,

@@ -63,8 +63,8 @@ def unverifiable_note(uncertainty: float, tolerance: float, unit: str = "mm") ->
 def candidate_margin(uncertainty) -> float:
     """The ``U`` a candidate net's value carries (model units): the ``net`` reading's ``Uncertainty.candidate``
     (the intent's own error bounds any net's value against it, ``k SPREAD_SCALE D``), wider than today's value's
-    ``Uncertainty.peak`` (``k TODAY_SCALE D``: :mod:`cadartifact.analysis.uncertainty`). The ``surface`` reading
-    scores candidates with none (today's U there is the border convention's latitude of today's reading)."""
+    ``Uncertainty.peak`` (``k TODAY_SCALE D``: :mod:`cadartifact.analysis.uncertainty`). 0 for the ``surface``
+    reading: its candidates' U is the intent's own change (:class:`~cadartifact.advice.surface_margin.LazyMargin`)."""
     if uncertainty is None or uncertainty.reading != "net":
         return 0.0
     return float(uncertainty.peak if uncertainty.candidate is None else uncertainty.candidate)

@@ -38,7 +38,8 @@ def complete(advice):
     from .decision import decide
     from .honest import unverified_note
 
-    u = advice.uncertainty.peak if advice.uncertainty is not None else 0.0
+    # the U the advised net's claim used (a kept net: today's; a candidate: its own), as check() compared with
+    u = getattr(advice.advised_uncertainty, "peak", 0.0)
     return replace(advice, verification=got, pending=None, meets_tolerance=False,
                    decision=decide(got["value"], u, advice.tolerance),
                    notes=[unverified_note(got, advice.tolerance - u)] + list(advice.notes))

@@ -25,8 +25,8 @@ points, degrees 2-3, 0.1-0.4 cycles per point along u, v or the diagonal, cosine
 intent (today's net's and every candidate's): ``|true - value| <= max |intent - shape|``. On 120 cases the
 97.5 % quantile of that error over ``2 D`` is 0.48 (the 95 % quantile, 0.37, let the advice claim a net 1.37 t
 from the shape, a bump at 0.37 cycles per point: the alternates see least of content spread up to the band
-edge), hence ``s`` = 0.5 (:data:`SPREAD_SCALE`) for every value the advice reads against the intent: a
-candidate's, and the advised net's. Today's value needs less: today's net samples the shape, so its deviation
+edge), hence ``s`` = 0.5 (:data:`SPREAD_SCALE`) for every other net's value the advice reads against the
+intent: a candidate's, and the advised net's unless it is today's net kept. Today's value needs less: today's net samples the shape, so its deviation
 from the intent and the intent's own error largely cancel; the 97.5 % quantile of today's error
 (``true - value``) over ``2 D`` is 0.27 on the same cases, hence ``s`` = 0.27 (:data:`TODAY_SCALE`) for today's
 value, which the gate and today's decision read (``Uncertainty.peak``; the candidates' is

@@ -72,10 +72,9 @@ def calibration(seed, count, **family):
 
 
 def _claims_u(advice) -> float:
-    """The ``U`` an advice's claim is made with: a candidate's (:attr:`Uncertainty.candidate`, which covers the
-    intent's own error), today's where there is none."""
-    unc = advice.uncertainty
-    return float(unc.peak if unc.candidate is None else unc.candidate)
+    """The ``U`` an advice's claim is made with (``advised_uncertainty``: a candidate's, which covers the intent's
+    own error; today's for a kept net), today's where none is recorded."""
+    return float(getattr(advice.advised_uncertainty, "peak", advice.uncertainty.peak))
 
 
 def summary(rows) -> str:

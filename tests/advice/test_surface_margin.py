@@ -123,3 +123,38 @@ def test_other_readings_and_cages():
     cage = ca.ControlNet(points=np.asarray(net.points))
     d = ca.advise(cage, tolerance=0.01, compare=False, verify=False).to_dict()["advised_uncertainty"]
     assert d["estimated"] is False and d["peak"] == 0.0
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_the_unpadded_variant_is_the_readings_intent(seed):
+    """``_intent_fields`` repeats the smooth part of the measured road's split for the period variants: without a
+    pad it gives the reading's own intent (``fields.measured_fields(...).intent``), rational faces included."""
+    from cadartifact.advice.surface_margin import _intent_fields
+    from cadartifact.analysis import fields as F
+    from cadartifact.analysis.intent import design_intent
+    from cadartifact.analysis.measure import real_surface
+    from cadartifact.testing.rational_faces import rational_face
+    from cadartifact.theory.catalogue import bspline
+
+    for net in (rational_face(seed), rational_face(seed).replace(weights=None)):
+        sch = bspline(*net.degrees)
+        it = design_intent(net, sch, 3)
+        real = F.split_coordinates(real_surface(it, sch), it.frames)
+        (_, smooth), = _intent_fields(real, it.frames, sch, [(0, 0)])
+        want = F.measured_fields(it, sch, "surface").intent
+        assert np.abs(smooth - want).max() <= 1e-9 * float(np.ptp(net.points))
+
+
+@pytest.mark.parametrize("verify", [True, "later"])
+def test_a_kept_net_is_verified_against_the_U_its_claim_used(verify):
+    """Today's net kept under the net reading is claimed on today's value's U (sharper than a candidate's): its
+    verification compares OCCT's reading with the tolerance less that U, now and when run later (a 39x37 face of
+    the issue-22 family at t = 0.539: today 0.283, today's U 0.178, a candidate's 0.329)."""
+    from cadartifact.advice.verification import complete
+    from cadartifact.testing.known_shapes import calibration_family
+
+    net = calibration_family(2022, 3)[2][0]
+    a = complete(ca.advise(net, 0.539, intent="net", compare=False, verify=verify))
+    assert a.kept_today and a.advised_uncertainty.peak == pytest.approx(a.uncertainty.peak)
+    assert a.uncertainty.peak < a.uncertainty.candidate
+    assert a.verification["meets"] and a.meets_tolerance and a.decision == a.today_decision == "conforms"

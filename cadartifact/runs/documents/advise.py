@@ -6,7 +6,8 @@ Versions: 2 added ``uncertainty`` and ``decision`` (``meets_tolerance`` true onl
 those spans' points) and adds ``outside_trim``, ``advice.joins``, ``advice.no_density``, ``advice.outside_trim``
 and the comparison's ``advice`` flag; 4 is 3 with the keys added after 3's schema was published (a file's
 ``subdivided``, ``extraordinary`` and ``cage_advice``, the advice's ``retried``, ``written``'s refused faces,
-surface types and measured figures; CHANGELOG.md lists them).
+surface types and measured figures; CHANGELOG.md lists them), and adds the document's ``exit_code``, the advice's
+``advised_uncertainty`` and each extraordinary vertex's ``line``.
 """
 
 from __future__ import annotations

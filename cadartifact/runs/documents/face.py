@@ -299,8 +299,9 @@ class AdviceRecord(TypedDict, closed=True):
     comparison_note: NotRequired[str]
     """Why the schemes were not compared."""
     advised_uncertainty: NotRequired[AdvisedUncertainty]
-    """The U of the advised net's decision: present where it is not today's ``uncertainty.peak`` alone (the
-    surface reading, for a face the search reads; the net reading, a candidate's U)."""
+    """The U of the advised net's decision (a kept net: today's ``uncertainty.peak``; a candidate: its own).
+    Absent where none applies: an exact face or the ripple objective under the surface reading, a net reading with
+    no estimate."""
     retried: NotRequired[Retried]
     """Present when the advice was found by the retry before an honest no (the verified deviation)."""
 

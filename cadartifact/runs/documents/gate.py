@@ -5,7 +5,8 @@ code.
 Versions: 3 added the PDQ criteria (``profile``, per face ``criteria`` and ``ripple_verdict``); 4 is 3 with the
 keys added after 3's schema was published (``baseline``, a file's ``edges``, ``edges_counted``, ``extraordinary``,
 ``extraordinary_failure``, ``subdivided`` and ``cage_advice``, ``summary.edges``, the profile's ``flat_ratio`` and
-``sharp_angle``; CHANGELOG.md lists them).
+``sharp_angle``; CHANGELOG.md lists them), and adds the advice's ``advised_uncertainty`` and each extraordinary
+vertex's ``line``.
 """
 
 from __future__ import annotations
