@@ -65,7 +65,7 @@ def _face(seed: int):
 def test_a_bspline_scheme_s_row_is_the_fewest_points_fit_within_the_tolerance(seed):
     net, t = _face(seed)
     advice = ca.advise(net, t, compare=True, verify=False, intent="net", component="vector")
-    U = advice.uncertainty.peak
+    U = advice.uncertainty.candidate  # the candidates' U (today's value's is sharper), what the rows are held to
     if U >= 0.6 * t:
         pytest.skip(f"the intent's uncertainty {U:.3g} is {U / t:.0%} of t: little is left to tell fits apart")
     rows = advice.to_dict()["comparison"]
