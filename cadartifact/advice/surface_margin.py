@@ -143,13 +143,13 @@ def _intent_fields(real: np.ndarray, frames, scheme, combos):
     """``(pads, intent)`` per period variant, first ``combos[0]``: the smooth part (Cartesian, on the fine grid) of
     :func:`cadartifact.analysis.fields._bridged_bands` with the measured road's periods padded by ``pads``.
 
-    The same steps (tensor Legendre trend kept out, Hermite bridge, FFT, bands at half a cycle per span), for the
-    smooth part only (the domain's columns below half a cycle along ``u``, less their part above it along ``v``),
+    The same steps (tensor Legendre trend kept out, then the split's per-direction pass,
+    :func:`cadartifact.analysis.fields.above_half_cycle`, as the road makes it), for the smooth part only (the domain's columns below half a cycle along ``u``, less their part above it along ``v``),
     and each ``u`` pass made once per ``u`` pad: three ``u`` passes and one ``v`` pass per variant, where a whole
     band split per variant made seven and fourteen. A periodic direction has no period latitude: its pad is 0.
     """
     from ..analysis.bands import _one_piece
-    from ..analysis.fields import _bridge, _poly_fit, measured_frames, split_degrees
+    from ..analysis.fields import _poly_fit, above_half_cycle, measured_frames, split_degrees
     from ..numerics.tensor import sandwich
 
     fu, fv = frames
@@ -163,18 +163,9 @@ def _intent_fields(real: np.ndarray, frames, scheme, combos):
     for c in combos:
         wu, wv = measured_frames(frames, c)
         if c[0] not in lows:  # along u: the domain's columns below half a cycle per span
-            Eu = np.roll(_bridge(rest, wu, 0, own[0]), wu.shift, axis=0)
-            A = Eu.shape[0]
-            hu = (np.fft.rfftfreq(A, d=1.0 / wu.K) >= 0.5 - 1e-12) & (not one[0])
-            iu = (wu.shift + np.arange(wu.fine_count)) % A
-            lows[c[0]] = rest - np.fft.irfft(np.fft.rfft(Eu, axis=0) * hu[:, None, None], n=A, axis=0)[iu] \
-                if hu.any() else rest
+            lows[c[0]] = rest - above_half_cycle(rest, wu, 0, own[0], one[0])[0]
         lo = lows[c[0]]
-        Ev = np.roll(_bridge(lo, wv, 1, own[1]), wv.shift, axis=1)  # along v: their part above half a cycle
-        B = Ev.shape[1]
-        hv = (np.fft.rfftfreq(B, d=1.0 / wv.K) >= 0.5 - 1e-12) & (not one[1])
-        iv = (wv.shift + np.arange(wv.fine_count)) % B
-        high = np.fft.irfft(np.fft.rfft(Ev, axis=1) * hv[None, :, None], n=B, axis=1)[:, iv] if hv.any() else 0.0
+        high = above_half_cycle(lo, wv, 1, own[1], one[1])[0]  # along v: their part above half a cycle
         smooth = lo - high + trend
         yield c, smooth[..., :3] / smooth[..., 3:4] if smooth.shape[-1] == 4 else smooth
 

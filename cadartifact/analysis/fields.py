@@ -374,24 +374,13 @@ def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> t
     V, poly = _poly_fit(field, frames, own)
     rest = field - sandwich(V[0], poly, V[1])
     one = _one_piece(fu, fv)
-    # along u: the bridged period's half spectrum per column (x = 0 at fine index `shift`)
-    Eu = np.roll(_bridge(rest, fu, 0, own[0]), fu.shift, axis=0)
-    A = Eu.shape[0]
-    Su = np.fft.rfft(Eu, axis=0)
-    hu = (np.fft.rfftfreq(A, d=1.0 / fu.K) >= 0.5 - 1e-12) & (not one[0])
-    iu = (fu.shift + np.arange(fu.fine_count)) % A
-    hi_u = np.fft.irfft(Su * hu[:, None, None], n=A, axis=0)[iu] if hu.any() else np.zeros_like(rest)
+    # along u: the bridged period's half spectrum per column (x = 0 at fine index `shift`), kept for the base band
+    hi_u, Su = above_half_cycle(rest, fu, 0, own[0], one[0], spectrum=True)
     lo_u = rest - hi_u
 
     def v_high(X: np.ndarray) -> np.ndarray:
         """The part of domain rows above half a cycle per span along ``v`` (bridged the same way)."""
-        Ev = np.roll(_bridge(X, fv, 1, own[1]), fv.shift, axis=1)
-        B = Ev.shape[1]
-        hv = (np.fft.rfftfreq(B, d=1.0 / fv.K) >= 0.5 - 1e-12) & (not one[1])
-        if not hv.any():
-            return np.zeros_like(X)
-        iv = (fv.shift + np.arange(fv.fine_count)) % B
-        return np.fft.irfft(np.fft.rfft(Ev, axis=1) * hv[None, :, None], n=B, axis=1)[:, iv]
+        return above_half_cycle(X, fv, 1, own[1], one[1])[0]
 
     diagonal, x2 = v_high(hi_u), v_high(lo_u)
     bands = {"x1": hi_u - diagonal, "x2": x2, "diagonal": diagonal}
@@ -403,6 +392,41 @@ def _bridged_bands(field: np.ndarray, frames, scheme, lateral: bool = True) -> t
     smooth = (lo_u - x2) + sandwich(V[0], poly, V[1])
     bands["signal_error"] = np.zeros_like(smooth)
     return bands, smooth, _baseband_of_rows(Su, fu, fv, own[1], poly)
+
+
+def above_half_cycle(X: np.ndarray, frame: AxisFrame, axis: int, degree: int, one_piece: bool,
+                     spectrum: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
+    """One direction's pass of the measured road's split: the part of a domain field above half a cycle per span.
+
+    Parameters
+    ----------
+    X : (a, b, c) float
+        Samples on the domain's fine grid.
+    frame : AxisFrame
+        The direction's (its period, bridged by :func:`_bridge` past an open border).
+    axis : {0, 1}
+    degree : int
+        The direction's degree (the bridge's derivative fit).
+    one_piece : bool
+        The direction is one polynomial piece: nothing is above (:func:`cadartifact.analysis.bands._one_piece`).
+    spectrum : bool
+        Return the bridged period's half spectrum along ``axis`` even where nothing is above.
+
+    Returns
+    -------
+    (high, S) : ((a, b, c) float, complex array or None)
+        ``high`` the part above half a cycle per span on the domain (zeros where the mask is empty); ``S`` the
+        half spectrum (x = 0 at fine index ``frame.shift``), None where neither it nor ``high`` needed it.
+    """
+    E = np.roll(_bridge(X, frame, axis, degree), frame.shift, axis=axis)
+    N = E.shape[axis]
+    mask = (np.fft.rfftfreq(N, d=1.0 / frame.K) >= 0.5 - 1e-12) & (not one_piece)
+    S = np.fft.rfft(E, axis=axis) if spectrum or mask.any() else None
+    if not mask.any():
+        return np.zeros_like(X), S
+    index = (frame.shift + np.arange(frame.fine_count)) % N
+    along = mask[:, None, None] if axis == 0 else mask[None, :, None]
+    return np.take(np.fft.irfft(S * along, n=N, axis=axis), index, axis=axis), S
 
 
 def _baseband_of_rows(Su: np.ndarray, fu: AxisFrame, fv: AxisFrame, degree_v: int, poly: np.ndarray) -> dict:
