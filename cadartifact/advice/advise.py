@@ -25,11 +25,9 @@ from ..analysis.baseband import baseband_at, release
 from .density_search import (GROWTH, MAX_POINTS, TIE, _limits, _straight, corner, frontier, gallop,  # noqa: F401
                              predicted_hint)  # (_straight: face_instances)
 from ..errors import OptionError, check_option
-from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
 from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_scheme
 from ..net import ControlNet, no_ripple_by_construction
-from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
 from .exact import kept_phrase
 from .honest import unverified_note
@@ -51,7 +49,6 @@ SEARCH_LEVELS = 2
 
 #: Nets above this many control points skip the scheme comparison unless asked for.
 COMPARE_MAX_POINTS = 2000
-
 
 
 def _not_worse(u_value: float, v_value: float) -> bool:
@@ -529,6 +526,8 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float
     for d, (n_today, n_new, lo) in zip("uv", zip(work.shape, shape, low)):
         coarser = (a - 1, b) if d == "u" else (a, b - 1)
         val = value(sc, *coarser) if n_new - 1 >= lo and not sc.kept["uv".index(d)] else None
+        # U is in the value only where the deviation binds: the own ripple (the gate's reading of the net) has none
+        own = val is not None and val > value(sc, *coarser, own_ripple=False)
         if val is not None and val > t:
             worse[d] = val
         change = n_new - n_today
@@ -540,10 +539,10 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float
         elif val is None:
             why = f"at the fewest points the degree allows ({lo})"
         elif val > t:
-            with_u = f" (U {margin:.4g} included)" if margin > 0 else ""
-            why = (f"one point fewer would give {val:.4g}{with_u} > {t:g} (binding)" if change >= 0 else
+            got = f"an own ripple of {val:.4g}" if own else f"{val:.4g} (U {margin:.4g} included)" if margin > 0 else f"{val:.4g}"
+            why = (f"one point fewer would give {got} > {t:g} (binding)" if change >= 0 else
                    f"today's {n_today} points spend {-change} on nothing the tolerance needs; "
-                   f"one fewer would give {val:.4g}{with_u} > {t:g}")
+                   f"one fewer would give {got} > {t:g}")
         else:
             why = f"one point fewer would also meet ({val:.4g}); the other direction binds"
         out[d] = {"today": int(n_today), "advised": int(n_new), "change": int(change),

@@ -107,6 +107,33 @@ def test_every_direction_has_its_reason_in_the_document():
     assert set(d["budget"]) >= {"deviation", "boundary", "x1", "x2", "diagonal", "total"}
 
 
+def test_the_u_note_decorates_only_a_value_that_carries_u():
+    """A coarser value says "U included" only where the deviation (which carries the candidates' U) binds: where
+    the candidate's own ripple (the gate's reading of the net itself, no U) is the larger, the reason names it.
+    wavy_panel_diagonal at 0.01 has both: one u point fewer fails on its own ripple, one v point fewer on its
+    deviation + U. Each is held to the candidate's own ripple read by the budget of :func:`resample`'s net (where
+    the deviation + U is beyond t already, the search does not read the own ripple)."""
+    from cadartifact.analysis.budget import total_ripple
+    from cadartifact.analysis.settings import RunSettings
+
+    net = ca.load(SAMPLES / "wavy_panel_diagonal.step")[0]
+    a = advise(net, 0.01, compare=False, verify=False)
+    (nu, nv), settings = a.shape, RunSettings(levels=3)
+    seen = set()
+    for d, coarser in (("u", (nu - 1, nv)), ("v", (nu, nv - 1))):
+        r = a.reasons[d]
+        assert r["binding"] and r["coarser_value"] > 0.01, r
+        own = total_ripple(resample(net, coarser), settings)
+        if r["coarser_value"] == pytest.approx(own, rel=1e-9):  # the own ripple binds: no U in it
+            assert "an own ripple of" in r["reason"] and "included" not in r["reason"], r
+            seen.add("own")
+        else:
+            # the deviation + U (beyond t already, the own ripple is not read: here it is 0.01168 against 0.01164)
+            assert f"(U {a.advised_uncertainty.peak:.4g} included)" in r["reason"] and "own ripple" not in r["reason"]
+            seen.add("deviation")
+    assert seen == {"own", "deviation"}
+
+
 def test_verification_agrees_with_the_search_on_occt_and_coarser_fails():
     """Two roads: numpy's basis (search) and OCCT's evaluator (verification) give the same error."""
     net = ca.load(SAMPLES / "wavy_panel_diagonal.step")[0]
