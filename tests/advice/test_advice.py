@@ -109,26 +109,29 @@ def test_every_direction_has_its_reason_in_the_document():
 
 def test_the_u_note_decorates_only_a_value_that_carries_u():
     """A coarser value says "U included" only where the deviation (which carries the candidates' U) binds: where
-    the candidate's own ripple (the gate's reading of the net itself, no U) is the larger, the reason names it.
-    wavy_panel_diagonal at 0.01 has both: one u point fewer fails on its own ripple, one v point fewer on its
-    deviation + U. Each is held to the candidate's own ripple read by the budget of :func:`resample`'s net (where
-    the deviation + U is beyond t already, the search does not read the own ripple)."""
-    from cadartifact.analysis.budget import total_ripple
+    the candidate's own ripple (the gate's reading of the net itself) binds, the value is that ripple plus the U
+    the gate decides it by, and the reason says so. wavy_panel_diagonal at 0.01 has both: one u point fewer
+    fails on its own ripple, one v point fewer on its deviation + U (beyond t already, so its own ripple is not
+    read). The own ripple's value is held to the gate's reading of :func:`resample`'s net (budget, U)."""
+    from cadartifact.advice.decision import face_uncertainty
+    from cadartifact.analysis.budget import budget_for
     from cadartifact.analysis.settings import RunSettings
 
     net = ca.load(SAMPLES / "wavy_panel_diagonal.step")[0]
     a = advise(net, 0.01, compare=False, verify=False)
-    (nu, nv), settings = a.shape, RunSettings(levels=3)
+    (nu, nv), settings = a.shape, RunSettings(tolerance=0.01)
     seen = set()
     for d, coarser in (("u", (nu - 1, nv)), ("v", (nu, nv - 1))):
         r = a.reasons[d]
         assert r["binding"] and r["coarser_value"] > 0.01, r
-        own = total_ripple(resample(net, coarser), settings)
-        if r["coarser_value"] == pytest.approx(own, rel=1e-9):  # the own ripple binds: no U in it
-            assert "an own ripple of" in r["reason"] and "included" not in r["reason"], r
+        cand = resample(net, coarser)
+        gate = budget_for(cand, settings, keep_fields=True)
+        own = gate.value(False)
+        u = face_uncertainty(cand, settings, gate).peak
+        if r["coarser_value"] == pytest.approx(own + u, rel=1e-9):  # the own ripple binds, with its own U
+            assert f"{own + u:.4g} (its own ripple with its U)" in r["reason"] and "included" not in r["reason"], r
             seen.add("own")
         else:
-            # the deviation + U (beyond t already, the own ripple is not read: here it is 0.01168 against 0.01164)
             assert f"(U {a.advised_uncertainty.peak:.4g} included)" in r["reason"] and "own ripple" not in r["reason"]
             seen.add("deviation")
     assert seen == {"own", "deviation"}
