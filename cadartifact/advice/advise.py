@@ -18,18 +18,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
 from ..analysis.baseband import baseband_at, release
 from .density_search import (GROWTH, MAX_POINTS, TIE, _limits, _straight, corner, frontier, gallop,  # noqa: F401
                              predicted_hint)  # (_straight: face_instances)
 from ..errors import OptionError, check_option
-from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
 from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_scheme
 from ..net import ControlNet, no_ripple_by_construction
-from ..numerics.operator_cache import OperatorCache
 from ..analysis.pieces import face_kind
 from .exact import kept_phrase
 from .honest import unverified_note
@@ -37,8 +33,7 @@ from .verification import unconfirmed
 from .decision import CONFORMS, advised_uncertainty, candidate_margin, decide, scorer_uncertainty, unverifiable, unverifiable_note
 from .scheme_comparison import NAMED_SCHEMES, compare_schemes
 from .surface_margin import LazyMargin
-from .scorer import _Scorer, _make_scorer, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
-from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
+from .scorer import _Scorer, _make_scorer, _own_claim, _real_on, _ripple_of, _trimmed  # noqa: F401 (_trimmed: face_instances)
 
 __all__ = ["Advice", "advise", "advise_for", "resample", "clear_caches", "OBJECTIVES", "NAMED_SCHEMES"]
 
@@ -51,7 +46,6 @@ SEARCH_LEVELS = 2
 
 #: Nets above this many control points skip the scheme comparison unless asked for.
 COMPARE_MAX_POINTS = 2000
-
 
 
 def _not_worse(u_value: float, v_value: float) -> bool:
@@ -245,8 +239,8 @@ def advise(net: ControlNet, tolerance: float, scheme=None, *, metric: str = "pea
     Candidate ``n'u x n'v``: ``Q = pinv(Bu) I pinv(Bv)^T`` (least squares on the check grid), error
     ``E = Bu Q Bv^T - I``, value ``max |E . n|`` (or RMS) over the trimmed face, feasible when it is
     ``<= t - U`` (``U`` the intent's expanded uncertainty, :mod:`cadartifact.analysis.uncertainty`; the
-    decision rule of ISO 14253-1, :mod:`cadartifact.advice.decision`) and the candidate's
-    own ripple, as its budget (and so the gate) reads it, is ``<= t``; the boundary curves' distance
+    decision rule of ISO 14253-1, :mod:`cadartifact.advice.decision`) and the candidate's own ripple plus its
+    ``U``, as the gate decides the net, is ``<= t`` (:func:`.scorer._own_claim`); the boundary curves' distance
     from today's is reported. The search walks the frontier
     ``n'v(n'u)`` (galloping from today's density) at ``K = 4``, then confirms at ``K = 2**levels``,
     growing until feasible and shrinking each direction while it stays so.
@@ -307,16 +301,16 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
     def value(sc, a, b, own_ripple=True):
         """The candidate's value plus the intent's uncertainty, against the tolerance: its error against the
-        intent and, for the surface reading, its own ripple as the gate will read it (so the advice passes the
-        gate; a budget per candidate, so only where the fine grid confirms). After a verified retry
-        (:mod:`.retry`) the deviation alone."""
+        intent and, for the surface reading, its own ripple plus that reading's U as the gate will decide it (so the
+        gate confirms the advice; a budget per candidate, so only where the fine grid confirms). After a verified
+        retry (:mod:`.retry`) the deviation alone."""
         if objective == "ripple":
             return _ripple_of(sc, a, b, settings) + margin
         d = sc.value(a, b)
         dev = d + (margin if lazy is None else lazy.margin(d))  # U_c read only where the bound B does not decide
         if dev > t or not reading["own ripple"] or not own_ripple:  # the net reading bounds the deviation
             return dev
-        return max(dev, _ripple_of(sc, a, b, settings))  # U_c bounds the deviation's change, not the own ripple's
+        return max(dev, _own_claim(sc, a, b, settings))  # U_c bounds the deviation's change; the own ripple has its U
 
     trail = {}
     if hopeless or exact_face:  # no density can conform (SPEC §5 "an honest no"), or the face is exact as it is:
@@ -404,9 +398,10 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
     if not meets and not hopeless:  # SPEC §5 "an answer or an honest no": the best found, and why none conforms
         from .honest import explain
 
-        best = value(fine, a, b)  # the deviation with U, or the own ripple (which carries none) where it is larger
-        best = best - margin if best == value(fine, a, b, own_ripple=False) else best
-        no_density = explain(fine, shape, trail, best, margin, t, net.unit or "model units")
+        best = value(fine, a, b)  # the deviation with U_c, or the own ripple with its own U where that is larger
+        own = None if best == value(fine, a, b, own_ripple=False) else _ripple_of(fine, a, b, settings)
+        raw, u = (best - margin, margin) if own is None else (own, best - own)
+        no_density = explain(fine, shape, trail, raw, u, t, net.unit or "model units")
         notes.insert(0, no_density["reason"])
         binding = None
         for d in reasons.values():
@@ -441,7 +436,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         def check():
             try:
                 own = None if not reading["own ripple"] else (
-                    lambda x, y: _ripple_of(fine, x, y, settings))  # the search's reading (see value())
+                    lambda x, y: _own_claim(fine, x, y, settings))  # the search's reading (see value())
                 got = verify_advice(fine, shape, binding, tolerance - claim, advised, tolerance - margin, own)
                 unconfirmed(reasons, binding, got)
                 return got
@@ -529,6 +524,8 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float
     for d, (n_today, n_new, lo) in zip("uv", zip(work.shape, shape, low)):
         coarser = (a - 1, b) if d == "u" else (a, b - 1)
         val = value(sc, *coarser) if n_new - 1 >= lo and not sc.kept["uv".index(d)] else None
+        # the value binds by the deviation + U_c, or by the own ripple (the gate's reading of the net) + its own U
+        own = val is not None and val > value(sc, *coarser, own_ripple=False)
         if val is not None and val > t:
             worse[d] = val
         change = n_new - n_today
@@ -540,10 +537,11 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float
         elif val is None:
             why = f"at the fewest points the degree allows ({lo})"
         elif val > t:
-            with_u = f" (U {margin:.4g} included)" if margin > 0 else ""
-            why = (f"one point fewer would give {val:.4g}{with_u} > {t:g} (binding)" if change >= 0 else
+            got = (f"{val:.4g} (its own ripple with its U)" if own else
+                   f"{val:.4g} (U {margin:.4g} included)" if margin > 0 else f"{val:.4g}")
+            why = (f"one point fewer would give {got} > {t:g} (binding)" if change >= 0 else
                    f"today's {n_today} points spend {-change} on nothing the tolerance needs; "
-                   f"one fewer would give {val:.4g}{with_u} > {t:g}")
+                   f"one fewer would give {got} > {t:g}")
         else:
             why = f"one point fewer would also meet ({val:.4g}); the other direction binds"
         out[d] = {"today": int(n_today), "advised": int(n_new), "change": int(change),

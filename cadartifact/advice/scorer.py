@@ -20,7 +20,7 @@ from ..numerics.tensor import sandwich, sandwich_left, sandwich_right
 from .exact import kept_axis, kept_directions
 from .joins import join_plan, jointed_axis
 
-__all__ = ["_Scorer", "_make_scorer", "_ripple_of", "_trimmed", "_real_on"]
+__all__ = ["_Scorer", "_make_scorer", "_ripple_of", "_own_claim", "_trimmed", "_real_on"]
 
 
 class _Scorer:
@@ -247,6 +247,26 @@ def _ripple_of(sc: _Scorer, a, b, settings: RunSettings) -> float:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
         sc._scores[key] = total_ripple(cand, settings.replace(scheme=None, levels=int(np.log2(sc.K))))
+    return sc._scores[key]
+
+
+def _own_claim(sc: _Scorer, a, b, settings: RunSettings) -> float:
+    """``own + U_own``: the candidate's own ripple (:func:`_ripple_of`) plus the ``U`` the gate will decide that
+    net by (:func:`~cadartifact.analysis.border_convention.surface_uncertainty`, SPEC §4 decisions): its bound
+    ``RELATIVE_BOUND own + G`` where that decides against ``settings.tolerance``, else the period variants (read
+    only then). A claim on the net at ``own + U_own <= t`` is one the gate confirms, not leaves undecided."""
+    from ..analysis.border_convention import surface_uncertainty
+
+    key = ("claim", a, b)
+    if key not in sc._scores:
+        Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
+        cand = candidate_net(sc.net, Q, cu, cv)
+        own_settings = settings.replace(scheme=None, levels=int(np.log2(sc.K)))
+        own, total, region = total_ripple(cand, own_settings, with_field=True)
+        sc._scores[("ripple", a, b)] = own
+        u = surface_uncertainty(cand, own_settings, own, scalars=None if total is None else {"total": total},
+                                region=region)
+        sc._scores[key] = own + float(u.peak)
     return sc._scores[key]
 
 

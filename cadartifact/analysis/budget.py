@@ -392,11 +392,13 @@ def _road(work: ControlNet, method: str = "auto") -> str:
     return method
 
 
-def total_ripple(net: ControlNet, settings: RunSettings) -> float:
+def total_ripple(net: ControlNet, settings: RunSettings, *, with_field: bool = False):
     """``budget_for(net, settings).stats["total"][settings.metric]`` computed for that number only (the default
     road and the whole face, the surface reading): the same fields less the lateral one, the same projection
     and mask, no other band's statistics. The advice asks this of hundreds of candidates per face (the scheme
     comparison's cages, the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
+    ``with_field``: ``(value, field, mask)``, the projected total ripple ``(a, b)`` on the fine grid and the face's
+    mask, as the budget's ``scalar_fields["total"]`` and ``region`` (``None, None`` for a split face).
     """
     sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch, settings.tolerance)
@@ -404,13 +406,15 @@ def total_ripple(net: ControlNet, settings: RunSettings) -> float:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
             whole = settings.replace(tolerance=None, scheme=sch, intent="surface", method="auto", region="auto")
-            return budget_for(net, whole).stats["total"].get(settings.metric)
+            value = budget_for(net, whole).stats["total"].get(settings.metric)
+            return (value, None, None) if with_field else value
     it = design_intent(work, sch, settings.levels)
     main = artifact_fields(it, sch, _road(work), "surface", lateral=False)
     normal = None if settings.component == "vector" else intent_normals(main.intent, 2 ** main.levels)
     total = project(main.bands["total"], normal, settings.component)
     keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, sch))
-    return _stats({"total": total}, keep)["total"].get(settings.metric)
+    value = _stats({"total": total}, keep)["total"].get(settings.metric)
+    return (value, total, keep) if with_field else value
 
 
 def _after_junction(a: np.ndarray, piece) -> np.ndarray:

@@ -42,7 +42,8 @@ def advise_cmd(
              "the advised surface (trims, names, other faces and units kept). Several input files: one "
              "OUT_<input stem>.step each."),
     faces_only: bool = typer.Option(False, "--faces-only",
-                                    help="With --write-resampled: write only the advised faces, untrimmed."),
+                                    help="With --write-resampled: write only the advised faces, untrimmed "
+                                         "(a face whose advice finds no net that conforms is not written)."),
     json_out: bool = typer.Option(False, "--json", help="Print one JSON document (schema: cadartifact.runs.records)."),
     report: Optional[Path] = typer.Option(None, "--report",
                                           help="Also write a self-contained HTML report (tables, heatmaps, maps)."),
@@ -123,16 +124,21 @@ def _print_written(written: dict, units: str) -> None:
     con = _console()
     for f in written["files"]:
         if f["path"] is None:
-            con.print(f"wrote nothing for {escape(f['source'])}: every advised face's new net was refused "
-                      "(the model would be unchanged)", soft_wrap=True)
+            con.print(f"wrote nothing for {escape(f['source'])}: " + (
+                "every advised face's new net was refused (the model would be unchanged)" if f["refused"] else
+                f"no advised face's net conforms ({len(f['kept'])} face(s) not written: an honest no is not a net)"),
+                soft_wrap=True)
         elif f["mode"] == "model":
-            kept = f" ({len(f['kept'])} advised face(s) kept as they were: advice = today's net)" if f["kept"] else ""
+            kept = (f" ({len(f['kept'])} advised face(s) kept as they were: advice = today's net, or no net "
+                    "conforms)") if f["kept"] else ""
             con.print(f"wrote {escape(f['path'])}: the model of {escape(f['source'])} with "
                       f"{len(f['faces'])} face(s) replaced{kept}", soft_wrap=True)
         else:
             record = formats.format_of(f["source"])
             why = "" if record.brep else f" (an {record.label} cage has no B-rep to keep)"
-            con.print(f"wrote {len(f['faces'])} resampled face(s) only to {escape(f['path'])}{why}", soft_wrap=True)
+            kept = f" ({len(f['kept'])} advised face(s) not written: no net conforms)" if f["kept"] else ""
+            con.print(f"wrote {len(f['faces'])} resampled face(s) only to {escape(f['path'])}{why}{kept}",
+                      soft_wrap=True)
         for r in f["faces"]:
             if r["max_distance"] is None:
                 continue

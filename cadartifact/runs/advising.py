@@ -318,7 +318,11 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         another kind of surface than it was given, as the file reads back)}], "path",
         "faces"}`` (``path`` and ``faces`` repeat the first file's, for one input file). In model mode only
         faces whose advice is a new net that conforms are replaced; faces whose advice keeps today's net, or
-        finds none that conforms (an honest no), stay untouched and are listed in ``kept``. Each replaced face is measured as written
+        finds none that conforms (an honest no), stay untouched and are listed in ``kept``. In faces-only mode every
+        face whose advice conforms is written (today's net where the advice keeps it); a face whose advice is an
+        honest no is not written and is listed in ``kept`` (the face's advice says why); when no face conforms,
+        nothing is written and ``path`` is null. Either way ``faces``, ``kept`` and ``refused`` add up to the
+        advised faces. Each replaced face is measured as written
         (:func:`cadartifact.exchange.model_writer.write_model`): within ``t`` + the old face's ripple (the
         value the advice read for today's net) + its edge tolerance of the old face by projection both
         ways, edge tolerances within the input's + ``t``, BRepCheck no worse than the input's. A face whose new net the writer
@@ -342,29 +346,33 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         refused: dict = {}
         measurements: dict = {}
         types: dict = {}
+        # only a verified advice is written as advised (SPEC §5): a face whose advice is an honest no (undecided,
+        # or no net verifiable) is kept as it stands in a model, and is not written to a faces-only file
+        conforming = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
+                      if getattr(adv, "meets_tolerance", True)}
         if mode == "faces-only" and not brep:
-            write_step(nets, target, provenance={"source": src.name, **(provenance or {})})
+            written = [n for n in nets if n.origin.face in conforming]
+            if written:
+                write_step(written, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
-                      "edge_tolerance": None, "valid": None} for n in nets]
-            kept_faces = []
+                      "edge_tolerance": None, "valid": None} for n in written]
+            kept_faces = sorted(set(by_face) - set(conforming))
         elif mode == "faces-only":
-            asked = by_face
-            faces = write_model(src, by_face, target, provenance=provenance, faces_only=True, refused=refused)
-            kept_faces = []
+            asked = conforming
+            faces = write_model(src, asked, target, provenance=provenance, faces_only=True,
+                                refused=refused) if asked else []
+            kept_faces = sorted(set(by_face) - set(asked))
         else:
-            # only a verified advice replaces a face (SPEC §5): an honest no (undecided, or no net verifiable)
-            # leaves the face as it stands
-            asked = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
-                     if not getattr(adv, "kept_today", new.shape == net.shape)
-                     and getattr(adv, "meets_tolerance", True)}
+            asked = {i: new for (_, net, adv), new in zip(items, nets)
+                     if (i := net.origin.face) in conforming and not getattr(adv, "kept_today", new.shape == net.shape)}
             units = next((net.unit for _, net, _ in items if getattr(net, "unit", None)), None) or "mm"
             faces = write_model(src, asked, target, provenance=provenance, refused=refused,
                                 allowed=allowed_distances(items), tolerance=_tolerance(items),
                                 measurements=measurements, edge_check=edge_rules(profile, units), types=types)
             kept_faces = sorted(set(by_face) - set(asked))
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
-        # every replacement refused: nothing was written (the model would be today's)
-        path = None if asked and len(refused) == len(asked) else str(target)
+        # every replacement refused: nothing was written (the model would be today's); faces only: no face conforms
+        path = None if (asked and len(refused) == len(asked) or mode == "faces-only" and not faces) else str(target)
         files.append({"path": path, "source": str(src), "mode": mode, "faces": faces, "kept": kept_faces,
                       "refused": [{"face": i, "reason": why, "measured": _measured(measurements.get(i))}
                                   for i, why in refused.items()],

@@ -107,6 +107,36 @@ def test_every_direction_has_its_reason_in_the_document():
     assert set(d["budget"]) >= {"deviation", "boundary", "x1", "x2", "diagonal", "total"}
 
 
+def test_the_u_note_decorates_only_a_value_that_carries_u():
+    """A coarser value says "U included" only where the deviation (which carries the candidates' U) binds: where
+    the candidate's own ripple (the gate's reading of the net itself) binds, the value is that ripple plus the U
+    the gate decides it by, and the reason says so. wavy_panel_diagonal at 0.01 has both: one u point fewer
+    fails on its own ripple, one v point fewer on its deviation + U (beyond t already, so its own ripple is not
+    read). The own ripple's value is held to the gate's reading of :func:`resample`'s net (budget, U)."""
+    from cadartifact.advice.decision import face_uncertainty
+    from cadartifact.analysis.budget import budget_for
+    from cadartifact.analysis.settings import RunSettings
+
+    net = ca.load(SAMPLES / "wavy_panel_diagonal.step")[0]
+    a = advise(net, 0.01, compare=False, verify=False)
+    (nu, nv), settings = a.shape, RunSettings(tolerance=0.01)
+    seen = set()
+    for d, coarser in (("u", (nu - 1, nv)), ("v", (nu, nv - 1))):
+        r = a.reasons[d]
+        assert r["binding"] and r["coarser_value"] > 0.01, r
+        cand = resample(net, coarser)
+        gate = budget_for(cand, settings, keep_fields=True)
+        own = gate.value(False)
+        u = face_uncertainty(cand, settings, gate).peak
+        if r["coarser_value"] == pytest.approx(own + u, rel=1e-9):  # the own ripple binds, with its own U
+            assert f"{own + u:.4g} (its own ripple with its U)" in r["reason"] and "included" not in r["reason"], r
+            seen.add("own")
+        else:
+            assert f"(U {a.advised_uncertainty.peak:.4g} included)" in r["reason"] and "own ripple" not in r["reason"]
+            seen.add("deviation")
+    assert seen == {"own", "deviation"}
+
+
 def test_verification_agrees_with_the_search_on_occt_and_coarser_fails():
     """Two roads: numpy's basis (search) and OCCT's evaluator (verification) give the same error."""
     net = ca.load(SAMPLES / "wavy_panel_diagonal.step")[0]

@@ -164,12 +164,13 @@ class WrittenFile(TypedDict, closed=True):
     """One output file."""
 
     path: str | None
-    """The file written (null: nothing written, every replacement was refused)."""
+    """The file written (null: nothing written, every replacement was refused, or, faces only, no face conforms)."""
     source: str
     mode: Literal["model", "faces-only"]
     faces: list[WrittenFace]
     kept: list[int]
-    """Faces whose advice keeps today's net: left as they were."""
+    """Faces not written as advised: their advice keeps today's net (model mode), or finds no net that conforms
+    (an honest no; the face's advice says why). Model mode: left as they were; faces only: not written."""
     refused: list[RefusedFace]
     """Faces whose advised net cannot be written faithfully: kept as they were, with the reason; the other faces
     are written."""
