@@ -101,12 +101,12 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
 
 
 def baseband_bins(fu: AxisFrame, fv: AxisFrame) -> tuple[list, list]:
-    """Per direction, the fine-grid bins of the base band (``|f| < 1/2``; every bin of a direction with no
-    ripple band) and their frequencies: ``([ku, kv], [fu_k, fv_k])``."""
+    """Per direction, the fine-grid bins of the base band (``|f| <`` the frame's :attr:`AxisFrame.cut`; every bin
+    of a direction with no ripple band) and their frequencies: ``([ku, kv], [fu_k, fv_k])``."""
     idx, freqs = [], []
     for frame in (fu, fv):
         f = _fine_freqs(frame)
-        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < frame.cut - 1e-12)
         idx.append(k)
         freqs.append(f[k])
     return idx, freqs

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import check_option
-from .frames import AxisFrame
+from .frames import AxisFrame, index_space_cut
 from .bands import _baseband, _fine_freqs, _one_piece, baseband_bins, band_split, lateral_factors, lateral_of
 from .baseband import baseband_at
 from .clamped import clamped_syntheses
@@ -289,8 +289,9 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
 
 def measured_frames(frames, pads=(0, 0)) -> tuple:
     """The measured road's frames: each open direction's period the domain plus :data:`MEASURED_GAP` spans,
-    rounded up to even, plus ``pads`` lattice points (the convention's latitude)."""
-    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p) for f, p in zip(frames, pads))
+    rounded up to even, plus ``pads`` lattice points (the convention's latitude); each cut at half a cycle per
+    control point in index space (:func:`cadartifact.analysis.frames.index_space_cut`)."""
+    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p, cut=index_space_cut(f)) for f, p in zip(frames, pads))
 
 
 #: How the measured road splits a rational face with an open direction: ``"homogeneous"`` (the non-rational
@@ -420,7 +421,7 @@ def above_half_cycle(X: np.ndarray, frame: AxisFrame, axis: int, degree: int, on
     """
     E = np.roll(_bridge(X, frame, axis, degree), frame.shift, axis=axis)
     N = E.shape[axis]
-    mask = (np.fft.rfftfreq(N, d=1.0 / frame.K) >= 0.5 - 1e-12) & (not one_piece)
+    mask = (np.fft.rfftfreq(N, d=1.0 / frame.K) >= frame.cut - 1e-12) & (not one_piece)
     S = np.fft.rfft(E, axis=axis) if spectrum or mask.any() else None
     if not mask.any():
         return np.zeros_like(X), S

@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import OptionError
 from ..net import ControlNet, bezier_direction, greville, lifted
 
-__all__ = ["AxisFrame", "axis_frames", "fine_positions"]
+__all__ = ["AxisFrame", "axis_frames", "fine_positions", "index_space_cut"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,6 +61,9 @@ class AxisFrame:
         Nothing along this direction can alias: the surface is one polynomial along it (each row's
         ``(w P, w)``: every interior knot removable, as after knot insertion into a Bezier direction),
         or every span is a piece of its own (every knot a junction: degree 1, piecewise Bezier).
+    cut : float
+        Cycles per span at which a band split cuts this direction: half a cycle per span (the uniform
+        theory's half a cycle per control point), or the measured road's :func:`index_space_cut`.
     """
 
     n: int
@@ -76,6 +79,7 @@ class AxisFrame:
     gap: int = 0
     pad: int = 0
     polynomial: bool = False
+    cut: float = 0.5
 
     @property
     def ripple_free(self) -> bool:
@@ -97,8 +101,18 @@ class AxisFrame:
             return self.spans
         if self.gap > 0:
             T = max(self.spans + self.gap, self.n + 4)
-            return T + T % 2 + self.pad
+            m = self.alignment
+            return -(-T // m) * m + self.pad * (m // 2)
         return max(self.extension * self.spans, self.n + 4) + self.pad
+
+    @property
+    def alignment(self) -> int:
+        """Lattice points the measured period is a multiple of, so that a bin sits at exactly :attr:`cut`
+        (``cut = C / (2 L)``: ``2 L / gcd(C, 2 L)``; 2, an even period, at half a cycle per span)."""
+        import math
+
+        C = int(round(2 * self.spans * self.cut))
+        return 2 * self.spans // math.gcd(C, 2 * self.spans)
 
     @property
     def fine_count(self) -> int:
@@ -122,6 +136,45 @@ class AxisFrame:
     def with_extension(self, extension: int) -> "AxisFrame":
         """The same frame with a longer period of extended data (``extension * n`` lattice points)."""
         return dataclasses.replace(self, extension=extension)
+
+
+def index_space_cut(frame: AxisFrame) -> float:
+    """Half a cycle per control point in the Greville index space, as cycles per span of an open direction.
+
+    SPEC §1 and §4 put the base band below half a cycle per control point, in index space (control point ``i``
+    at its Greville abscissa). Where a direction has an interior, its Greville abscissae are one span apart
+    there and the cut is half a cycle per span. A clamped end crowds its points into its first spans (Greville
+    abscissae ``1/p, 2/p, ...`` span apart at degree ``p``), and a short direction is all ends: its ``n - 1``
+    Greville intervals cover its ``L`` spans, and its points steer content up to ``(n - 1) / 2`` cycles over the
+    direction. One cut per direction (the split is one transform) takes, in cycles over the direction,
+
+        ``C / 2``,  ``C = max(L, min(n - 1, 2 p - 1))``  (``n = L + p``)
+
+    all ``n - 1`` intervals while the direction has no interior (``L <= p``), ``L`` (half a cycle per span) once it
+    has ``2 p - 1`` spans or more, and ``2 p - 1`` between, so that the cut over the direction never falls as knots
+    are inserted or the degree is raised (SPEC §4 "Invariance": more points never raise the ripple).
+
+    Parameters
+    ----------
+    frame : AxisFrame
+        A periodic direction, or a cage's (``n = L + 1``), keeps half a cycle per span.
+
+    Returns
+    -------
+    float
+        Cycles per span, at least 0.5.
+
+    Examples
+    --------
+    >>> from cadartifact.analysis.frames import AxisFrame, index_space_cut
+    >>> import numpy as np
+    >>> [index_space_cut(AxisFrame(L + 3, False, L, 0.0, np.zeros(L + 3), 3)) for L in (2, 3, 4, 5, 10)]
+    [1.0, 0.8333333333333334, 0.625, 0.5, 0.5]
+    """
+    L, p = frame.spans, frame.n - frame.spans
+    if frame.periodic or L < 1 or p <= 1:
+        return 0.5
+    return 0.5 * max(L, min(L + p - 1, 2 * p - 1)) / L
 
 
 def fine_positions(frame: AxisFrame, count: int) -> np.ndarray:
