@@ -65,10 +65,11 @@ def file_digest(path) -> str:
 
 #: Revision of the analysis a cached record came from: raised when the numbers a file gets change while the
 #: version does not (development builds), so an older build's records are not served.
-ANALYSIS_REVISION = 8  # 2: homogeneous rational faces, junctions, canonical faces (issue 10); 3: repeated faces;
+ANALYSIS_REVISION = 9  # 2: homogeneous rational faces, junctions, canonical faces (issue 10); 3: repeated faces;
 #                        4: the intent's uncertainty and the decision rule (issue 22); 5: PDQ criteria (issue 25); 6: a cage's
 #                        extraordinary vertices (issue 41); 7: the net reading's U of today's value sharper
-#                        than a candidate's (issue 39); 8: the surface reading's candidates carry their own U
+#                        than a candidate's (issue 39); 8: the surface reading's candidates carry their own U;
+#                        9: short directions cut at half a cycle per control point in index space
 
 
 def cache_key(digest: str, settings, verify: bool, reuse: bool = True) -> str:

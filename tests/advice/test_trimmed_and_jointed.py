@@ -182,7 +182,7 @@ def test_no_density_conforms_is_said_with_why_and_the_best_found(pieces, kind, s
     assert not a.meets_tolerance and a.decision != "conforms"
     nd = a.to_dict()["no_density"]
     assert nd["why"] and set(nd["why"]) <= {"crease", "uncertainty", "stops improving", "growth limit"}
-    assert nd["best"]["net"] == list(a.shape) and nd["best"]["value"] > tol
+    assert nd["best"]["net"] == list(a.shape) and nd["best"]["value"] + nd["best"]["uncertainty"] > tol
     assert a.notes[0].startswith("no density within the limits conforms")
     assert all(r["reason"] == nd["reason"] and not r["binding"] for r in a.reasons.values())
     assert a.shape[0] <= 8 * f.shape[0] and a.shape[1] <= 8 * f.shape[1]
@@ -488,5 +488,5 @@ def test_a_periodic_trim_across_the_opening_keeps_both_parts(seed, bounds):
     expected = max(first.max(), second.max())
     assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9)
     longer = first if hi > 1.0 - lo else second
-    assert trimmed.stats["total"].peak > 1.1 * longer.max()  # the shorter part carries the peak
+    assert trimmed.stats["total"].peak > 1.05 * longer.max()  # the shorter part carries the peak
     assert trimmed.stats["total"].peak < whole.stats["total"].peak
