@@ -256,7 +256,8 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
 MEASURED_EXTENSION = 3
 
 #: The measured road's continuation past the open borders, in spans: one period is the domain plus this gap,
-#: rounded up to an even count (a lattice bin at exactly half a cycle per span). A fixed gap keeps the reading
+#: rounded up to an even count (a lattice bin at exactly half a cycle per span; on a short direction a multiple
+#: that puts one at its cut, :attr:`cadartifact.analysis.frames.AxisFrame.alignment`). A fixed gap keeps the reading
 #: within a few per cent when the period grows by a few lattice points, where a gap of twice the face moved it
 #: by up to half of itself (the `surface` reading's border convention: docs/model.md, analysis.border_convention).
 MEASURED_GAP = 32
@@ -288,9 +289,10 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
 
 
 def measured_frames(frames, pads=(0, 0)) -> tuple:
-    """The measured road's frames: each open direction's period the domain plus :data:`MEASURED_GAP` spans,
-    rounded up to even, plus ``pads`` lattice points (the convention's latitude); each cut at half a cycle per
-    control point in index space (:func:`cadartifact.analysis.frames.index_space_cut`)."""
+    """The measured road's frames: each open direction cut at half a cycle per control point in index space
+    (:func:`cadartifact.analysis.frames.index_space_cut`), its period the domain plus :data:`MEASURED_GAP` spans
+    rounded up to a multiple that puts a bin at the cut (even at half a cycle per span), lengthened by ``pads``
+    (the convention's latitude, :attr:`cadartifact.analysis.frames.AxisFrame.pad`)."""
     return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p, cut=index_space_cut(f)) for f, p in zip(frames, pads))
 
 

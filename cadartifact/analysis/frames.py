@@ -50,11 +50,12 @@ class AxisFrame:
         Open directions: period of the extended data in multiples of the spans.
     gap : int
         Open directions, when positive: the period is the domain plus this many lattice points of continuation,
-        rounded up to an even count (the measured road's border convention, ``fields.MEASURED_GAP``), instead
-        of ``extension`` times the spans.
+        rounded up to a multiple of :attr:`alignment` (the measured road's border convention,
+        ``fields.MEASURED_GAP``), instead of ``extension`` times the spans.
     pad : int
         Open directions: lattice points added to that period (the border convention's latitude,
-        :mod:`cadartifact.analysis.border_convention`; 0 in every reading).
+        :mod:`cadartifact.analysis.border_convention`; 0 in every reading); with :attr:`gap`, ``pad / 2`` times
+        the alignment (at least 2), so that the padded period keeps its bin at the cut.
     exact : bool
         The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
     polynomial : bool
@@ -95,14 +96,15 @@ class AxisFrame:
     @property
     def period(self) -> int:
         """Lattice points in one period of the extended data: ``n`` periodic, ``extension * L`` open
-        (at least ``n + 4``: room for every point and a gap), or with :attr:`gap` ``L + gap`` rounded up to
-        even; plus :attr:`pad`."""
+        (at least ``n + 4``: room for every point and a gap) plus :attr:`pad`, or with :attr:`gap` ``L + gap``
+        rounded up to a multiple of ``m`` = :attr:`alignment` (even where the cut is half a cycle per span), plus
+        ``pad max(m, 2) / 2``."""
         if self.periodic:
             return self.spans
         if self.gap > 0:
             T = max(self.spans + self.gap, self.n + 4)
             m = self.alignment
-            return -(-T // m) * m + self.pad * (m // 2)
+            return -(-T // m) * m + self.pad * max(m, 2) // 2
         return max(self.extension * self.spans, self.n + 4) + self.pad
 
     @property

@@ -40,7 +40,7 @@ def _budget_value(net, settings, pad, monkeypatch):
     plain = frames.AxisFrame.period.fget
     with monkeypatch.context() as m:
         m.setattr(frames.AxisFrame, "period",
-                  property(lambda f: plain(f) + (0 if f.periodic else pad * f.alignment // 2)))
+                  property(lambda f: plain(f) + (0 if f.periodic else pad * max(f.alignment, 2) // 2)))
         return budget_for(net, settings).value()
 
 

@@ -58,10 +58,13 @@ def test_cages_and_periodic_directions_keep_half_a_cycle_per_span():
 def test_the_measured_period_puts_a_bin_at_the_cut():
     from cadartifact.analysis.fields import measured_frames
 
-    for n, p in [(7, 5), (8, 4), (7, 3), (9, 5), (20, 3)]:
+    for n, p in [(7, 5), (8, 4), (7, 3), (9, 5), (20, 3), (5, 3), (7, 4)]:  # alignments 4, 8, 8, 10, 2, 1, 1
         net = ControlNet(points=np.random.default_rng(n).normal(size=(n, 6, 3)), degrees=(p, 2),
                          knots=(clamped_uniform_knots(n, p), clamped_uniform_knots(6, 2)))
-        for pad in (0, 2, 4):
+        periods = []
+        for pad in (0, 2, 4):  # the convention's period and its two variants (border_convention.PERIOD_LATITUDE)
             f = measured_frames(axis_frames(net), (pad, 0))[0]
             bins = np.fft.rfftfreq(f.K * f.period, d=1.0 / f.K)
             assert np.isclose(bins, f.cut).any(), (n, p, pad, f.period, f.cut)
+            periods.append(f.period)
+        assert periods[0] < periods[1] < periods[2], periods
