@@ -190,7 +190,8 @@ def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame, terms: tuple | 
             freqs.append(np.fft.rfftfreq(N, d=1.0 / f.K))
         else:
             freqs.append(np.fft.fftfreq(N, d=1.0 / f.K))
-    w = _band_masks(freqs[0], freqs[1], _one_piece(fu, fv), (fu.cut, fv.cut))["lateral"]
+    # SPEC §3's factors are of frequencies in cycles per control point: a span is 0.5 / cut points
+    w = _band_masks(freqs[0] * (0.5 / fu.cut), freqs[1] * (0.5 / fv.cut), _one_piece(fu, fv))["lateral"]
     A, B = ripple.shape[:2]
     if terms is not None and all(is_open):
         # the forward DCT-I of sum_k A_k P B_k^T is sum_k DCT(A_k) P DCT(B_k)^T: the operators' columns are

@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import OptionError
 from ..net import ControlNet, bezier_direction, greville, lifted
 
-__all__ = ["AxisFrame", "axis_frames", "fine_positions", "index_space_cut"]
+__all__ = ["AxisFrame", "axis_frames", "fine_positions", "index_space_cut", "MAX_CUT", "MAX_CROWDED_DEGREE"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,12 +109,13 @@ class AxisFrame:
 
     @property
     def alignment(self) -> int:
-        """Lattice points the measured period is a multiple of, so that a bin sits at exactly :attr:`cut`
-        (``cut = C / (2 L)``: ``2 L / gcd(C, 2 L)``; 2, an even period, at half a cycle per span)."""
-        import math
-
-        C = int(round(2 * self.spans * self.cut))
-        return 2 * self.spans // math.gcd(C, 2 * self.spans)
+        """Lattice points the measured period is a multiple of, so that a bin sits exactly at :attr:`cut` (bins
+        are ``k / T`` cycles per span): the least ``m`` with ``m cut`` whole, 2 (an even period) at half a cycle
+        per span; 2 where no ``m`` up to 128 is (the cut then falls between bins)."""
+        for m in range(1, 129):
+            if abs(m * self.cut - round(m * self.cut)) < 1e-9:
+                return m
+        return 2
 
     @property
     def fine_count(self) -> int:
@@ -140,21 +141,31 @@ class AxisFrame:
         return dataclasses.replace(self, extension=extension)
 
 
+#: The highest cut of :func:`index_space_cut`, in cycles per span.
+MAX_CUT = 1.0
+#: The highest degree whose clamped ends' crowding :func:`index_space_cut` counts (SPEC §4's short nets: 2-5).
+MAX_CROWDED_DEGREE = 5
+
+
 def index_space_cut(frame: AxisFrame) -> float:
-    """Half a cycle per control point in the Greville index space, as cycles per span of an open direction.
+    """Half a cycle per control point, counted in index space, as cycles per span of an open direction.
 
-    SPEC §1 and §4 put the base band below half a cycle per control point, in index space (control point ``i``
-    at its Greville abscissa). Where a direction has an interior, its Greville abscissae are one span apart
-    there and the cut is half a cycle per span. A clamped end crowds its points into its first spans (Greville
-    abscissae ``1/p, 2/p, ...`` span apart at degree ``p``), and a short direction is all ends: its ``n - 1``
-    Greville intervals cover its ``L`` spans, and its points steer content up to ``(n - 1) / 2`` cycles over the
-    direction. One cut per direction (the split is one transform) takes, in cycles over the direction,
+    SPEC §1 and §4 put the base band below half a cycle per control point, in index space (control point ``i`` at
+    its Greville abscissa). Where a direction has an interior, its Greville abscissae are one span apart there and
+    the cut is half a cycle per span. A clamped end crowds its points into its first spans (Greville abscissae
+    ``1/p, 2/p, ...`` span apart at degree ``p``): a short direction is mostly ends, its ``n - 1 = L + p - 1``
+    Greville intervals lie on ``L`` spans, and its points steer content the interior's count calls ripple. One cut
+    per direction (the split is one transform) counts, in cycles over the direction, ``C / 2`` with
 
-        ``C / 2``,  ``C = max(L, min(n - 1, 2 p - 1))``  (``n = L + p``)
+        ``C = L + (q - 1) max(0, 1 - L / (2 q))``,  ``q = min(p, 5)``,  capped at one cycle per span:
 
-    all ``n - 1`` intervals while the direction has no interior (``L <= p``), ``L`` (half a cycle per span) once it
-    has ``2 p - 1`` spans or more, and ``2 p - 1`` between, so that the cut over the direction never falls as knots
-    are inserted or the degree is raised (SPEC §4 "Invariance": more points never raise the ripple).
+    the ends' ``p - 1`` extra intervals count whole on the shortest direction and not at all from ``2 p`` spans
+    on (half a cycle per span, the uniform theory's cut). ``C`` rises strictly with ``L`` below ``2 p`` spans and
+    never falls with ``p``, so inserting knots or raising the degree always widens the base band over the
+    direction (SPEC §4 "Invariance"; a cut that stayed level over a range of ``L`` let the reading move with the
+    border convention's latitude under re-expression). The crowding is counted up to degree 5 (the SPEC's short
+    nets) and the cut kept below one cycle per span: on degree-10 blend pieces a cut counting all their points read
+    what the continuation leaves, and moved by a third under knot insertion (docs/model.md).
 
     Parameters
     ----------
@@ -164,19 +175,19 @@ def index_space_cut(frame: AxisFrame) -> float:
     Returns
     -------
     float
-        Cycles per span, at least 0.5.
+        Cycles per span, from 0.5 to :data:`MAX_CUT`.
 
     Examples
     --------
     >>> from cadartifact.analysis.frames import AxisFrame, index_space_cut
     >>> import numpy as np
-    >>> [index_space_cut(AxisFrame(L + 3, False, L, 0.0, np.zeros(L + 3), 3)) for L in (2, 3, 4, 5, 10)]
-    [1.0, 0.8333333333333334, 0.625, 0.5, 0.5]
+    >>> [round(index_space_cut(AxisFrame(L + 3, False, L, 0.0, np.zeros(L + 3), 3)), 3) for L in (2, 3, 4, 5, 6)]
+    [0.833, 0.667, 0.583, 0.533, 0.5]
     """
-    L, p = frame.spans, frame.n - frame.spans
+    L, p = frame.spans, min(frame.n - frame.spans, MAX_CROWDED_DEGREE)
     if frame.periodic or L < 1 or p <= 1:
         return 0.5
-    return 0.5 * max(L, min(L + p - 1, 2 * p - 1)) / L
+    return min(0.5 * (L + (p - 1) * max(0.0, 1.0 - L / (2.0 * p))) / L, MAX_CUT)
 
 
 def fine_positions(frame: AxisFrame, count: int) -> np.ndarray:
