@@ -14,9 +14,8 @@ reading's definition, as a filter's end-effect treatment is part of a surface-te
   :data:`cadartifact.analysis.fields.MEASURED_GAP` = 32 spans (at least ``n + 4``), rounded up to a multiple of
   ``m`` (:attr:`~cadartifact.analysis.frames.AxisFrame.alignment`: 2, an even period, where the cut is half a cycle
   per span), so that a bin lies exactly at the cut; ``K T`` fine samples (``K = 2**levels``), transformed at that
-  length (numpy's FFT takes any length: no other rounding); bands split at half a cycle per control point in index
-  space (:func:`~cadartifact.analysis.frames.index_space_cut`: half a cycle per span from ``2 p - 1`` spans on,
-  more on shorter directions, whose points crowd into their clamped ends). The gap was twice the face
+  length (numpy's FFT takes any length: no other rounding); bands split at half a cycle per span
+  (:data:`cadartifact.analysis.fields.SPLIT_CUT`). The gap was twice the face
   (``T = 3 L``) before 2026-12-05: on short faces the reading then moved by up to 50 % of itself with one
   lattice point of period (the bridge's shape scales with its length, and an odd period has no bin at half a
   cycle per span), and most faces above t/3 would have been undecided;

@@ -289,12 +289,21 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
 
 
 def measured_frames(frames, pads=(0, 0)) -> tuple:
-    """The measured road's frames: each open direction cut at half a cycle per control point in index space
-    (:func:`cadartifact.analysis.frames.index_space_cut`), its period the domain plus :data:`MEASURED_GAP` spans
-    rounded up to a multiple that puts a bin at the cut (even at half a cycle per span), lengthened by ``pads``
-    (the convention's latitude, :attr:`cadartifact.analysis.frames.AxisFrame.pad`)."""
-    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p, cut=index_space_cut(f)) for f, p in zip(frames, pads))
+    """The measured road's frames: each open direction cut as :data:`SPLIT_CUT` says, its period the domain plus
+    :data:`MEASURED_GAP` spans rounded up to a multiple that puts a bin at the cut (even at half a cycle per span),
+    lengthened by ``pads`` (the convention's latitude, :attr:`cadartifact.analysis.frames.AxisFrame.pad`)."""
+    cut = index_space_cut if SPLIT_CUT == "index" else (lambda f: 0.5)
+    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p, cut=cut(f)) for f, p in zip(frames, pads))
 
+
+#: Where the measured road cuts an open direction: ``"span"``, half a cycle per span (the uniform theory's half a
+#: cycle per control point, exact on a direction's interior), or ``"index"``, half a cycle per control point counted
+#: in index space (:func:`cadartifact.analysis.frames.index_space_cut`: higher on directions shorter than ``2 p``
+#: spans, whose clamped ends crowd their points). Measured (docs/model.md, "Where the split cuts"): ``"index"`` meets
+#: the short-net bound on degrees 2-5 and keeps the real faces' re-expression invariance, but breaks the advice's
+#: fixed point (an advised net longer than ``2 p`` spans is read on a narrower band than the face it was advised
+#: for) and widens the candidates' U (its periods step by up to 112 lattice points); ``"span"`` stays.
+SPLIT_CUT = "span"
 
 #: How the measured road splits a rational face with an open direction: ``"homogeneous"`` (the non-rational
 #: B-spline of ``(w P, w)``, each band projected to first order, SPEC §4) or ``"cartesian"`` (the surface as it

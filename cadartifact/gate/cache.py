@@ -69,7 +69,7 @@ ANALYSIS_REVISION = 9  # 2: homogeneous rational faces, junctions, canonical fac
 #                        4: the intent's uncertainty and the decision rule (issue 22); 5: PDQ criteria (issue 25); 6: a cage's
 #                        extraordinary vertices (issue 41); 7: the net reading's U of today's value sharper
 #                        than a candidate's (issue 39); 8: the surface reading's candidates carry their own U;
-#                        9: short directions cut at half a cycle per control point in index space
+#                        9: the advised net's own ripple carries the U the gate decides it by
 
 
 def cache_key(digest: str, settings, verify: bool, reuse: bool = True) -> str:

@@ -488,5 +488,5 @@ def test_a_periodic_trim_across_the_opening_keeps_both_parts(seed, bounds):
     expected = max(first.max(), second.max())
     assert trimmed.stats["total"].peak == pytest.approx(expected, rel=1e-9)
     longer = first if hi > 1.0 - lo else second
-    assert trimmed.stats["total"].peak > 1.05 * longer.max()  # the shorter part carries the peak
+    assert trimmed.stats["total"].peak > 1.1 * longer.max()  # the shorter part carries the peak
     assert trimmed.stats["total"].peak < whole.stats["total"].peak

@@ -125,8 +125,7 @@ def test_the_cartesian_split_by_a_second_road(seed, monkeypatch):
     total = _whole_period_split(surface, wide, sch)["total"]
     peak = float(np.abs(fields.bands["total"]).max())
     assert peak > 1e-6 * size
-    # equal to rounding: the bridges' rounding scales with the field's size (docs/model.md, 7e-7 of it at most)
-    assert np.abs(fields.bands["total"] - total).max() <= max(1e-6 * peak, 1e-8 * size)
+    assert np.abs(fields.bands["total"] - total).max() <= 1e-6 * peak
     assert np.abs(fields.intent + fields.bands["total"] - surface).max() <= 1e-9 * size
 
 

@@ -79,7 +79,6 @@ def test_predicted_surface_is_the_face(seed):
     assert np.abs(baseband_at(pf, pf.x, pf.y) - pf.intent).max() <= 1e-9 * np.ptp(net.points)
 
 
-@pytest.mark.usefixtures("uniform_band")
 def test_within_ten_percent_of_the_measured_road_with_a_long_bridge():
     """Against the measured road given a long continuation (a gap of 100 spans, 8-25x these faces), the total, x2
     and lateral ripple of every face are within 10 % (before: the predicted road read 1.5-8.6x the measured one's
@@ -92,7 +91,6 @@ def test_within_ten_percent_of_the_measured_road_with_a_long_bridge():
             assert abs(r[k] - 1.0) <= (0.15 if k in ("diagonal", "x1") else 0.10), (s, k, r[k])
 
 
-@pytest.mark.usefixtures("uniform_band")
 def test_against_the_measured_road_as_it_stands():
     """Against the measured road as it stands (its bridge spans 32 spans past the face): the median is within 10 % and most
     faces are; no face is off by the factors of before (the worst was 8.6x)."""
@@ -106,7 +104,6 @@ TRUTH_FAMILY = range(120)
 
 
 @pytest.mark.slow
-@pytest.mark.usefixtures("uniform_band")
 def test_against_the_border_free_truth():
     """Judged against a border-free truth (each face drawn 12 spans longer at every border and cut back, the longer
     face read over the region the face covers: ``rational_faces.border_free_truth``), on the faces whose true ripple

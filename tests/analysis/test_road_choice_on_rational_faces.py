@@ -57,10 +57,8 @@ def test_a_rational_face_on_uneven_clamped_knots_says_the_predicted_road_departs
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-@pytest.mark.usefixtures("uniform_band")
 def test_clamped_uniform_knots_are_read_from_uniform_equivalent_points_without_a_caveat(seed):
-    """tests/analysis/test_rational_borders.py checks that road's numbers against the measured road (on the same
-    band: the uniform theory's)."""
+    """tests/analysis/test_rational_borders.py checks that road's numbers against the measured road."""
     net = _rational_face(seed)
     b = ca.budget(net, method="predicted")
     assert not any("predicted road" in n for n in b.notes), b.notes

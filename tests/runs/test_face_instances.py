@@ -210,7 +210,7 @@ def test_a_step_file_of_repeated_faces_reads_the_same_with_and_without_reuse(tmp
                                                                                (0.5, 0.0), face=3)]
     write_step(nets, tmp_path / "pattern.step")
     for args, exit_code in ((["advise", str(tmp_path / "pattern.step"), "--tol", "0.01", "--json"], 0),
-                            (["gate", str(tmp_path / "pattern.step"), "--tol", "0.0002", "--format", "json"], 1)):
+                            (["gate", str(tmp_path / "pattern.step"), "--tol", "0.001", "--format", "json"], 1)):
         assert assert_same_documents(*_documents(monkeypatch, args, exit_code)) == 2, args[0]
 
 
