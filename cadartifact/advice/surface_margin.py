@@ -4,9 +4,10 @@ Under the ``surface`` reading a candidate's value is its distance from the inten
 as the border convention reads it (:mod:`cadartifact.analysis.border_convention`). The convention leaves the
 period open by a few lattice points (:data:`~cadartifact.analysis.border_convention.PERIOD_LATITUDE`), and under
 each admitted period the intent field itself moves. Let ``F`` be the largest pointwise change of the intent
-(model units, Euclidean) over the trimmed face between the convention's period and its variants (``T + 2``,
-``T + 4`` per open direction, each direction alone and both, as the face's own ``U`` reads them), and ``G_F`` the
-grid term of reading that change on samples ``1 / K`` span apart (``h^2 max |d''| / 8`` per direction, summed).
+(model units, Euclidean) over the trimmed face between the convention's period and its variants (``T + m``,
+``T + 2 m`` per open direction, ``m = 2`` where the cut is half a cycle per span, each direction alone and both,
+as the face's own ``U`` reads them), and ``G_F`` the grid term of reading that change on samples ``1 / K`` span
+apart (``h^2 max |d''| / 8`` per direction, summed).
 For any candidate surface ``S`` and intents ``I``, ``I'`` of two variants,
 
     ``| |S - I'| - |S - I| | <= |I' - I| <= F + G_F``

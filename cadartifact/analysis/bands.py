@@ -37,10 +37,12 @@ def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndar
     return s1, s2, sd
 
 
-def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False)) -> dict:
-    """Band masks and lateral weights; a direction in ``smooth`` has no ripple band (one polynomial piece)."""
-    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None] & (not smooth[0])
-    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :] & (not smooth[1])
+def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False),
+                cuts: tuple[float, float] = (0.5, 0.5)) -> dict:
+    """Band masks and lateral weights; a direction in ``smooth`` has no ripple band (one polynomial piece);
+    ``cuts`` in cycles per span (:attr:`AxisFrame.cut`)."""
+    hu = (np.abs(fu) >= cuts[0] - 1e-12)[:, None] & (not smooth[0])
+    hv = (np.abs(fv) >= cuts[1] - 1e-12)[None, :] & (not smooth[1])
     x1, x2, dg = hu & ~hv, ~hu & hv, hu & hv
     s1, s2, sd = lateral_factors(fu, fv)
     return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": x1 * s1 + x2 * s2 + dg * sd}
@@ -78,8 +80,8 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
     smooth = _one_piece(fu, fv)
     # the four bands are tensor products of a u mask and a v mask: invert along u per u mask, keep the
     # domain's rows, then along v per v mask, keep its columns (no full-size inverse per band)
-    hu = (np.abs(fa) >= 0.5 - 1e-12) & (not smooth[0])
-    hv = (fb >= 0.5 - 1e-12) & (not smooth[1])
+    hu = (np.abs(fa) >= fu.cut - 1e-12) & (not smooth[0])
+    hv = (fb >= fv.cut - 1e-12) & (not smooth[1])
     iu = (fu.shift + np.arange(fu.fine_count)) % A
     iv = (fv.shift + np.arange(fv.fine_count)) % B
     rows = {}
@@ -94,19 +96,19 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
         else:
             out[name] = np.fft.irfft(r * mv[None, :, None], n=B, axis=1)[:, iv]
     if lateral:
-        m = _band_masks(fa, fb, smooth)["lateral"]
+        m = _band_masks(fa, fb, smooth, (fu.cut, fv.cut))["lateral"]
         out["lateral"] = _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out
 
 
 def baseband_bins(fu: AxisFrame, fv: AxisFrame) -> tuple[list, list]:
-    """Per direction, the fine-grid bins of the base band (``|f| < 1/2``; every bin of a direction with no
-    ripple band) and their frequencies: ``([ku, kv], [fu_k, fv_k])``."""
+    """Per direction, the fine-grid bins of the base band (``|f| <`` the frame's :attr:`AxisFrame.cut`; every bin
+    of a direction with no ripple band) and their frequencies: ``([ku, kv], [fu_k, fv_k])``."""
     idx, freqs = [], []
     for frame in (fu, fv):
         f = _fine_freqs(frame)
-        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < 0.5 - 1e-12)
+        k = np.arange(len(f)) if _one_piece(frame)[0] else np.flatnonzero(np.abs(f) < frame.cut - 1e-12)
         idx.append(k)
         freqs.append(f[k])
     return idx, freqs
@@ -188,7 +190,8 @@ def lateral_of(ripple: np.ndarray, fu: AxisFrame, fv: AxisFrame, terms: tuple | 
             freqs.append(np.fft.rfftfreq(N, d=1.0 / f.K))
         else:
             freqs.append(np.fft.fftfreq(N, d=1.0 / f.K))
-    w = _band_masks(freqs[0], freqs[1], _one_piece(fu, fv))["lateral"]
+    # SPEC §3's factors are of frequencies in cycles per control point: a span is 0.5 / cut points
+    w = _band_masks(freqs[0] * (0.5 / fu.cut), freqs[1] * (0.5 / fv.cut), _one_piece(fu, fv))["lateral"]
     A, B = ripple.shape[:2]
     if terms is not None and all(is_open):
         # the forward DCT-I of sum_k A_k P B_k^T is sum_k DCT(A_k) P DCT(B_k)^T: the operators' columns are

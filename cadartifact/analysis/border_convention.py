@@ -11,9 +11,11 @@ reading's definition, as a filter's end-effect treatment is part of a surface-te
   of the end span matched at both ends, :data:`cadartifact.analysis.fields.BRIDGE_ORDER`), from the far
   border back to the near one;
 * one period of ``T`` lattice points per open direction: the domain's ``L`` spans plus a fixed gap of
-  :data:`cadartifact.analysis.fields.MEASURED_GAP` = 32 spans (at least ``n + 4``), rounded up to even (a bin at
-  exactly half a cycle per span); ``K T`` fine samples (``K = 2**levels``), transformed at that length (numpy's
-  FFT takes any length: no other rounding); bands split at half a cycle per span. The gap was twice the face
+  :data:`cadartifact.analysis.fields.MEASURED_GAP` = 32 spans (at least ``n + 4``), rounded up to a multiple of
+  ``m`` (:attr:`~cadartifact.analysis.frames.AxisFrame.alignment`: 2, an even period, where the cut is half a cycle
+  per span), so that a bin lies exactly at the cut; ``K T`` fine samples (``K = 2**levels``), transformed at that
+  length (numpy's FFT takes any length: no other rounding); bands split at half a cycle per span
+  (:data:`cadartifact.analysis.fields.SPLIT_CUT`). The gap was twice the face
   (``T = 3 L``) before 2026-12-05: on short faces the reading then moved by up to 50 % of itself with one
   lattice point of period (the bridge's shape scales with its length, and an odd period has no bin at half a
   cycle per span), and most faces above t/3 would have been undecided;
@@ -21,9 +23,10 @@ reading's definition, as a filter's end-effect treatment is part of a surface-te
 
 What it leaves open, and :func:`surface_uncertainty` covers:
 
-* **the period**: an implementation may round ``T`` up to an FFT-friendly (even) length; the convention admits
-  ``T .. T + 4`` lattice points (:data:`PERIOD_LATITUDE`: ``T + 2`` and ``T + 4`` are read, each direction alone
-  and both) and the spread of the value is taken: ``D = max_j |v_j - v_0|``;
+* **the period**: an implementation may round ``T`` up to an FFT-friendly length among those with a bin at the
+  cut; the convention admits the next two (:data:`PERIOD_LATITUDE`: ``T + m`` and ``T + 2 m``, i.e. ``T + 2`` and
+  ``T + 4`` where ``m = 2``, are read, each direction alone and both) and the spread of the value is taken:
+  ``D = max_j |v_j - v_0|``;
 * **the grid**: the peak is read on samples ``1 / K`` span apart; between them the field can exceed them by
   up to ``h^2 max |f''| / 8`` (``h = 1 / K``), bounded from the field's second differences next to its peak;
 * **rounding**: 4 ulp of noise in the poles move no band's peak by more than 1.3e-11 mm on the samples and
@@ -48,7 +51,8 @@ import numpy as np
 
 __all__ = ["PERIOD_LATITUDE", "RELATIVE_BOUND", "surface_uncertainty", "variant_values"]
 
-#: Lattice points the convention lets the (even) period grow by (an FFT-friendly rounding of ``T``): each is read.
+#: Lattice points the convention lets the period grow by (an FFT-friendly rounding of ``T``), where a bin sits at half
+#: a cycle per span (``m = 2``); ``j m / 2`` for a direction whose period is a multiple of ``m``: each is read.
 PERIOD_LATITUDE = (2, 4)
 
 #: The variants' spread over the value, bounded: ``D <= RELATIVE_BOUND v`` on 97.5 % of the border-free family's

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import check_option
-from .frames import AxisFrame
+from .frames import AxisFrame, index_space_cut
 from .bands import _baseband, _fine_freqs, _one_piece, baseband_bins, band_split, lateral_factors, lateral_of
 from .baseband import baseband_at
 from .clamped import clamped_syntheses
@@ -256,7 +256,8 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
 MEASURED_EXTENSION = 3
 
 #: The measured road's continuation past the open borders, in spans: one period is the domain plus this gap,
-#: rounded up to an even count (a lattice bin at exactly half a cycle per span). A fixed gap keeps the reading
+#: rounded up to an even count (a lattice bin at exactly half a cycle per span; on a short direction a multiple
+#: that puts one at its cut, :attr:`cadartifact.analysis.frames.AxisFrame.alignment`). A fixed gap keeps the reading
 #: within a few per cent when the period grows by a few lattice points, where a gap of twice the face moved it
 #: by up to half of itself (the `surface` reading's border convention: docs/model.md, analysis.border_convention).
 MEASURED_GAP = 32
@@ -288,10 +289,21 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
 
 
 def measured_frames(frames, pads=(0, 0)) -> tuple:
-    """The measured road's frames: each open direction's period the domain plus :data:`MEASURED_GAP` spans,
-    rounded up to even, plus ``pads`` lattice points (the convention's latitude)."""
-    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p) for f, p in zip(frames, pads))
+    """The measured road's frames: each open direction cut as :data:`SPLIT_CUT` says, its period the domain plus
+    :data:`MEASURED_GAP` spans rounded up to a multiple that puts a bin at the cut (even at half a cycle per span),
+    lengthened by ``pads`` (the convention's latitude, :attr:`cadartifact.analysis.frames.AxisFrame.pad`)."""
+    cut = index_space_cut if SPLIT_CUT == "index" else (lambda f: 0.5)
+    return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p, cut=cut(f)) for f, p in zip(frames, pads))
 
+
+#: Where the measured road cuts an open direction: ``"span"``, half a cycle per span (the uniform theory's half a
+#: cycle per control point, exact on a direction's interior), or ``"index"``, half a cycle per control point counted
+#: in index space (:func:`cadartifact.analysis.frames.index_space_cut`: higher on directions shorter than ``2 p``
+#: spans, whose clamped ends crowd their points). Measured (docs/model.md, "Where the split cuts"): ``"index"`` meets
+#: the short-net bound on degrees 2-5 and keeps the real faces' re-expression invariance, but breaks the advice's
+#: fixed point (an advised net longer than ``2 p`` spans is read on a narrower band than the face it was advised
+#: for) and widens the candidates' U (its periods step by up to 112 lattice points); ``"span"`` stays.
+SPLIT_CUT = "span"
 
 #: How the measured road splits a rational face with an open direction: ``"homogeneous"`` (the non-rational
 #: B-spline of ``(w P, w)``, each band projected to first order, SPEC §4) or ``"cartesian"`` (the surface as it
@@ -420,7 +432,7 @@ def above_half_cycle(X: np.ndarray, frame: AxisFrame, axis: int, degree: int, on
     """
     E = np.roll(_bridge(X, frame, axis, degree), frame.shift, axis=axis)
     N = E.shape[axis]
-    mask = (np.fft.rfftfreq(N, d=1.0 / frame.K) >= 0.5 - 1e-12) & (not one_piece)
+    mask = (np.fft.rfftfreq(N, d=1.0 / frame.K) >= frame.cut - 1e-12) & (not one_piece)
     S = np.fft.rfft(E, axis=axis) if spectrum or mask.any() else None
     if not mask.any():
         return np.zeros_like(X), S

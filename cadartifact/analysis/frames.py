@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import OptionError
 from ..net import ControlNet, bezier_direction, greville, lifted
 
-__all__ = ["AxisFrame", "axis_frames", "fine_positions"]
+__all__ = ["AxisFrame", "axis_frames", "fine_positions", "index_space_cut", "MAX_CUT", "MAX_CROWDED_DEGREE"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -50,17 +50,21 @@ class AxisFrame:
         Open directions: period of the extended data in multiples of the spans.
     gap : int
         Open directions, when positive: the period is the domain plus this many lattice points of continuation,
-        rounded up to an even count (the measured road's border convention, ``fields.MEASURED_GAP``), instead
-        of ``extension`` times the spans.
+        rounded up to a multiple of :attr:`alignment` (the measured road's border convention,
+        ``fields.MEASURED_GAP``), instead of ``extension`` times the spans.
     pad : int
         Open directions: lattice points added to that period (the border convention's latitude,
-        :mod:`cadartifact.analysis.border_convention`; 0 in every reading).
+        :mod:`cadartifact.analysis.border_convention`; 0 in every reading); with :attr:`gap`, ``pad / 2`` times
+        the alignment (at least 2), so that the padded period keeps its bin at the cut.
     exact : bool
         The direction carries no artifact: it is exactly a line or a circle (``ControlNet.exact``).
     polynomial : bool
         Nothing along this direction can alias: the surface is one polynomial along it (each row's
         ``(w P, w)``: every interior knot removable, as after knot insertion into a Bezier direction),
         or every span is a piece of its own (every knot a junction: degree 1, piecewise Bezier).
+    cut : float
+        Cycles per span at which a band split cuts this direction: half a cycle per span (the uniform
+        theory's half a cycle per control point), or the measured road's :func:`index_space_cut`.
     """
 
     n: int
@@ -76,6 +80,7 @@ class AxisFrame:
     gap: int = 0
     pad: int = 0
     polynomial: bool = False
+    cut: float = 0.5
 
     @property
     def ripple_free(self) -> bool:
@@ -91,14 +96,26 @@ class AxisFrame:
     @property
     def period(self) -> int:
         """Lattice points in one period of the extended data: ``n`` periodic, ``extension * L`` open
-        (at least ``n + 4``: room for every point and a gap), or with :attr:`gap` ``L + gap`` rounded up to
-        even; plus :attr:`pad`."""
+        (at least ``n + 4``: room for every point and a gap) plus :attr:`pad`, or with :attr:`gap` ``L + gap``
+        rounded up to a multiple of ``m`` = :attr:`alignment` (even where the cut is half a cycle per span), plus
+        ``pad max(m, 2) / 2``."""
         if self.periodic:
             return self.spans
         if self.gap > 0:
             T = max(self.spans + self.gap, self.n + 4)
-            return T + T % 2 + self.pad
+            m = self.alignment
+            return -(-T // m) * m + self.pad * max(m, 2) // 2
         return max(self.extension * self.spans, self.n + 4) + self.pad
+
+    @property
+    def alignment(self) -> int:
+        """Lattice points the measured period is a multiple of, so that a bin sits exactly at :attr:`cut` (bins
+        are ``k / T`` cycles per span): the least ``m`` with ``m cut`` whole, 2 (an even period) at half a cycle
+        per span; 2 where no ``m`` up to 128 is (the cut then falls between bins)."""
+        for m in range(1, 129):
+            if abs(m * self.cut - round(m * self.cut)) < 1e-9:
+                return m
+        return 2
 
     @property
     def fine_count(self) -> int:
@@ -122,6 +139,55 @@ class AxisFrame:
     def with_extension(self, extension: int) -> "AxisFrame":
         """The same frame with a longer period of extended data (``extension * n`` lattice points)."""
         return dataclasses.replace(self, extension=extension)
+
+
+#: The highest cut of :func:`index_space_cut`, in cycles per span.
+MAX_CUT = 1.0
+#: The highest degree whose clamped ends' crowding :func:`index_space_cut` counts (SPEC §4's short nets: 2-5).
+MAX_CROWDED_DEGREE = 5
+
+
+def index_space_cut(frame: AxisFrame) -> float:
+    """Half a cycle per control point, counted in index space, as cycles per span of an open direction.
+
+    SPEC §1 and §4 put the base band below half a cycle per control point, in index space (control point ``i`` at
+    its Greville abscissa). Where a direction has an interior, its Greville abscissae are one span apart there and
+    the cut is half a cycle per span. A clamped end crowds its points into its first spans (Greville abscissae
+    ``1/p, 2/p, ...`` span apart at degree ``p``): a short direction is mostly ends, its ``n - 1 = L + p - 1``
+    Greville intervals lie on ``L`` spans, and its points steer content the interior's count calls ripple. One cut
+    per direction (the split is one transform) counts, in cycles over the direction, ``C / 2`` with
+
+        ``C = L + (q - 1) max(0, 1 - L / (2 q))``,  ``q = min(p, 5)``,  capped at one cycle per span:
+
+    the ends' ``p - 1`` extra intervals count whole on the shortest direction and not at all from ``2 p`` spans
+    on (half a cycle per span, the uniform theory's cut). ``C`` rises strictly with ``L`` below ``2 p`` spans and
+    never falls with ``p``, so inserting knots or raising the degree always widens the base band over the
+    direction (SPEC §4 "Invariance"; a cut that stayed level over a range of ``L`` let the reading move with the
+    border convention's latitude under re-expression). The crowding is counted up to degree 5 (the SPEC's short
+    nets) and the cut kept below one cycle per span: on degree-10 blend pieces a cut counting all their points read
+    what the continuation leaves, and moved by a third under knot insertion (docs/model.md).
+
+    Parameters
+    ----------
+    frame : AxisFrame
+        A periodic direction, or a cage's (``n = L + 1``), keeps half a cycle per span.
+
+    Returns
+    -------
+    float
+        Cycles per span, from 0.5 to :data:`MAX_CUT`.
+
+    Examples
+    --------
+    >>> from cadartifact.analysis.frames import AxisFrame, index_space_cut
+    >>> import numpy as np
+    >>> [round(index_space_cut(AxisFrame(L + 3, False, L, 0.0, np.zeros(L + 3), 3)), 3) for L in (2, 3, 4, 5, 6)]
+    [0.833, 0.667, 0.583, 0.533, 0.5]
+    """
+    L, p = frame.spans, min(frame.n - frame.spans, MAX_CROWDED_DEGREE)
+    if frame.periodic or L < 1 or p <= 1:
+        return 0.5
+    return min(0.5 * (L + (p - 1) * max(0.0, 1.0 - L / (2.0 * p))) / L, MAX_CUT)
 
 
 def fine_positions(frame: AxisFrame, count: int) -> np.ndarray:

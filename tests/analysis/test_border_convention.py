@@ -39,7 +39,8 @@ def _budget_value(net, settings, pad, monkeypatch):
     """The whole budget's value with every open direction's period lengthened by ``pad`` (the second road)."""
     plain = frames.AxisFrame.period.fget
     with monkeypatch.context() as m:
-        m.setattr(frames.AxisFrame, "period", property(lambda f: plain(f) + (0 if f.periodic else pad)))
+        m.setattr(frames.AxisFrame, "period",
+                  property(lambda f: plain(f) + (0 if f.periodic else pad * max(f.alignment, 2) // 2)))
         return budget_for(net, settings).value()
 
 
