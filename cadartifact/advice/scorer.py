@@ -262,6 +262,9 @@ def _own_claim(sc: _Scorer, a, b, settings: RunSettings) -> float:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
         own_settings = settings.replace(scheme=None, levels=int(np.log2(sc.K)))
+        if not cand.is_bspline:  # a cage's reading has no border convention: its U is not estimated (zero)
+            sc._scores[key] = sc._scores[("ripple", a, b)] = total_ripple(cand, own_settings)
+            return sc._scores[key]
         own, total, region = total_ripple(cand, own_settings, with_field=True)
         sc._scores[("ripple", a, b)] = own
         u = surface_uncertainty(cand, own_settings, own, scalars=None if total is None else {"total": total},
