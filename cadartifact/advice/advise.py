@@ -401,7 +401,7 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
         best = value(fine, a, b)  # the deviation with U_c, or the own ripple with its own U where that is larger
         own = None if best == value(fine, a, b, own_ripple=False) else _ripple_of(fine, a, b, settings)
         raw, u = (best - margin, margin) if own is None else (own, best - own)
-        no_density = explain(fine, shape, trail, raw, u, t, net.unit or "model units")
+        no_density = explain(fine, shape, trail, raw, u, t, net.unit or "model units", own is not None)
         notes.insert(0, no_density["reason"])
         binding = None
         for d in reasons.values():
@@ -435,8 +435,8 @@ def advise_for(net: ControlNet, settings: RunSettings, *, objective: str = "devi
 
         def check():
             try:
-                own = None if not reading["own ripple"] else (
-                    lambda x, y: _own_claim(fine, x, y, settings))  # the search's reading (see value())
+                own = None if not reading["own ripple"] else (  # the search's reading (see value()), less the
+                    lambda x, y: _own_claim(fine, x, y, settings) - margin)  # reserve the target holds already
                 got = verify_advice(fine, shape, binding, tolerance - claim, advised, tolerance - margin, own)
                 unconfirmed(reasons, binding, got)
                 return got
@@ -537,7 +537,7 @@ def _reasons(sc: _Scorer, shape, work, low, t, today, kept, value, margin: float
         elif val is None:
             why = f"at the fewest points the degree allows ({lo})"
         elif val > t:
-            got = (f"{val:.4g} (its own ripple with its U)" if own else
+            got = (f"{val:.4g} (its own ripple{' with its U' if sc.net.is_bspline else ''})" if own else
                    f"{val:.4g} (U {margin:.4g} included)" if margin > 0 else f"{val:.4g}")
             why = (f"one point fewer would give {got} > {t:g} (binding)" if change >= 0 else
                    f"today's {n_today} points spend {-change} on nothing the tolerance needs; "

@@ -47,7 +47,7 @@ def _crease_near(scorer, shape) -> tuple[str, float, int] | None:
     return None
 
 
-def explain(scorer, shape, trail: dict, raw: float, margin: float, t: float, unit: str) -> dict:
+def explain(scorer, shape, trail: dict, raw: float, margin: float, t: float, unit: str, own: bool = False) -> dict:
     """Why no density conforms.
 
     Parameters
@@ -61,10 +61,12 @@ def explain(scorer, shape, trail: dict, raw: float, margin: float, t: float, uni
     raw : float
         The best density's value without the uncertainty.
     margin : float
-        The intent's uncertainty ``U``.
+        Its uncertainty ``U``: the candidates' (of the intent), or with ``own`` the net's own.
     t : float
         The tolerance.
     unit : str
+    own : bool
+        ``raw`` is the best net's own ripple (it binds), with the ``U`` the gate decides that net by.
 
     Returns
     -------
@@ -80,7 +82,8 @@ def explain(scorer, shape, trail: dict, raw: float, margin: float, t: float, uni
                      "keeping net cannot carry)")
     if raw <= t < raw + margin:
         why.append("uncertainty")
-        words.append(f"{raw:.4g} is within {t:g} but not with the intent's uncertainty U = {margin:.3g}")
+        words.append(f"{raw:.4g} is within {t:g} but not with " + (f"its own ripple's U = {margin:.3g}" if own else
+                     f"the intent's uncertainty U = {margin:.3g}"))
     stalled = [d for d in trail.get("stalled", ()) if d in "uv"]
     if stalled:
         why.append("stops improving")
@@ -93,7 +96,7 @@ def explain(scorer, shape, trail: dict, raw: float, margin: float, t: float, uni
         why.append("growth limit")
         words.append("the search's limits were reached")
     reason = (f"no density within the limits conforms: {'; '.join(words)}; the best found, {shape[0]}x{shape[1]}, "
-              f"gives {raw:.4g} {unit} (+ U {margin:.3g}) against {t:g}")
+              f"gives {raw:.4g} {unit}{' of its own ripple' if own else ''} (+ U {margin:.3g}) against {t:g}")
     return {"why": why, "best": {"net": [int(shape[0]), int(shape[1])], "value": float(raw),
                                  "uncertainty": float(margin)}, "reason": reason}
 

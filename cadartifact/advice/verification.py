@@ -62,8 +62,9 @@ def verify_advice(scorer, shape, binding, tolerance: float, advised, target: flo
 
     ``meets`` compares with the tolerance; the coarser net is compared with the search's ``target``
     (the tolerance less the intent's reserve), which it must exceed, by the search's own reading: the larger of
-    its deviation on OCCT's surface and, where the search counts it (``own_ripple(a, b)``), its own ripple (so the
-    JSON's ``coarser`` and the explanation's "would give ... (binding)" tell one story).
+    its deviation on OCCT's surface and, where the search counts it, ``own_ripple(a, b)`` (its own ripple plus its
+    own ``U``, less the reserve the target holds: the search's ``max(dev + U_c, own + U_own) <= t``), so that the
+    JSON's ``coarser`` and the explanation's "would give ... (binding)" tell one story.
 
     Returns
     -------

@@ -1,8 +1,9 @@
 """The band split on the fine grid: masks and lateral weights per frequency (SPEC §3, §4).
 
-A deviation on the lattice-aligned periodic fine grid is split by frequency in cycles per control point
-into base band (``|fx|, |fy| < 1/2``), X1 (``|fx| >= 1/2`` only), X2 (``|fy| >= 1/2`` only) and diagonal
-(both); the lateral part weighs each ripple bin by the SPEC §3 factor of the frequency it aliases. Used by
+A deviation on the lattice-aligned periodic fine grid is split by frequency at each direction's cut
+(:attr:`~cadartifact.analysis.frames.AxisFrame.cut`, half a cycle per control point: ``1/2`` cycle per
+span) into base band (``|fx|, |fy|`` below it), X1 (``|fx|`` at or above it only), X2 (``|fy|`` only) and
+diagonal (both); the lateral part weighs each ripple bin by the SPEC §3 factor of the frequency it aliases. Used by
 both roads of :mod:`cadartifact.analysis.fields`.
 
 References
@@ -96,7 +97,8 @@ def band_split(spectrum: np.ndarray, fu: AxisFrame, fv: AxisFrame, lateral: bool
         else:
             out[name] = np.fft.irfft(r * mv[None, :, None], n=B, axis=1)[:, iv]
     if lateral:
-        m = _band_masks(fa, fb, smooth, (fu.cut, fv.cut))["lateral"]
+        # the lateral factors of frequencies in cycles per control point, as lateral_of takes them
+        m = _band_masks(fa * (0.5 / fu.cut), fb * (0.5 / fv.cut), smooth)["lateral"]
         out["lateral"] = _crop(np.fft.irfft2(spectrum * m[:, :, None], s=(A, B), axes=(0, 1)), fu, fv)
     out["total"] = out["x1"] + out["x2"] + out["diagonal"]
     return out

@@ -31,7 +31,6 @@ other surfaces defined by quadrilateral polyhedra*, CAGD 2011.
 from __future__ import annotations
 
 import dataclasses
-
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -53,7 +52,6 @@ __all__ = ["ArtifactFields", "FIELD_NAMES", "COMPONENTS", "design_intent", "pred
 
 #: The fields a budget reports, in report order.
 FIELD_NAMES = ("x1", "x2", "diagonal", "lateral", "total", "signal_error")
-
 
 
 @dataclass(frozen=True, eq=False)
@@ -255,11 +253,10 @@ def _predicted_separable(intent: Intent, scheme, reading: str, lateral: bool = T
 #: the benchmarks that compare with it; the measured road reads :data:`MEASURED_GAP`).
 MEASURED_EXTENSION = 3
 
-#: The measured road's continuation past the open borders, in spans: one period is the domain plus this gap,
-#: rounded up to an even count (a lattice bin at exactly half a cycle per span; on a short direction a multiple
-#: that puts one at its cut, :attr:`cadartifact.analysis.frames.AxisFrame.alignment`). A fixed gap keeps the reading
-#: within a few per cent when the period grows by a few lattice points, where a gap of twice the face moved it
-#: by up to half of itself (the `surface` reading's border convention: docs/model.md, analysis.border_convention).
+#: The measured road's continuation past the open borders, in spans: one period is the domain plus this gap, with
+#: a lattice bin exactly at the cut (:attr:`~.frames.AxisFrame.alignment`). A fixed gap keeps the reading within a
+#: few per cent when the period grows by a few lattice points, where a gap of twice the face moved it by up to half
+#: of itself (the `surface` reading's border convention: docs/model.md, analysis.border_convention).
 MEASURED_GAP = 32
 
 
@@ -289,20 +286,15 @@ def measured_fields(intent: Intent, scheme, reading: str = "net", lateral: bool 
 
 
 def measured_frames(frames, pads=(0, 0)) -> tuple:
-    """The measured road's frames: each open direction cut as :data:`SPLIT_CUT` says, its period the domain plus
-    :data:`MEASURED_GAP` spans rounded up to a multiple that puts a bin at the cut (even at half a cycle per span),
-    lengthened by ``pads`` (the convention's latitude, :attr:`cadartifact.analysis.frames.AxisFrame.pad`)."""
+    """The measured road's frames: cut as :data:`SPLIT_CUT` says, each open direction's period the domain plus
+    :data:`MEASURED_GAP` spans (a bin at the cut: :attr:`~.frames.AxisFrame.alignment`), lengthened by ``pads``."""
     cut = index_space_cut if SPLIT_CUT == "index" else (lambda f: 0.5)
     return tuple(dataclasses.replace(f, gap=MEASURED_GAP, pad=p, cut=cut(f)) for f, p in zip(frames, pads))
 
 
-#: Where the measured road cuts an open direction: ``"span"``, half a cycle per span (the uniform theory's half a
-#: cycle per control point, exact on a direction's interior), or ``"index"``, half a cycle per control point counted
-#: in index space (:func:`cadartifact.analysis.frames.index_space_cut`: higher on directions shorter than ``2 p``
-#: spans, whose clamped ends crowd their points). Measured (docs/model.md, "Where the split cuts"): ``"index"`` meets
-#: the short-net bound on degrees 2-5 and keeps the real faces' re-expression invariance, but breaks the advice's
-#: fixed point (an advised net longer than ``2 p`` spans is read on a narrower band than the face it was advised
-#: for) and widens the candidates' U (its periods step by up to 112 lattice points); ``"span"`` stays.
+#: Where the measured road cuts an open direction: ``"span"``, half a cycle per span, or ``"index"``, half a cycle
+#: per control point counted in index space (:func:`cadartifact.analysis.frames.index_space_cut`), measured and
+#: not adopted: it breaks the advice's fixed point (docs/model.md, "Where the split cuts").
 SPLIT_CUT = "span"
 
 #: How the measured road splits a rational face with an open direction: ``"homogeneous"`` (the non-rational

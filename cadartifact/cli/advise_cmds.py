@@ -124,10 +124,11 @@ def _print_written(written: dict, units: str) -> None:
     con = _console()
     for f in written["files"]:
         if f["path"] is None:
-            con.print(f"wrote nothing for {escape(f['source'])}: " + (
-                "every advised face's new net was refused (the model would be unchanged)" if f["refused"] else
-                f"no advised face's net conforms ({len(f['kept'])} face(s) not written: an honest no is not a net)"),
-                soft_wrap=True)
+            why = [f"{len(f['refused'])} new net(s) refused"] if f["refused"] else []
+            why += [f"{len(f['kept'])} face(s) kept as they were (advice = today's net, or no net conforms)"] \
+                if f["kept"] else []
+            con.print(f"wrote nothing for {escape(f['source'])}: " + ("; ".join(why) or "no face advised"),
+                      soft_wrap=True)
         elif f["mode"] == "model":
             kept = (f" ({len(f['kept'])} advised face(s) kept as they were: advice = today's net, or no net "
                     "conforms)") if f["kept"] else ""

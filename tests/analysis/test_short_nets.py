@@ -49,8 +49,7 @@ def test_short_nets_read_within_the_splits_own_constant_of_their_distance_to_the
     """Nets of 5-10 points, degrees 2-3, five shapes at random sizes and directions, three seeds of 25 faces: the
     ripple read is within 3x the surface's distance to the shape on every face and 1.4x on the median of the 75
     (the border convention's 32-span continuation: 2.77x and 1.386, per seed 1.52 / 1.41 / 1.31; the former
-    continuation over twice the face: 2.59x and 1.35; the
-    third-order bridge read 4.27x and 1.58)."""
+    continuation over twice the face: 2.59x and 1.35; the third-order bridge read 4.27x and 1.58)."""
     ratios = [r for seed in (11, 12, 13) for r in _ratios(seed)]
     for r, text in ratios:
         assert r <= 3.0, f"{text}: ripple {r:.2f}x its distance to the shape"
