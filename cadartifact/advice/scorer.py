@@ -262,7 +262,8 @@ def _own_claim(sc: _Scorer, a, b, settings: RunSettings) -> float:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
         own_settings = settings.replace(scheme=None, levels=int(np.log2(sc.K)))
-        if not cand.is_bspline:  # a cage's reading has no border convention: its U is not estimated (zero)
+        if not sc.net.is_bspline:  # a cage's candidate is written as a cage, whose reading has no border
+            # convention: the gate decides it with U not estimated (zero)
             sc._scores[key] = sc._scores[("ripple", a, b)] = total_ripple(cand, own_settings)
             return sc._scores[key]
         own, total, region = total_ripple(cand, own_settings, with_field=True)
