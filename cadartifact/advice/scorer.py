@@ -257,15 +257,13 @@ def _own_claim(sc: _Scorer, a, b, settings: RunSettings) -> float:
     only then). A claim on the net at ``own + U_own <= t`` is one the gate confirms, not leaves undecided."""
     from ..analysis.border_convention import surface_uncertainty
 
+    if not sc.net.is_bspline:  # a cage's candidate is written as a cage, whose reading has no border convention:
+        return _ripple_of(sc, a, b, settings)  # the gate decides it with U not estimated (zero)
     key = ("claim", a, b)
     if key not in sc._scores:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
         own_settings = settings.replace(scheme=None, levels=int(np.log2(sc.K)))
-        if not sc.net.is_bspline:  # a cage's candidate is written as a cage, whose reading has no border
-            # convention: the gate decides it with U not estimated (zero)
-            sc._scores[key] = sc._scores[("ripple", a, b)] = total_ripple(cand, own_settings)
-            return sc._scores[key]
         own, total, region = total_ripple(cand, own_settings, with_field=True)
         sc._scores[("ripple", a, b)] = own
         u = surface_uncertainty(cand, own_settings, own, scalars=None if total is None else {"total": total},

@@ -38,12 +38,12 @@ def lateral_factors(fu: np.ndarray, fv: np.ndarray) -> tuple[np.ndarray, np.ndar
     return s1, s2, sd
 
 
-def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False),
-                cuts: tuple[float, float] = (0.5, 0.5)) -> dict:
-    """Band masks and lateral weights; a direction in ``smooth`` has no ripple band (one polynomial piece);
-    ``cuts`` in cycles per span (:attr:`AxisFrame.cut`)."""
-    hu = (np.abs(fu) >= cuts[0] - 1e-12)[:, None] & (not smooth[0])
-    hv = (np.abs(fv) >= cuts[1] - 1e-12)[None, :] & (not smooth[1])
+def _band_masks(fu: np.ndarray, fv: np.ndarray, smooth: tuple[bool, bool] = (False, False)) -> dict:
+    """Band masks and lateral weights of frequencies in cycles per control point (a direction cut elsewhere than
+    half a cycle per span passes them scaled by ``0.5 / cut``); a direction in ``smooth`` has no ripple band (one
+    polynomial piece)."""
+    hu = (np.abs(fu) >= 0.5 - 1e-12)[:, None] & (not smooth[0])
+    hv = (np.abs(fv) >= 0.5 - 1e-12)[None, :] & (not smooth[1])
     x1, x2, dg = hu & ~hv, ~hu & hv, hu & hv
     s1, s2, sd = lateral_factors(fu, fv)
     return {"signal_error": ~hu & ~hv, "x1": x1, "x2": x2, "diagonal": dg, "lateral": x1 * s1 + x2 * s2 + dg * sd}

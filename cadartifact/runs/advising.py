@@ -351,17 +351,16 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
         conforming = {net.origin.face: new for (_, net, adv), new in zip(items, nets)
                       if getattr(adv, "meets_tolerance", True)}
         if mode == "faces-only" and not brep:
+            asked = conforming
             written = [n for n in nets if n.origin.face in conforming]
             if written:
                 write_step(written, target, provenance={"source": src.name, **(provenance or {})})
             faces = [{"face": n.origin.face, "name": n.origin.name, "max_distance": None, "mean_distance": None,
                       "edge_tolerance": None, "valid": None} for n in written]
-            kept_faces = sorted(set(by_face) - set(conforming))
         elif mode == "faces-only":
             asked = conforming
             faces = write_model(src, asked, target, provenance=provenance, faces_only=True,
                                 refused=refused) if asked else []
-            kept_faces = sorted(set(by_face) - set(asked))
         else:
             asked = {i: new for (_, net, adv), new in zip(items, nets)
                      if (i := net.origin.face) in conforming and not getattr(adv, "kept_today", new.shape == net.shape)}
@@ -369,7 +368,7 @@ def write_advised(kept, out, *, faces_only: bool = False, provenance: dict | Non
             faces = write_model(src, asked, target, provenance=provenance, refused=refused,
                                 allowed=allowed_distances(items), tolerance=_tolerance(items),
                                 measurements=measurements, edge_check=edge_rules(profile, units), types=types)
-            kept_faces = sorted(set(by_face) - set(asked))
+        kept_faces = sorted(set(by_face) - set(asked))  # not written as advised: today's net, or an honest no
         checks = [r.get("model_valid") for r in faces if r.get("model_valid") is not None]
         # every replacement refused: nothing was written (the model would be today's); faces only: no face conforms
         path = None if (asked and len(refused) == len(asked) or mode == "faces-only" and not faces) else str(target)
