@@ -398,7 +398,8 @@ def total_ripple(net: ControlNet, settings: RunSettings, *, with_field: bool = F
     and mask, no other band's statistics. The advice asks this of hundreds of candidates per face (the scheme
     comparison's cages, the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
     ``with_field``: ``(value, field, mask)``, the projected total ripple ``(a, b)`` on the fine grid and the face's
-    mask, as the budget's ``scalar_fields["total"]`` and ``region`` (``None, None`` for a split face).
+    mask, as the budget's ``scalar_fields["total"]`` and ``region`` (for a split face, the pieces' gathered
+    field, as :func:`budget_for` keeps it).
     """
     sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch, settings.tolerance)
@@ -406,8 +407,9 @@ def total_ripple(net: ControlNet, settings: RunSettings, *, with_field: bool = F
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
             whole = settings.replace(tolerance=None, scheme=sch, intent="surface", method="auto", region="auto")
-            value = budget_for(net, whole).stats["total"].get(settings.metric)
-            return (value, None, None) if with_field else value
+            b = budget_for(net, whole, keep_fields=with_field)  # the gathered field, as the gate keeps it
+            value = b.stats["total"].get(settings.metric)
+            return (value, b.scalar_fields["total"], b.region) if with_field else value
     it = design_intent(work, sch, settings.levels)
     main = artifact_fields(it, sch, _road(work), "surface", lateral=False)
     normal = None if settings.component == "vector" else intent_normals(main.intent, 2 ** main.levels)

@@ -75,3 +75,34 @@ def test_a_real_face_s_advice_is_confirmed_by_the_gate():
     a = advise(net, 0.01, compare=False, verify=False)
     assert a.meets_tolerance and a.decision == CONFORMS
     assert _gated(a.advised_net, 0.01)[2] == CONFORMS
+
+
+@pytest.mark.parametrize("pieces, kind, direction, seed", [(2, "C0", 0, 1), (2, "G1", 1, 2), (3, "C0", 1, 3),
+                                                           (3, "G1", 0, 4)])
+def test_a_jointed_candidate_s_claim_is_the_gate_s_reading_of_it(pieces, kind, direction, seed):
+    """A candidate that keeps the face's joins is read in pieces; its claim ``own + U_own`` is the gate's
+    ``value + U`` of the written net (the grid term read on the pieces' gathered field, as the gate keeps it), at
+    tolerances where the bound decides and where the period variants do."""
+    from cadartifact.analysis.budget import analysis_net
+    from cadartifact.analysis.fitting import candidate_net
+    from cadartifact.analysis.settings import resolve_scheme
+    from cadartifact.advice.scorer import _make_scorer, _own_claim
+    from cadartifact.testing.extended_faces import jointed_face
+
+    face = jointed_face(pieces, direction, kind, seed=seed)
+    sch = resolve_scheme(face, None)
+    work = analysis_net(face, sch, None)
+    nu, nv = work.shape
+    for a, b in ((nu, nv), (nu + 2, nv + 1), (nu + 1, nv + 3)):
+        for scale in (2.0, 1.05, 0.5):
+            sc = _make_scorer(face, work, sch, RunSettings(tolerance=1.0))
+            Q, *_, (cu, cv) = sc.fit(a, b)
+            cand = candidate_net(face, Q, cu, cv)
+            own = budget_for(cand, RunSettings()).value(False)
+            if own == 0.0:
+                continue
+            t = scale * own
+            settings = RunSettings(tolerance=t)
+            sc = _make_scorer(face, work, sch, settings)
+            value, u, _ = _gated(cand, t)
+            assert _own_claim(sc, a, b, settings) == pytest.approx(value + u, rel=1e-9, abs=1e-12), (a, b, scale)
