@@ -142,32 +142,11 @@ def intent_change(net, settings, work=None, pads=None) -> tuple[float, float]:
 
 def _intent_fields(real: np.ndarray, frames, scheme, combos):
     """``(pads, intent)`` per period variant, first ``combos[0]``: the smooth part (Cartesian, on the fine grid) of
-    :func:`cadartifact.analysis.fields._bridged_bands` with the measured road's periods padded by ``pads``.
+    the measured road's split with its periods padded by ``pads``
+    (:func:`cadartifact.analysis.border_convention.period_variants`: each ``u`` pass made once per ``u`` pad)."""
+    from ..analysis.border_convention import period_variants
 
-    The same steps (tensor Legendre trend kept out, then the split's per-direction pass,
-    :func:`cadartifact.analysis.fields.above_half_cycle`, as the road makes it), for the smooth part only (the domain's columns below half a cycle along ``u``, less their part above it along ``v``),
-    and each ``u`` pass made once per ``u`` pad: three ``u`` passes and one ``v`` pass per variant, where a whole
-    band split per variant made seven and fourteen. A periodic direction has no period latitude: its pad is 0.
-    """
-    from ..analysis.bands import _one_piece
-    from ..analysis.fields import _poly_fit, above_half_cycle, measured_frames, split_degrees
-    from ..numerics.tensor import sandwich
-
-    fu, fv = frames
-    own = split_degrees(scheme)
-    V, poly = _poly_fit(real, measured_frames(frames), own)
-    trend = sandwich(V[0], poly, V[1])
-    rest = real - trend
-    one = _one_piece(fu, fv)
-    combos = list(dict.fromkeys((0 if fu.periodic else a, 0 if fv.periodic else b) for a, b in combos))
-    lows = {}
-    for c in combos:
-        wu, wv = measured_frames(frames, c)
-        if c[0] not in lows:  # along u: the domain's columns below half a cycle per span
-            lows[c[0]] = rest - above_half_cycle(rest, wu, 0, own[0], one[0])[0]
-        lo = lows[c[0]]
-        high = above_half_cycle(lo, wv, 1, own[1], one[1])[0]  # along v: their part above half a cycle
-        smooth = lo - high + trend
+    for c, _, smooth in period_variants(real, frames, scheme, combos):
         yield c, smooth[..., :3] / smooth[..., 3:4] if smooth.shape[-1] == 4 else smooth
 
 

@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PERIOD_LATITUDE", "RELATIVE_BOUND", "surface_uncertainty", "variant_values"]
+__all__ = ["PERIOD_LATITUDE", "RELATIVE_BOUND", "period_variants", "surface_uncertainty", "variant_values"]
 
 #: Lattice points the convention lets the period grow by (an FFT-friendly rounding of ``T``), where a bin sits at half
 #: a cycle per span (``m = 2``); ``j m / 2`` for a direction whose period is a multiple of ``m``: each is read.
@@ -94,7 +94,7 @@ def variant_values(net, settings, pads=None, work=None) -> tuple[float, list, li
         ``G`` (module docstring).
     """
     from .budget import analysis_net, border_margin, region_mask
-    from .fields import _bridged_bands, _from_lifted, intent_normals, measured_frames, project, split_coordinates
+    from .fields import _from_lifted, intent_normals, project, split_coordinates
     from .intent import design_intent
     from .measure import real_surface
     from .settings import resolve_scheme
@@ -113,21 +113,18 @@ def variant_values(net, settings, pads=None, work=None) -> tuple[float, list, li
             continue
         real = split_coordinates(real_surface(it, sch), it.frames)  # as the road splits it
         keep = region_mask(piece, it.frames, fu.x, fv.x, region, border_margin(piece, sch))
-        for c in combos:
-            if c != (0, 0) and ((c[0] and fu.periodic and not c[1]) or (c[1] and fv.periodic and not c[0])):
-                per_combo[c].append(per_combo[(0, 0)][-1])  # a periodic direction has no period latitude
-                continue
-            wide = measured_frames((fu, fv), c)
-            bands, smooth, _ = _bridged_bands(real, wide, sch, lateral=False)
-            total = {"total": bands["total"]}
+        read = {}
+        for c, total, smooth in period_variants(real, (fu, fv), sch, combos):
             if smooth.shape[-1] == 4:
-                total, smooth, _ = _from_lifted(total, smooth, real)
+                lifted, smooth, _ = _from_lifted({"total": total}, smooth, real)
+                total = lifted["total"]
             # each variant is the whole reading at its period: its own smooth part orients it
             normal = None if settings.component == "vector" else intent_normals(smooth, fu.K)
-            f = project(total["total"], normal, settings.component)
+            read[c] = project(total, normal, settings.component)
+        for c in combos:
+            f = read[_effective(c, (fu, fv))]
             per_combo[c].append(np.abs(f[keep]) if keep.any() else np.zeros(0))
-            if c == (0, 0):
-                grid = max(grid, _grid_term(f, keep))
+        grid = max(grid, _grid_term(read[(0, 0)], keep))
     if not per_combo[(0, 0)]:
         return 0.0, [0.0] * len(pads), [(0.0, 0.0)] * len(pads), 0.0
 
@@ -139,6 +136,58 @@ def variant_values(net, settings, pads=None, work=None) -> tuple[float, list, li
 
     v0 = value((0, 0))
     return (v0, [value((j, j)) for j in pads], [(value((j, 0)), value((0, j))) for j in pads], grid)
+
+
+def _effective(pads, frames) -> tuple:
+    """The pads a variant reads: a periodic direction has no period latitude (its pad is 0)."""
+    return tuple(0 if f.periodic else p for p, f in zip(pads, frames))
+
+
+def period_variants(field: np.ndarray, frames, scheme, combos):
+    """Per period variant ``(pads, total, smooth)``: the total ripple band and the smooth part of the measured
+    road's split (:func:`cadartifact.analysis.fields._bridged_bands`) with each open direction's period padded
+    by ``pads`` lattice points (:func:`cadartifact.analysis.fields.measured_frames`), first ``combos[0]``.
+
+    The same steps as the split (the tensor Legendre trend kept out, then one pass per direction,
+    :func:`cadartifact.analysis.fields.above_half_cycle`), the ``u`` pass made once per ``u`` pad and one ``v``
+    pass per variant: the split's total ``x1 + x2 + diagonal`` is the ``u`` pass's high part plus the ``v`` pass's
+    high part of the rest (to rounding), and no base band is made. Three ``u`` and five ``v`` passes for the
+    convention's seven variants, where a whole split per variant made seven and fourteen (and seven base bands).
+    A periodic direction has no period latitude: variants that differ only in its pad are read once.
+
+    Parameters
+    ----------
+    field : (a, b, c) float
+        The field the road splits (:func:`cadartifact.analysis.fields.split_coordinates`), on the domain's fine
+        grid; ``c = 4`` for a rational face split in homogeneous coordinates (the caller projects).
+    frames : (AxisFrame, AxisFrame)
+        The intent's.
+    scheme : Scheme
+    combos : list of (int, int)
+
+    Yields
+    ------
+    (pads, total, smooth) : ((int, int), (a, b, c) float, (a, b, c) float)
+    """
+    from ..numerics.tensor import sandwich
+    from .bands import _one_piece
+    from .fields import _poly_fit, above_half_cycle, measured_frames, split_degrees
+
+    fu, fv = frames
+    own = split_degrees(scheme)
+    V, poly = _poly_fit(field, measured_frames(frames), own)
+    trend = sandwich(V[0], poly, V[1])
+    rest = field - trend
+    one = _one_piece(fu, fv)
+    passes = {}
+    for c in dict.fromkeys(_effective(c, frames) for c in combos):
+        wu, wv = measured_frames(frames, c)
+        if c[0] not in passes:  # along u: the domain's columns above and below half a cycle per span
+            high_u = above_half_cycle(rest, wu, 0, own[0], one[0])[0]
+            passes[c[0]] = (high_u, rest - high_u)
+        high_u, low_u = passes[c[0]]
+        x2 = above_half_cycle(low_u, wv, 1, own[1], one[1])[0]  # along v: the low columns' part above it
+        yield c, high_u + x2, low_u - x2 + trend
 
 
 def _grid_term(f: np.ndarray, keep: np.ndarray) -> float:

@@ -100,3 +100,35 @@ def test_the_decision_uses_it_and_the_doors_say_where_none_is_estimated():
     assert estimated_u({"uncertainty": none.to_dict()}) is None
     assert estimated_u({"uncertainty": unc.to_dict()}) == unc.peak
     assert estimated_u({"uncertainty": {"peak": 0.0, "estimated": True}}) == 0.0
+
+
+@pytest.mark.parametrize("rational", [False, True])
+@pytest.mark.parametrize("degrees, shape, spec", FACES + [((3, 3), (10, 9), ("cosine", 0.3, 0.5))])
+def test_the_shared_passes_equal_the_whole_split_at_every_period(degrees, shape, spec, rational):
+    """:func:`period_variants` (the ``u`` pass once per ``u`` pad, one ``v`` pass, no base band) against the whole
+    split (:func:`cadartifact.analysis.fields._bridged_bands`) at each admissible period, each direction alone
+    and both: the total band and the smooth part agree to rounding, rational faces (homogeneous) and a face
+    closed along ``u`` (no latitude there) included."""
+    from cadartifact.analysis.border_convention import period_variants
+    from cadartifact.analysis.fields import _bridged_bands, measured_frames, split_coordinates
+    from cadartifact.analysis.intent import design_intent
+    from cadartifact.analysis.measure import real_surface
+    from cadartifact.net import periodic_uniform_knots
+    from cadartifact.theory.catalogue import bspline
+
+    net = _face(degrees, shape, spec, rational)
+    if shape == (10, 9):  # the same poles closed along u (periodic knots)
+        net = ControlNet(points=net.points, degrees=net.degrees, weights=net.weights, periodic=(True, False),
+                         knots=(periodic_uniform_knots(shape[0], degrees[0]), net.knots[1]))
+    sch = bspline(*net.degrees)
+    it = design_intent(net, sch, 3)
+    real = split_coordinates(real_surface(it, sch), it.frames)
+    combos = [(0, 0)] + [(j, j) for j in PERIOD_LATITUDE] + [c for j in PERIOD_LATITUDE for c in ((j, 0), (0, j))]
+    got = {c: (total, smooth) for c, total, smooth in period_variants(real, it.frames, sch, combos)}
+    size = float(np.ptp(real[..., :3]))
+    for c in combos:
+        key = tuple(0 if f.periodic else j for j, f in zip(c, it.frames))
+        bands, smooth, _ = _bridged_bands(real, measured_frames(it.frames, c), sch, lateral=False)
+        assert np.abs(got[key][0] - bands["total"]).max() <= 1e-12 * size, c
+        assert np.abs(got[key][1] - smooth).max() <= 1e-12 * size, c
+    assert len(got) == (3 if net.periodic[0] else 7)
