@@ -42,7 +42,7 @@ from .baseband import baseband_at
 from .clamped import clamped_syntheses
 from .settings import COMPONENTS, READINGS
 from .intent import Intent, _legendre, design_intent, from_homogeneous
-from ..numerics.hermite import bernstein_basis, hermite_to_bezier
+from ..numerics.hermite import end_derivatives, gap_basis, hermite_to_bezier
 from ..numerics.operator_cache import OperatorCache
 from ..numerics.tensor import sandwich
 
@@ -488,25 +488,19 @@ def _bridge(a: np.ndarray, frame: AxisFrame, axis: int, degree: int = 3) -> np.n
     flat = a0.reshape(m, -1)
     w = min(m, K + 1)
     d = int(min(max(degree + 1, M), w - 1, 7))
-    s_ = np.arange(w, dtype=float)
-    fact = np.cumprod(np.r_[1.0, np.arange(1.0, d + 1)])
-    Vq = s_[:, None] ** np.arange(d + 1)[None, :] / fact[None, :]  # Taylor basis at s = 0
-    Pq = np.linalg.pinv(Vq)[: M + 1]  # value and derivatives 1..M (per fine step)
-    if Pq.shape[0] < M + 1:  # too few samples for the higher derivatives: take them as zero
-        Pq = np.vstack([Pq, np.zeros((M + 1 - Pq.shape[0], w))])
+    Pq = end_derivatives(w, d, M)  # value and derivatives 1..M (per fine step)
     start = Pq @ flat[:w]
     end = Pq @ flat[::-1][:w]
     end[1::2] *= -1.0  # odd derivatives along +index at the end
-    Lg = float(G + 1)
-    t = np.arange(1, G + 1, dtype=float) / Lg
-    scale = Lg ** np.arange(M + 1)
+    scale = float(G + 1) ** np.arange(M + 1)
     to_bezier = hermite_to_bezier(M)  # (M + 1, M + 1): derivatives at an end -> the Bezier points near it
     near_end = to_bezier @ (end * scale[:, None])
     near_start = to_bezier @ (start * (scale * (-1.0) ** np.arange(M + 1))[:, None])
     coeffs = np.concatenate([near_end, near_start[::-1]], axis=0)  # (2 M + 2, cols)
-    gap = bernstein_basis(t, 2 * M + 1).T @ coeffs
-    out = np.concatenate([flat, gap], axis=0).reshape((N,) + a0.shape[1:])
-    return np.moveaxis(out, 0, axis)
+    out = np.empty((N,) + flat.shape[1:], np.result_type(flat, coeffs))
+    out[:m] = flat
+    np.matmul(gap_basis(G, 2 * M + 1).T, coeffs, out=out[m:])
+    return np.moveaxis(out.reshape((N,) + a0.shape[1:]), 0, axis)
 
 
 def _from_lifted(bands: dict, smooth: np.ndarray, surface: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray]:
