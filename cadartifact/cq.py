@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 import warnings
 
-from .errors import ArtifactToleranceError, OptionError, check_option
+from .errors import ArtifactToleranceError, check_option
 
 __all__ = ["ArtifactToleranceWarning", "MODES", "check", "report", "register"]
 

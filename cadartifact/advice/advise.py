@@ -18,12 +18,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..analysis.budget import Budget, Stat, analysis_net, budget_for, total_ripple
-from ..analysis.baseband import baseband_at, release
+from ..analysis.budget import Budget, Stat, analysis_net, budget_for
+from ..analysis.baseband import release
 from .density_search import (GROWTH, MAX_POINTS, TIE, _limits, _straight, corner, frontier, gallop,  # noqa: F401
                              predicted_hint)  # (_straight: face_instances)
 from ..errors import OptionError, check_option
-from ..analysis.fitting import candidate_axis, candidate_net, curve_distance
+from ..analysis.fitting import candidate_net
 from ..analysis.settings import READINGS, RunSettings, check_tolerance, resolve_scheme
 from ..net import ControlNet, no_ripple_by_construction
 from ..analysis.pieces import face_kind

@@ -103,7 +103,6 @@ def face_uncertainty(net, settings, current=None):
     from ..analysis.budget import analysis_net
     from ..analysis.intent import design_intent
     from ..analysis.settings import resolve_scheme
-    from ..analysis.uncertainty import intent_uncertainty
 
     if settings.reading == "surface":  # the border convention's latitude: no intent of the net reading needed
         from ..analysis.border_convention import surface_uncertainty

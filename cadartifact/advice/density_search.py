@@ -8,8 +8,12 @@ the hint costs a few evaluations. Property tests check it against brute force (`
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # an annotation only
+    from ..net import ControlNet
 
 __all__ = ["frontier", "gallop", "first_true", "corner", "predicted_hint"]
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis.baseband import baseband_at
-from ..analysis.budget import budget_for, total_ripple, trim_mask
+from ..analysis.budget import budget_for, total_ripple, total_ripple_field, trim_mask
 from ..analysis.fields import intent_normals, project
 from ..analysis.fitting import candidate_axis, candidate_net, curve_distance, error_planes, fit_error
 from ..analysis.settings import RunSettings
@@ -27,8 +27,6 @@ class _Scorer:
     """Scores candidate densities (and today's net) against one intent on check grids (memoised)."""
 
     def __init__(self, net: ControlNet, work: ControlNet, scheme, fields, intent, settings: RunSettings):
-        from ..analysis.budget import trim_mask
-
         self.net, self.work, self.scheme = net, work, scheme
         # settings.intent is the reading candidates are scored against, settings.levels the check grid's
         self.fields, self.intent, self.reading = fields, intent, settings.intent
@@ -264,10 +262,9 @@ def _own_claim(sc: _Scorer, a, b, settings: RunSettings) -> float:
         Q, S, I, normal, keep, (cu, cv) = sc.fit(a, b)
         cand = candidate_net(sc.net, Q, cu, cv)
         own_settings = settings.replace(scheme=None, levels=int(np.log2(sc.K)))
-        own, total, region = total_ripple(cand, own_settings, with_field=True)
+        own, total, region = total_ripple_field(cand, own_settings)
         sc._scores[("ripple", a, b)] = own
-        u = surface_uncertainty(cand, own_settings, own, scalars=None if total is None else {"total": total},
-                                region=region)
+        u = surface_uncertainty(cand, own_settings, own, scalars={"total": total}, region=region)
         sc._scores[key] = own + float(u.peak)
     return sc._scores[key]
 

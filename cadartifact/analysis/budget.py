@@ -23,7 +23,7 @@ from .pieces import gather_fields, split_net
 from .settings import RunSettings, resolve_scheme
 from .trim_region import cage_bounds, used_net
 
-__all__ = ["Budget", "Stat", "budget", "budget_for", "total_ripple"]
+__all__ = ["Budget", "Stat", "budget", "budget_for", "total_ripple", "total_ripple_field"]
 
 
 #: All statistics a budget carries: the ripple fields, the signal error and the whole deviation.
@@ -392,31 +392,39 @@ def _road(work: ControlNet, method: str = "auto") -> str:
     return method
 
 
-def total_ripple(net: ControlNet, settings: RunSettings, *, with_field: bool = False):
+def total_ripple(net: ControlNet, settings: RunSettings) -> float:
     """``budget_for(net, settings).stats["total"][settings.metric]`` computed for that number only (the default
     road and the whole face, the surface reading): the same fields less the lateral one, the same projection
     and mask, no other band's statistics. The advice asks this of hundreds of candidates per face (the scheme
     comparison's cages, the confirmed candidates' own ripple). A face that needs splitting takes the full budget.
-    ``with_field``: ``(value, field, mask)``, the projected total ripple ``(a, b)`` on the fine grid and the face's
-    mask, as the budget's ``scalar_fields["total"]`` and ``region`` (for a split face, the pieces' gathered
-    field, as :func:`budget_for` keeps it).
     """
+    return _total_ripple(net, settings, keep_field=False)[0]
+
+
+def total_ripple_field(net: ControlNet, settings: RunSettings) -> tuple:
+    """:func:`total_ripple` with what its uncertainty is read on: ``(value, field, mask)``, the projected total
+    ripple ``(a, b)`` on the fine grid and the face's mask, as the budget's ``scalar_fields["total"]`` and
+    ``region`` (for a split face, the pieces' gathered field, as :func:`budget_for` keeps it)."""
+    return _total_ripple(net, settings, keep_field=True)
+
+
+def _total_ripple(net: ControlNet, settings: RunSettings, keep_field: bool) -> tuple:
+    """``(value, field, mask)`` of :func:`total_ripple_field`; a split face's field and mask only if kept."""
     sch = resolve_scheme(net, settings.scheme)
     work = analysis_net(net, sch, settings.tolerance)
     if work.is_bspline:
         pieces = split_net(work)
         if len(pieces) > 1 or pieces[0].net is not work or pieces[0].note:
             whole = settings.replace(tolerance=None, scheme=sch, intent="surface", method="auto", region="auto")
-            b = budget_for(net, whole, keep_fields=with_field)  # the gathered field, as the gate keeps it
+            b = budget_for(net, whole, keep_fields=keep_field)  # the pieces' gathered field, as the gate keeps it
             value = b.stats["total"].get(settings.metric)
-            return (value, b.scalar_fields["total"], b.region) if with_field else value
+            return (value, b.scalar_fields["total"], b.region) if keep_field else (value, None, None)
     it = design_intent(work, sch, settings.levels)
     main = artifact_fields(it, sch, _road(work), "surface", lateral=False)
     normal = None if settings.component == "vector" else intent_normals(main.intent, 2 ** main.levels)
     total = project(main.bands["total"], normal, settings.component)
     keep = region_mask(work, it.frames, main.x, main.y, "face", border_margin(work, sch))
-    value = _stats({"total": total}, keep)["total"].get(settings.metric)
-    return (value, total, keep) if with_field else value
+    return _stats({"total": total}, keep)["total"].get(settings.metric), total, keep
 
 
 def _after_junction(a: np.ndarray, piece) -> np.ndarray:

@@ -29,7 +29,6 @@ from math import factorial
 
 import numpy as np
 
-from .bands import _fine_freqs
 from .frames import AxisFrame
 from .intent import Intent, _legendre
 from ..net import clamped_uniform_knots, knots_are_uniform

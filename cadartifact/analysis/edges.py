@@ -221,7 +221,7 @@ def _edge_record(edge, f1, f2, samples: int, flat_curvature: float) -> dict:
         sign = (-1.0 if face.Orientation() == TopAbs_REVERSED else 1.0) * (-1.0 if flip else 1.0)
         pc = BRepAdaptor_Curve2d(edge, face)
         surf = BRepAdaptor_Surface(face)
-        P, N, D = np.full((samples, 3), np.nan), np.full((samples, 3), np.nan), np.zeros((samples, 5, 3))
+        P, D = np.full((samples, 3), np.nan), np.zeros((samples, 5, 3))
         for i, t in enumerate(ts):
             uv = pc.Value(t)
             p, du, dv, duu, dvv, duv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()

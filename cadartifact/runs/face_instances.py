@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Motion", "NOTE", "RTOL", "congruence", "enabled", "instance_record", "instances", "rigid_motion"]
+__all__ = ["Motion", "NOTE", "RTOL", "congruence", "instance_record", "instances", "rigid_motion"]
 
 #: How a repeat's note begins (the text report counts these instead of printing each).
 NOTE = "the same shape as face "
