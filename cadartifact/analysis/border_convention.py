@@ -37,7 +37,8 @@ deviations, so ``U`` covers them by construction (the coverage factor ``k = 2`` 
 ``net`` reading's, to which ``U`` is comparable). Its per-direction shares (``u``, ``v``) are the spread of
 the variants that move that direction's period alone.
 
-**Cost.** Each variant is one band split of the real surface (evaluated once per face), the total band only.
+**Cost.** The variants share one evaluation of the real surface and one trend fit, and their passes
+(:func:`period_variants`: three ``u`` passes and seven ``v`` passes for the seven variants, the total band only).
 They are read only where the decision could flip: a face first takes the bound ``U = RELATIVE_BOUND v + G``
 (``G`` from today's reading's kept fields), which covers the variants' spread on every face of the samples and
 real files and on 97.5 % of the border-free family (docs/uncertainty.md); where that bound decides (``v + U <= t``
@@ -151,7 +152,7 @@ def period_variants(field: np.ndarray, frames, scheme, combos):
     The same steps as the split (the tensor Legendre trend kept out, then one pass per direction,
     :func:`cadartifact.analysis.fields.above_half_cycle`), the ``u`` pass made once per ``u`` pad and one ``v``
     pass per variant: the split's total ``x1 + x2 + diagonal`` is the ``u`` pass's high part plus the ``v`` pass's
-    high part of the rest (to rounding), and no base band is made. Three ``u`` and five ``v`` passes for the
+    high part of the rest (to rounding), and no base band is made. Three ``u`` and seven ``v`` passes for the
     convention's seven variants, where a whole split per variant made seven and fourteen (and seven base bands).
     A periodic direction has no period latitude: variants that differ only in its pad are read once.
 
