@@ -13,15 +13,18 @@ G. Farin, *Curves and Surfaces for CAGD*, 5th ed., Morgan Kaufmann 2002, ch. 5 (
 
 from __future__ import annotations
 
-from functools import lru_cache
 from math import comb, factorial
 
 import numpy as np
 
+from .operator_cache import OperatorCache
+
+#: The bridges' operators, by size: a file's faces reuse a few (emptied with every shared operator cache).
+_OPERATORS = OperatorCache(128)
+
 __all__ = ["bernstein_basis", "end_derivatives", "gap_basis", "hermite_basis", "hermite_to_bezier"]
 
 
-@lru_cache(maxsize=16)
 def hermite_to_bezier(order: int) -> np.ndarray:
     """Map a degree ``n = 2 order + 1`` polynomial's derivatives at ``t = 0`` to its first Bezier points.
 
@@ -45,10 +48,9 @@ def hermite_to_bezier(order: int) -> np.ndarray:
     """
     _require_order(order)
     n = 2 * order + 1
-    A = np.array([[comb(j, k) * factorial(n - k) / factorial(n) if k <= j else 0.0 for k in range(order + 1)]
-                  for j in range(order + 1)])
-    A.flags.writeable = False
-    return A
+    return _OPERATORS.get(("to_bezier", int(order)), lambda: _read_only(np.array(
+        [[comb(j, k) * factorial(n - k) / factorial(n) if k <= j else 0.0 for k in range(order + 1)]
+         for j in range(order + 1)])))
 
 
 def bernstein_basis(t: np.ndarray, degree: int) -> np.ndarray:
@@ -77,7 +79,6 @@ def bernstein_basis(t: np.ndarray, degree: int) -> np.ndarray:
     return c * t[None, :] ** i * (1.0 - t[None, :]) ** (degree - i)
 
 
-@lru_cache(maxsize=128)
 def gap_basis(count: int, degree: int) -> np.ndarray:
     """:func:`bernstein_basis` at the ``count`` points ``k / (count + 1)``, ``k = 1..count``, strictly inside
     [0, 1]: a bridge's samples across a gap of ``count`` fine steps. Cached (a face's bridges reuse a few gaps);
@@ -87,32 +88,40 @@ def gap_basis(count: int, degree: int) -> np.ndarray:
     -------
     B : (degree + 1, count) float
     """
-    B = bernstein_basis(np.arange(1, count + 1, dtype=float) / float(count + 1), degree)
-    B.flags.writeable = False
-    return B
+    return _OPERATORS.get(("gap", int(count), int(degree)), lambda: _read_only(
+        bernstein_basis(np.arange(1, count + 1, dtype=float) / float(count + 1), degree)))
 
 
-@lru_cache(maxsize=64)
 def end_derivatives(samples: int, degree: int, order: int) -> np.ndarray:
     """Value and derivatives ``1..order`` (per sample step) at the first of ``samples`` equally spaced samples,
     from their least-squares polynomial of ``degree`` (Taylor basis, ``pinv``); derivatives above ``degree`` are
     zero. Cached; read-only.
 
-    .. math:: P = \mathrm{pinv}(V)_{0..order}, \quad V_{sk} = s^k / k!, \; s = 0..samples - 1, \; k = 0..degree
+    .. math:: P = \\mathrm{pinv}(V)_{0..order}, \\quad V_{sk} = s^k / k!, \\; s = 0..samples - 1, \\; k = 0..degree
 
     Returns
     -------
     P : (order + 1, samples) float
         ``P @ values[:samples]`` gives ``[f(0), f'(0), ..., f^(order)(0)]``.
     """
+    return _OPERATORS.get(("ends", int(samples), int(degree), int(order)),
+                          lambda: _read_only(_end_derivatives(samples, degree, order)))
+
+
+def _end_derivatives(samples: int, degree: int, order: int) -> np.ndarray:
     s = np.arange(samples, dtype=float)
     fact = np.cumprod(np.r_[1.0, np.arange(1.0, degree + 1)])
     V = s[:, None] ** np.arange(degree + 1)[None, :] / fact[None, :]  # Taylor basis at s = 0
     P = np.linalg.pinv(V)[: order + 1]
     if P.shape[0] < order + 1:  # too few samples for the higher derivatives: take them as zero
         P = np.vstack([P, np.zeros((order + 1 - P.shape[0], samples))])
-    P.flags.writeable = False
     return P
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """A cached operator, shared by its callers: none may write into it."""
+    a.flags.writeable = False
+    return a
 
 
 def hermite_basis(t: np.ndarray, order: int) -> np.ndarray:
