@@ -19,6 +19,8 @@ non-rational faces and the rational draws without weights are the control.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -60,11 +62,18 @@ def _locality(seed: int, cases: int, rational_split: str) -> dict:
     return {k: np.array(v) for k, v in out.items()}
 
 
-@pytest.fixture(scope="module")  # its tests share an xdist group: the readings (minutes) are made once, not per worker
+@functools.lru_cache(maxsize=1)
+def _seed_two() -> dict:
+    return {how: _locality(2, 100, how) for how in ("homogeneous", "cartesian")}
+
+
+@pytest.fixture
 def seed_two():
     """Seed 2, 100 draws: 30 rational (27 with ripple above 1e-5 of the amplitude and more than four spans each
-    way, 20 of their unweighted copies), 70 non-rational (34)."""
-    return {how: _locality(2, 100, how) for how in ("homogeneous", "cartesian")}
+    way, 20 of their unweighted copies), 70 non-rational (34). Its tests share an xdist group and the readings
+    (minutes) are kept by the worker: a module fixture was made again whenever xdist tore the module down between
+    them."""
+    return _seed_two()
 
 
 @pytest.mark.slow
