@@ -71,7 +71,7 @@ def file_edges(path, fmt: str, samples: int = EDGE_SAMPLES) -> dict:
     if fmt == "step":
         from ..exchange.step_text import entity_lines
 
-        reader = step.open_step(path)
+        reader = step.open_step(path, reuse=True)  # the faces' read of this file in this process, if any
         shape = reader.OneShape()
         transfer = reader.WS().TransferReader()
         records = entity_lines(path)

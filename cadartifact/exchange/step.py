@@ -296,9 +296,20 @@ def _step_name(reader: STEPControl_Reader, path=None, *, entities=None, model_nu
     return face_name
 
 
-def open_step(path) -> STEPControl_Reader:
-    """A STEP reader that has read and transferred ``path`` (same checks and errors as :func:`read_step`)."""
+#: This process's last STEP read kept (``read_step``), ``{(path, size, mtime_ns): reader}``, for a second look at the
+#: same unchanged file: the quality gate measures a file's edges after its faces in the same reader child.
+_LAST_READ: dict = {}
+
+
+def open_step(path, *, reuse: bool = False, keep: bool = False) -> STEPControl_Reader:
+    """A STEP reader that has read and transferred ``path`` (same checks and errors as :func:`read_step`).
+    ``keep``: kept as this process's last read; ``reuse``: that reader if it read this very file, unchanged
+    (same size and modification time); its caller must not change the shape."""
     path = check_file(path)
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    if reuse and key in _LAST_READ:
+        return _LAST_READ[key]
     reader = STEPControl_Reader()
     with quiet_occt(), occt_path(path) as name:
         status = reader.ReadFile(name)
@@ -313,6 +324,9 @@ def open_step(path) -> STEPControl_Reader:
             raise FileFormatError(path, f"STEP transfer failed: {exc}") from None
         if reader.NbShapes() == 0 or reader.OneShape().IsNull():
             raise FileFormatError(path, "STEP file has no shape to transfer")
+    if keep:
+        _LAST_READ.clear()
+        _LAST_READ[key] = reader
     return reader
 
 
@@ -345,7 +359,7 @@ def read_step_audited(path, ids=None, *, model_numbers: bool = False
     ``model_numbers``: see :func:`_step_name`.
     """
     path = check_file(path)
-    reader = open_step(path)
+    reader = open_step(path, keep=True)
     shape = reader.OneShape()
     with quiet_occt():
         entities = _model_entities(reader)
