@@ -83,7 +83,7 @@ def file_edges(path, fmt: str, samples: int = EDGE_SAMPLES) -> dict:
         def record_of(sub, keyword):
             key = (hash(sub), keyword)
             for shape, found in seen.get(key, ()):
-                if shape.IsSame(sub):
+                if shape.IsEqual(sub):  # OCCT prefers an equal shape (orientation too) to a same one
                     return found
             found = _record_of(sub, keyword)
             seen.setdefault(key, []).append((sub, found))

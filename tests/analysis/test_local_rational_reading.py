@@ -70,9 +70,8 @@ def _seed_two() -> dict:
 @pytest.fixture
 def seed_two():
     """Seed 2, 100 draws: 30 rational (27 with ripple above 1e-5 of the amplitude and more than four spans each
-    way, 20 of their unweighted copies), 70 non-rational (34). Its tests share an xdist group and the readings
-    (minutes) are kept by the worker: a module fixture was made again whenever xdist tore the module down between
-    them."""
+    way, 20 of their unweighted copies), 70 non-rational (34). Its tests share an xdist group, so the readings
+    (minutes) are made by one worker (they were made on both while pytest 9.2 made xdist ignore the groups)."""
     return _seed_two()
 
 

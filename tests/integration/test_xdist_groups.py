@@ -36,7 +36,8 @@ def test_tests_of_one_xdist_group_run_on_one_worker(tmp_path):
     out.mkdir()
     run = subprocess.run([sys.executable, "-m", "pytest", "-n", "2", "--dist", "loadgroup", "-q", "-p",
                           "no:cacheprovider", "test_groups.py"], cwd=tmp_path,
-                         env={**os.environ, "GROUPS_OUT": str(out)}, capture_output=True, text=True)
+                         env={**os.environ, "GROUPS_OUT": str(out), "PYTEST_ADDOPTS": ""},
+                         capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr
     workers = {p.name: p.read_text() for p in out.iterdir()}
     assert len(workers) == 8
